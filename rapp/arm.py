@@ -1,0 +1,170 @@
+"""The planar N-link arm: forward kinematics of every joint (TM:FWDKinematics, DD1).
+
+Angles are relative joint angles in radians, zero along +x, counter-clockwise
+positive, base at the origin. Every function takes a batch of configurations
+of shape ``(..., n)`` and works on it in one numpy call.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+__all__ = ["Arm", "wrap_angle"]
+
+
+def wrap_angle(q):
+    """Wrap angles into ``[-pi, pi)``.
+
+    Examples
+    --------
+    >>> float(wrap_angle(3 * np.pi / 2))
+    -1.5707963267948966
+    """
+    return (np.asarray(q, dtype=float) + np.pi) % (2 * np.pi) - np.pi
+
+
+@dataclass(frozen=True, eq=False)
+class Arm:
+    """A planar serial arm of revolute joints.
+
+    Parameters
+    ----------
+    link_lengths : sequence of float
+        ``L_1 .. L_n``, each finite and positive.
+    joint_limits : sequence of (lo, hi) or None, optional
+        One entry per joint; ``None`` (or ``None`` for the whole argument)
+        means the joint turns freely and its angle wraps (a torus axis).
+        Limits may be asymmetric (LC5) and must satisfy ``lo < hi``.
+
+    Examples
+    --------
+    >>> arm = Arm([1.0, 1.0])
+    >>> arm.end_effector([0.0, np.pi / 2]).round(12)
+    array([1., 1.])
+    >>> arm.joint_positions([0.0, 0.0]).tolist()
+    [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]
+    >>> arm.reach
+    (0.0, 2.0)
+    """
+
+    link_lengths: tuple
+    joint_limits: tuple | None = None
+
+    def __init__(self, link_lengths: Sequence[float], joint_limits=None):
+        lengths = np.asarray(link_lengths, dtype=float)
+        if lengths.ndim != 1 or lengths.size == 0:
+            raise ValueError("link_lengths must be a non-empty list of numbers")
+        if not np.all(np.isfinite(lengths)) or np.any(lengths <= 0):
+            raise ValueError(f"link_lengths must be finite and > 0, got {lengths.tolist()}")
+        n = lengths.size
+        if joint_limits is None:
+            limits = (None,) * n
+        else:
+            joint_limits = list(joint_limits)
+            if len(joint_limits) != n:
+                raise ValueError(
+                    f"joint_limits has {len(joint_limits)} entries but the arm has {n} joints"
+                )
+            limits = []
+            for i, lim in enumerate(joint_limits):
+                if lim is None:
+                    limits.append(None)
+                    continue
+                lo, hi = (float(v) for v in lim)
+                if not (np.isfinite(lo) and np.isfinite(hi)) or not lo < hi:
+                    raise ValueError(f"joint_limits[{i}] must be finite with lo < hi, got {lim}")
+                limits.append((lo, hi))
+            limits = tuple(limits)
+        object.__setattr__(self, "link_lengths", tuple(float(v) for v in lengths))
+        object.__setattr__(self, "joint_limits", limits)
+
+    def __eq__(self, other):
+        return (
+            isinstance(other, Arm)
+            and self.link_lengths == other.link_lengths
+            and self.joint_limits == other.joint_limits
+        )
+
+    def __hash__(self):
+        return hash((self.link_lengths, self.joint_limits))
+
+    @property
+    def n(self) -> int:
+        """Number of joints (and links)."""
+        return len(self.link_lengths)
+
+    @property
+    def lengths(self) -> np.ndarray:
+        """Link lengths as a float array of shape ``(n,)``."""
+        return np.array(self.link_lengths)
+
+    @property
+    def limited(self) -> np.ndarray:
+        """Boolean ``(n,)``: True where a joint has limits (a bounded axis)."""
+        return np.array([lim is not None for lim in self.joint_limits])
+
+    @property
+    def lower(self) -> np.ndarray:
+        """Lower joint bounds, ``-pi`` for a free joint."""
+        return np.array([-np.pi if lim is None else lim[0] for lim in self.joint_limits])
+
+    @property
+    def upper(self) -> np.ndarray:
+        """Upper joint bounds, ``pi`` for a free joint."""
+        return np.array([np.pi if lim is None else lim[1] for lim in self.joint_limits])
+
+    @property
+    def reach(self) -> tuple[float, float]:
+        """Inner and outer radius of the workspace annulus of the free arm.
+
+        The outer radius is the sum of the links. The inner radius is
+        ``max(0, 2 max(L) - sum(L))``: the longest link folded back on all the
+        others; for two links it is ``|L1 - L2|``. Joint limits can only shrink
+        the workspace, so for a limited arm this annulus is an outer bound.
+        """
+        lengths = self.lengths
+        total = float(lengths.sum())
+        return (max(0.0, 2.0 * float(lengths.max()) - total), total)
+
+    def absolute_angles(self, q) -> np.ndarray:
+        """Angle of every link measured from +x: the running sum of ``q``."""
+        q = self._check_q(q)
+        return np.cumsum(q, axis=-1)
+
+    def joint_positions(self, q) -> np.ndarray:
+        """Positions of the base, every joint, and the end effector.
+
+        Parameters
+        ----------
+        q : array_like, shape (..., n)
+
+        Returns
+        -------
+        ndarray, shape (..., n + 1, 2)
+            Base first (the origin), end effector last.
+        """
+        phi = self.absolute_angles(q)
+        steps = np.stack((np.cos(phi), np.sin(phi)), axis=-1) * self.lengths[:, None]
+        out = np.zeros(phi.shape[:-1] + (self.n + 1, 2))
+        np.cumsum(steps, axis=-2, out=out[..., 1:, :])
+        return out
+
+    def end_effector(self, q) -> np.ndarray:
+        """End-effector position ``x = f(q)`` of DD1, shape ``(..., 2)``."""
+        return self.joint_positions(q)[..., -1, :]
+
+    def within_limits(self, q, tol: float = 0.0) -> np.ndarray:
+        """True where every limited joint lies in ``[lo - tol, hi + tol]``."""
+        q = self._check_q(q)
+        lim = self.limited
+        ok = (q >= self.lower - tol) & (q <= self.upper + tol)
+        return np.all(ok | ~lim, axis=-1)
+
+    def _check_q(self, q) -> np.ndarray:
+        q = np.asarray(q, dtype=float)
+        if q.ndim == 0 or q.shape[-1] != self.n:
+            raise ValueError(f"configurations must have shape (..., {self.n}), got {q.shape}")
+        return q

@@ -1,0 +1,66 @@
+"""The exceptions of rapp, one hierarchy so that callers can catch ``RappError``.
+
+The names follow the MIS of 2D-RAPP (seed 001): ``loadParams`` raises
+FileNotFound, InvalidFormat, MissingParameter and InvalidValue; ``planPath``
+raises NoPathFound; ``solveIK`` raises NoIKSolution.
+
+Examples
+--------
+>>> from rapp.errors import InvalidValue, ScenarioError, RappError
+>>> issubclass(InvalidValue, ScenarioError) and issubclass(ScenarioError, RappError)
+True
+"""
+
+from __future__ import annotations
+
+
+class RappError(Exception):
+    """Base class of every error rapp raises on purpose."""
+
+
+class ScenarioError(RappError, ValueError):
+    """A scenario could not be loaded; ``field`` names the offending entry.
+
+    Parameters
+    ----------
+    message : str
+        One line saying what is wrong.
+    field : str, optional
+        Dotted path of the offending field, e.g. ``"arm.link_lengths[1]"``.
+    """
+
+    def __init__(self, message: str, field: str | None = None):
+        self.field = field
+        self.message = message
+        super().__init__(f"{field}: {message}" if field else message)
+
+
+class FileNotFound(ScenarioError):
+    """The scenario file does not exist or cannot be read."""
+
+
+class InvalidFormat(ScenarioError):
+    """The file is not a JSON object of the scenario format."""
+
+
+class MissingParameter(ScenarioError):
+    """A required field is absent."""
+
+
+class InvalidValue(ScenarioError):
+    """A field is present but its value breaks a physical constraint."""
+
+
+class NoPathFound(RappError):
+    """The search space holds no collision-free path from start to goal."""
+
+
+class NoIKSolution(RappError):
+    """No joint configuration places the end effector at the target.
+
+    ``reason`` is ``"out of reach"``, ``"joint limits"`` or ``"did not converge"``.
+    """
+
+    def __init__(self, message: str, reason: str = "out of reach"):
+        self.reason = reason
+        super().__init__(message)
