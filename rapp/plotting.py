@@ -1,0 +1,742 @@
+"""Figures and animations of arms, obstacles, C-space and plans (R5; MIS Plotting module).
+
+Every function draws on an optional ``ax`` (a new figure when it is ``None``)
+and returns what it drew on, so that figures compose. Nothing here computes a
+plan: the functions take the values :func:`rapp.plan` returns. Nothing calls
+``plt.show()``.
+
+Figures are meant to be read in a dark-mode notebook as well as on paper: the
+figure and axes backgrounds are white *explicitly* (a transparent figure on a
+dark page hides black text), text is dark, and the colours are the Okabe-Ito
+palette, which stays distinguishable under the common colour-vision
+deficiencies.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import matplotlib
+import matplotlib.pyplot as plt
+from matplotlib import animation, patches
+from matplotlib.collections import LineCollection
+from matplotlib.colors import ListedColormap, to_rgba
+from matplotlib.figure import Figure
+
+__all__ = [
+    "COLORS",
+    "style_axes",
+    "plot_arm",
+    "plot_obstacles",
+    "plot_workspace",
+    "plot_cspace",
+    "plot_plan",
+    "plot_profiles",
+    "plot_metrics",
+    "plot_polynomials",
+    "plot_segment_circle",
+    "split_at_seam",
+    "animate",
+    "save_gif",
+    "animation_html",
+]
+
+# Okabe & Ito (2008), "Color Universal Design".
+COLORS = {
+    "black": "#000000",
+    "orange": "#E69F00",
+    "sky": "#56B4E9",
+    "green": "#009E73",
+    "yellow": "#F0E442",
+    "blue": "#0072B2",
+    "vermillion": "#D55E00",
+    "purple": "#CC79A7",
+    "grey": "#999999",
+}
+TEXT = "#222222"
+ARM = COLORS["blue"]
+EFFECTOR = COLORS["vermillion"]
+START = COLORS["green"]
+GOAL = COLORS["vermillion"]
+PATH = COLORS["orange"]
+OBSTACLE = "#8c8c8c"
+OCCUPIED = "#5a5a5a"
+JOINT_COLORS = [COLORS[k] for k in ("blue", "orange", "green", "purple", "sky", "vermillion", "black")]
+
+_LIGHT = {
+    "figure.facecolor": "white",
+    "axes.facecolor": "white",
+    "savefig.facecolor": "white",
+    "text.color": TEXT,
+    "axes.labelcolor": TEXT,
+    "axes.edgecolor": TEXT,
+    "xtick.color": TEXT,
+    "ytick.color": TEXT,
+    "legend.facecolor": "white",
+    "legend.edgecolor": "#bbbbbb",
+    "legend.labelcolor": TEXT,
+}
+
+
+def style_axes(ax):
+    """Give ``ax`` and its figure the white-background, dark-text style.
+
+    Safe to call repeatedly; it also recolours titles, labels and legends
+    that already exist, so a dark matplotlib style cannot leak in.
+
+    Examples
+    --------
+    >>> fig, ax = plt.subplots()
+    >>> ax = style_axes(ax)
+    >>> ax.get_facecolor() == fig.get_facecolor() == (1.0, 1.0, 1.0, 1.0)
+    True
+    >>> plt.close(fig)
+    """
+    fig = ax.figure
+    fig.patch.set_facecolor("white")
+    ax.set_facecolor("white")
+    for spine in ax.spines.values():
+        spine.set_edgecolor(TEXT)
+    ax.tick_params(colors=TEXT, which="both")
+    ax.xaxis.label.set_color(TEXT)
+    ax.yaxis.label.set_color(TEXT)
+    ax.title.set_color(TEXT)
+    for text in (ax._left_title, ax._right_title):
+        text.set_color(TEXT)
+    legend = ax.get_legend()
+    if legend is not None:
+        legend.get_frame().set_facecolor("white")
+        legend.get_frame().set_edgecolor("#bbbbbb")
+        for text in legend.get_texts():
+            text.set_color(TEXT)
+        legend.get_title().set_color(TEXT)
+    if getattr(fig, "_suptitle", None) is not None:
+        fig._suptitle.set_color(TEXT)
+    return ax
+
+
+def _axes(ax, figsize=(5.0, 5.0)):
+    if ax is not None:
+        return ax
+    with plt.rc_context(_LIGHT):
+        fig, ax = plt.subplots(figsize=figsize, layout="constrained")
+    return style_axes(ax)
+
+
+def _figure(fig, figsize):
+    """A white figure: the caller's (for example a pyplot-free one in a widget) or a new one."""
+    if fig is None:
+        with plt.rc_context(_LIGHT):
+            fig = plt.figure(figsize=figsize, layout="constrained")
+    fig.patch.set_facecolor("white")
+    return fig
+
+
+def _subplots(fig, *args, **kwargs):
+    with plt.rc_context(_LIGHT):
+        return fig.subplots(*args, **kwargs)
+
+
+def _legend(ax, **kwargs):
+    kwargs.setdefault("fontsize", "small")
+    kwargs.setdefault("framealpha", 0.9)
+    ax.legend(**kwargs)
+    return style_axes(ax)
+
+
+def _workspace_frame(ax, arm, unit="m"):
+    r = arm.reach[1] * 1.1
+    ax.set_xlim(-r, r)
+    ax.set_ylim(-r, r)
+    ax.set_aspect("equal")
+    ax.set_xlabel(f"x ({unit})")
+    ax.set_ylabel(f"y ({unit})")
+    ax.grid(True, color="#e6e6e6", linewidth=0.6, zorder=0)
+    ax.set_axisbelow(True)
+    return style_axes(ax)
+
+
+def plot_arm(arm, q, ax=None, *, color=ARM, alpha=1.0, label=None, ghost_alpha=(0.15, 0.6),
+             unit="m", frame=True):
+    """Draw the arm: links, joints, base and end effector.
+
+    Parameters
+    ----------
+    arm : rapp.Arm
+    q : array_like, shape (n,) or (k, n)
+        One configuration, drawn solid; or a few configurations, drawn as
+        ghosts whose opacity rises from ``ghost_alpha[0]`` to ``ghost_alpha[1]``
+        in order (one LineCollection, one scatter of end effectors).
+    ax : matplotlib Axes, optional
+    frame : bool
+        Set equal aspect, limits of the reach and axis labels in ``unit``.
+
+    Returns
+    -------
+    Axes
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> ax = plot_arm(Arm([1.0, 1.0]), [0.0, np.pi / 2])
+    >>> ax.lines[0].get_xydata().round(12).tolist()   # base, elbow, end effector
+    [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]
+    >>> plt.close(ax.figure)
+    """
+    ax = _axes(ax)
+    q = np.asarray(q, dtype=float)
+    pts = arm.joint_positions(q)
+    if q.ndim == 1:
+        ax.plot(pts[:, 0], pts[:, 1], "-o", color=color, lw=3, ms=6, mfc="white", mec=color,
+                mew=1.5, alpha=alpha, label=label, zorder=3, solid_capstyle="round")
+        ax.plot([0.0], [0.0], "s", color=TEXT, ms=9, alpha=alpha, zorder=4)
+        ax.plot(pts[-1:, 0], pts[-1:, 1], "o", color=EFFECTOR, ms=7, alpha=alpha, zorder=5)
+    elif q.ndim == 2:
+        pts = pts.reshape(-1, arm.n + 1, 2)
+        a = np.linspace(ghost_alpha[0], ghost_alpha[1], len(pts))
+        rgba = np.tile(to_rgba(color), (len(pts), 1))
+        rgba[:, 3] = a * alpha
+        ax.add_collection(LineCollection(pts, colors=rgba, linewidths=2, label=label, zorder=2,
+                                         capstyle="round"))
+        ee = np.tile(to_rgba(EFFECTOR), (len(pts), 1))
+        ee[:, 3] = a * alpha
+        ax.scatter(pts[:, -1, 0], pts[:, -1, 1], s=12, c=ee, zorder=2)
+    else:
+        raise ValueError(f"q must have shape (n,) or (k, n), got {q.shape}")
+    if frame:
+        _workspace_frame(ax, arm, unit)
+    return ax
+
+
+def plot_obstacles(obstacles, ax=None, *, color=OBSTACLE, label="obstacle"):
+    """Draw circles and convex polygons as filled patches (one patch each).
+
+    Examples
+    --------
+    >>> from rapp import Circle, Polygon
+    >>> ax = plot_obstacles([Circle((1, 1), 0.5), Polygon.rectangle((0, 0), 1, 2)])
+    >>> len(ax.patches)
+    2
+    >>> plt.close(ax.figure)
+    """
+    ax = _axes(ax)
+    for i, ob in enumerate(obstacles):
+        kw = dict(facecolor=color, edgecolor=TEXT, linewidth=1.0, alpha=0.85, zorder=1,
+                  label=label if i == 0 else None)
+        if hasattr(ob, "radius"):
+            patch = patches.Circle(ob.center, ob.radius, **kw)
+        elif hasattr(ob, "vertices"):
+            patch = patches.Polygon(np.asarray(ob.vertices, dtype=float), closed=True, **kw)
+        else:
+            raise ValueError(f"cannot draw obstacle {ob!r}: expected a Circle or a Polygon")
+        ax.add_patch(patch)
+    ax.set_aspect("equal")
+    return style_axes(ax)
+
+
+def plot_workspace(arm, ax=None, *, unit="m", color=COLORS["sky"]):
+    """Shade the reachable annulus ``r_min <= |x| <= r_max`` and draw its circles.
+
+    Returns the axes; it holds one shaded patch and one Line2D per boundary
+    circle (the inner one only when ``r_min > 0``).
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> ax = plot_workspace(Arm([2.0, 1.0]))
+    >>> len(ax.patches), len(ax.lines)
+    (1, 2)
+    >>> plt.close(ax.figure)
+    """
+    ax = _axes(ax)
+    r_min, r_max = arm.reach
+    width = None if r_min <= 0 else r_max - r_min
+    ax.add_patch(patches.Wedge((0.0, 0.0), r_max, 0.0, 360.0, width=width, facecolor=color,
+                               alpha=0.18, edgecolor="none", zorder=0, label="workspace"))
+    th = np.linspace(0.0, 2 * np.pi, 361)
+    ring = np.stack((np.cos(th), np.sin(th)), axis=-1)
+    ax.plot(*(r_max * ring).T, "--", color=COLORS["blue"], lw=1, zorder=1)
+    if r_min > 0:
+        ax.plot(*(r_min * ring).T, ":", color=COLORS["blue"], lw=1, zorder=1)
+    return _workspace_frame(ax, arm, unit)
+
+
+def _pi_ticks(axis, lo, hi):
+    """Ticks at multiples of pi/2 within [lo, hi], labelled with pi."""
+    k = np.arange(np.ceil(lo / (np.pi / 2) - 1e-9), np.floor(hi / (np.pi / 2) + 1e-9) + 1)
+    names = {-4: "−2π", -3: "−3π/2", -2: "−π", -1: "−π/2", 0: "0", 1: "π/2", 2: "π",
+             3: "3π/2", 4: "2π"}
+    if len(k) < 2:
+        return
+    axis.set_ticks(k * np.pi / 2, [names.get(int(i), f"{i / 2:g}π") for i in k])
+
+
+def _extent(grid):
+    """Cell edges of the first two axes: each sample angle sits at the centre of its pixel."""
+    ext = []
+    for a in grid.axes[:2]:
+        a = np.asarray(a, dtype=float)
+        d = (a[-1] - a[0]) / (len(a) - 1) if len(a) > 1 else 2 * np.pi
+        ext += [a[0] - d / 2, a[-1] + d / 2]
+    return ext
+
+
+def split_at_seam(path, lo, span, wraps):
+    """Polyline of joint angles, broken with a NaN row where a wrapping joint crosses the seam.
+
+    Angles of wrapping joints are wrapped into ``[lo, lo + span)``. At a
+    crossing the line runs on past the border to where the unwrapped step
+    ends, stops (NaN), and resumes from the matching point beyond the opposite
+    border, so no drawn segment jumps across the plot.
+
+    Parameters
+    ----------
+    path : array_like, shape (k, m)
+    lo, span : array_like, shape (m,)
+        Lower plot bound and period of each axis.
+    wraps : array_like of bool, shape (m,)
+
+    Examples
+    --------
+    >>> p = split_at_seam([[3.0, 0.0], [-3.0, 0.0]], [-np.pi] * 2, [2 * np.pi] * 2, [True, True])
+    >>> np.round(p, 3).tolist()
+    [[3.0, 0.0], [3.283, 0.0], [nan, nan], [-3.283, 0.0], [-3.0, 0.0]]
+    """
+    p = np.array(path, dtype=float, ndmin=2)
+    lo = np.asarray(lo, dtype=float)
+    span = np.asarray(span, dtype=float)
+    wraps = np.asarray(wraps, dtype=bool)
+    p = np.where(wraps, (p - lo) % span + lo, p)
+    if len(p) < 2:
+        return p
+    step = np.diff(p, axis=0)
+    short = np.where(wraps, (step + span / 2) % span - span / 2, step)
+    jump = np.flatnonzero(np.any(np.abs(short - step) > 1e-9, axis=1))
+    if jump.size == 0:
+        return p
+    nan = np.full((jump.size, p.shape[1]), np.nan)
+    extra = np.stack((p[jump] + short[jump], nan, p[jump + 1] - short[jump]), axis=1)
+    return np.insert(p, np.repeat(jump + 1, 3), extra.reshape(-1, p.shape[1]), axis=0)
+
+
+def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, title=None):
+    """Show the occupancy of a joint grid; optionally a path, start and goal in joint angles.
+
+    Parameters
+    ----------
+    occupancy : bool array of ``grid.shape``
+    grid : rapp.JointGrid
+        ``grid.axes`` (the sample angles of each joint) gives the image
+        extent, one pixel centred on each sample, origin lower.
+    path : array_like, shape (k, n), optional
+        Joint angles (radians). Split where a free joint wraps, so the line
+        never crosses the plot along the seam.
+    start, goal : array_like, shape (n,), optional
+
+    For three or more joints, the image is a projection over the joints
+    after the second: the grey level is the fraction of their grid values in
+    collision (black: every value collides); the title says so.
+
+    Returns
+    -------
+    Axes
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> axes = [np.linspace(-np.pi, np.pi, 8, endpoint=False)] * 2
+    >>> grid = SimpleNamespace(axes=axes, shape=(8, 8), wraps=(True, True))
+    >>> ax = plot_cspace(np.eye(8, dtype=bool), grid, path=[[3.0, 0.0], [-3.0, 0.0]])
+    >>> len(ax.images), ax.get_xlabel()
+    (1, 'q1 (rad)')
+    >>> plt.close(ax.figure)
+    """
+    ax = _axes(ax)
+    occ = np.asarray(occupancy)
+    if occ.ndim < 2:
+        raise ValueError("plot_cspace draws grids of two or more joints")
+    ext = _extent(grid)
+    if occ.ndim == 2:
+        img = occ.astype(float)
+        cmap = ListedColormap(["white", OCCUPIED])
+        default_title = "C-space: grey = collision"
+    else:
+        img = occ.reshape(occ.shape[:2] + (-1,)).mean(axis=-1)
+        cmap = matplotlib.colormaps["Greys"]
+        rest = ", ".join(f"q{i + 1}" for i in range(2, occ.ndim))
+        default_title = f"projection over {rest}: fraction in collision"
+    # imshow puts the first array axis on y; the first joint belongs on x.
+    ax.imshow(img.T, origin="lower", extent=ext, cmap=cmap, vmin=0.0, vmax=1.0,
+              interpolation="nearest", aspect="equal", zorder=0)
+    ax.set_xlim(ext[0], ext[1])
+    ax.set_ylim(ext[2], ext[3])
+    _pi_ticks(ax.xaxis, ext[0], ext[1])
+    _pi_ticks(ax.yaxis, ext[2], ext[3])
+    ax.set_xlabel("q1 (rad)")
+    ax.set_ylabel("q2 (rad)")
+    ax.set_title(default_title if title is None else title, fontsize="medium")
+    lo = np.array([ext[0], ext[2]])
+    span = np.array([ext[1] - ext[0], ext[3] - ext[2]])
+    wraps = np.asarray(grid.wraps[:2], dtype=bool)
+    labelled = False
+    if path is not None:
+        p = np.asarray(path, dtype=float)
+        p = p.reshape(-1, p.shape[-1])[:, :2]
+        seg = split_at_seam(p, lo, span, wraps)
+        ax.plot(seg[:, 0], seg[:, 1], "-", color=PATH, lw=2, label="path", zorder=2)
+        labelled = True
+    for q, color, marker, name in ((start, START, "o", "start"), (goal, GOAL, "*", "goal")):
+        if q is not None:
+            q = split_at_seam(np.asarray(q, dtype=float)[:2], lo, span, wraps)[0]
+            ax.plot(q[0], q[1], marker, color=color, ms=11 if marker == "*" else 8, mec="white",
+                    mew=1, label=name, zorder=3)
+            labelled = True
+    if labelled:
+        _legend(ax, loc="upper right")
+    return style_axes(ax)
+
+
+def _subsample(k, most):
+    """At most ``most`` indices from 0..k-1, evenly spread, first and last included."""
+    return np.unique(np.linspace(0, k - 1, min(k, most)).round().astype(int))
+
+
+def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m"):
+    """C-space beside workspace, the plan drawn in both.
+
+    Left: occupancy of ``plan.grid`` with the joint path, start and goal.
+    Right: workspace annulus, obstacles, ghost arms along the path, the
+    end-effector trace ``plan.xy``, the start and final arms, and the
+    Cartesian goal when the scenario has one.
+
+    Parameters
+    ----------
+    plan : rapp.Plan
+    scenario : rapp.Scenario
+    fig : Figure, optional
+        Drawn into (cleared); a new pyplot figure when None.
+
+    Returns
+    -------
+    Figure
+    """
+    fig = _figure(fig, (10.5, 5.0))
+    fig.clear()
+    fig.patch.set_facecolor("white")
+    ax_c, ax_w = _subplots(fig, 1, 2)
+    q = np.asarray(plan.q, dtype=float)
+    arm = scenario.arm
+    grid = getattr(plan, "grid", None)
+    occ = getattr(plan, "occupancy", None)
+    if grid is not None and occ is not None and np.ndim(occ) >= 2:
+        plot_cspace(occ, grid, ax_c, path=q, start=q[0], goal=q[-1])
+    else:
+        # No grid (for example a sampling planner): the joint path alone.
+        lo, hi = arm.lower[:2], arm.upper[:2]
+        seg = split_at_seam(q[:, :2], lo, hi - lo, ~arm.limited[:2])
+        ax_c.plot(seg[:, 0], seg[:, 1], "-", color=PATH, lw=2, label="path")
+        ax_c.plot(*q[0, :2], "o", color=START, label="start")
+        ax_c.plot(*q[-1, :2], "*", color=GOAL, ms=11, label="goal")
+        ax_c.set_xlim(lo[0], hi[0])
+        ax_c.set_ylim(lo[1], hi[1])
+        ax_c.set_aspect("equal")
+        ax_c.set_xlabel("q1 (rad)")
+        ax_c.set_ylabel("q2 (rad)")
+        ax_c.set_title("joint space", fontsize="medium")
+        _legend(ax_c, loc="upper right")
+    plot_workspace(arm, ax_w, unit=unit)
+    plot_obstacles(scenario.obstacles, ax_w)
+    plot_arm(arm, q[_subsample(len(q), ghosts + 2)[1:-1]], ax_w, frame=False)
+    xy = np.asarray(plan.xy, dtype=float)
+    ax_w.plot(xy[:, 0], xy[:, 1], "-", color=PATH, lw=2, label="end-effector path", zorder=4)
+    plot_arm(arm, q[0], ax_w, color=START, label="start", frame=False)
+    plot_arm(arm, q[-1], ax_w, color=ARM, label="final", frame=False)
+    goal_xy = getattr(scenario, "goal_xy", None)
+    if goal_xy is not None:
+        ax_w.plot(*np.asarray(goal_xy, dtype=float), "*", color=GOAL, ms=14, mec=TEXT, mew=0.8,
+                  label="goal", zorder=6)
+    _workspace_frame(ax_w, arm, unit)
+    ax_w.set_title("workspace", fontsize="medium")
+    _legend(ax_w, loc="upper right")
+    return fig
+
+
+def plot_profiles(plan, *, fig=None, unit="m"):
+    """Joint angles, velocities, accelerations and end-effector x, y against time.
+
+    Four stacked axes sharing t: ``q``, ``q'``, ``q''`` (one line per joint)
+    and ``x(t)``, ``y(t)``.
+
+    Returns
+    -------
+    Figure
+    """
+    fig = _figure(fig, (7.5, 8.0))
+    fig.clear()
+    axs = _subplots(fig, 4, 1, sharex=True)
+    t = np.asarray(plan.t, dtype=float)
+    rows = ((plan.q, "q (rad)", "q"), (plan.qd, "q' (rad/s)", "q'"),
+            (plan.qdd, "q'' (rad/s²)", "q''"))
+    for ax, (values, ylabel, sym) in zip(axs, rows):
+        values = np.asarray(values, dtype=float).reshape(len(t), -1)
+        for j in range(values.shape[1]):
+            ax.plot(t, values[:, j], color=JOINT_COLORS[j % len(JOINT_COLORS)],
+                    label=f"{sym}{j + 1}")
+        ax.set_ylabel(ylabel)
+    xy = np.asarray(plan.xy, dtype=float)
+    axs[3].plot(t, xy[:, 0], color=COLORS["blue"], label="x")
+    axs[3].plot(t, xy[:, 1], "--", color=COLORS["vermillion"], label="y")
+    axs[3].set_ylabel(f"x, y ({unit})")
+    axs[3].set_xlabel("t (s)")
+    for ax in axs:
+        ax.grid(True, color="#e6e6e6", linewidth=0.6)
+        _legend(ax, loc="upper right", ncols=2)
+    return fig
+
+
+_TIME_WORDS = ("time", "seconds")
+
+
+def _stage_times(metrics):
+    for key in ("stage_times", "times", "timings"):
+        if isinstance(metrics.get(key), dict):
+            return {str(k): float(v) for k, v in metrics[key].items()}
+    out = {}
+    for k, v in metrics.items():
+        name = str(k).lower()
+        if isinstance(v, (int, float, np.number)) and not isinstance(v, bool) and (
+            any(w in name for w in _TIME_WORDS) or name.endswith("_s") or name.startswith("t_")
+        ):
+            out[str(k)] = float(v)
+    return out
+
+
+def plot_metrics(metrics, ax=None, *, keys=None, unit="s"):
+    """Horizontal bar chart of the stage times in ``metrics``, each bar annotated.
+
+    Parameters
+    ----------
+    metrics : dict
+        ``plan.metrics``. Stage times are taken from a nested ``stage_times``
+        (or ``times``) dict when present, else from the numeric entries whose
+        name says time (``*time*``, ``*_s``, ``t_*``); ``keys`` picks them
+        explicitly.
+    unit : str
+        Unit of the values; the bars are labelled in milliseconds when it is
+        ``"s"``.
+
+    Raises
+    ------
+    ValueError
+        When no stage time is found (the MIS's PLOT_ERROR).
+
+    Examples
+    --------
+    >>> ax = plot_metrics({"time_ik_s": 0.002, "time_search_s": 0.010, "path_length": 3.0})
+    >>> [t.get_text() for t in ax.get_yticklabels()]
+    ['time_ik_s', 'time_search_s']
+    >>> plt.close(ax.figure)
+    """
+    times = ({k: float(metrics[k]) for k in keys} if keys is not None else _stage_times(metrics))
+    if not times:
+        raise ValueError("metrics holds no stage times to plot")
+    ax = _axes(ax, figsize=(6.0, 0.5 + 0.45 * len(times)))
+    names = list(times)
+    vals = np.array([times[k] for k in names])
+    scale, shown = (1e3, "ms") if unit == "s" else (1.0, unit)
+    bars = ax.barh(np.arange(len(names)), vals * scale, color=COLORS["sky"], edgecolor=TEXT)
+    ax.set_yticks(np.arange(len(names)), names)
+    ax.invert_yaxis()
+    ax.bar_label(bars, labels=[f"{v * scale:.3g} {shown}" for v in vals], padding=3, color=TEXT,
+                 fontsize="small")
+    ax.set_xlim(0, max(vals.max() * scale, 1e-12) * 1.25)
+    ax.set_xlabel(f"time ({shown})")
+    ax.set_title("time per stage", fontsize="medium")
+    return style_axes(ax)
+
+
+def plot_polynomials(coefficients, t0, tf, *, fig=None, samples=200):
+    """Position, velocity and acceleration of polynomial segments on ``[t0, tf]``.
+
+    Parameters
+    ----------
+    coefficients : dict of name -> array_like
+        Coefficients in ascending powers of absolute time ``t`` (what
+        :func:`rapp.cubic` and :func:`rapp.quintic` return).
+
+    Returns
+    -------
+    Figure
+        Three stacked axes: p (rad), p' (rad/s), p'' (rad/s²) against t (s).
+
+    Examples
+    --------
+    >>> fig = plot_polynomials({"line": [0.0, 1.0]}, 0.0, 2.0)
+    >>> [len(ax.lines) for ax in fig.axes]
+    [1, 1, 1]
+    >>> plt.close(fig)
+    """
+    P = np.polynomial.polynomial
+    fig = _figure(fig, (6.5, 6.0))
+    fig.clear()
+    axs = _subplots(fig, 3, 1, sharex=True)
+    t = np.linspace(t0, tf, samples)
+    styles = ["-", "--", ":", "-."]
+    for i, (name, c) in enumerate(coefficients.items()):
+        c = np.asarray(c, dtype=float)
+        color = JOINT_COLORS[i % len(JOINT_COLORS)]
+        for d, ax in enumerate(axs):
+            ax.plot(t, P.polyval(t, P.polyder(c, d) if d else c), styles[i % 4], color=color,
+                    lw=2, label=name)
+    for ax, lab in zip(axs, ("p (rad)", "p' (rad/s)", "p'' (rad/s²)")):
+        ax.set_ylabel(lab)
+        ax.grid(True, color="#e6e6e6", linewidth=0.6)
+        _legend(ax, loc="best")
+    axs[-1].set_xlabel("t (s)")
+    return fig
+
+
+def plot_segment_circle(a, b, center, radius, ax=None, *, unit="m"):
+    """A segment, a disc, the clipped projection and the MIS's infinite-line foot.
+
+    Draws the segment ``ab`` (solid) and the line through it (dotted), the
+    disc, the closest point of the segment to the centre (clipped projection,
+    TM:SegmentCircleCollision) and the foot of the perpendicular on the
+    infinite line (the distance seed 001 uses), each joined to the centre.
+
+    Returns
+    -------
+    Axes
+
+    Examples
+    --------
+    >>> ax = plot_segment_circle((0, 0), (1, 0), (1.6, 0.1), 0.3)
+    >>> ax.lines[2].get_xydata()[0].round(3).tolist()   # closest point: the segment's end
+    [1.0, 0.0]
+    >>> ax.lines[3].get_xydata()[0].round(3).tolist()   # foot on the infinite line
+    [1.6, 0.0]
+    >>> plt.close(ax.figure)
+    """
+    from rapp.collision import closest_point_on_segment
+
+    ax = _axes(ax)
+    a, b, c = (np.asarray(v, dtype=float) for v in (a, b, center))
+    ab = b - a
+    den = float(ab @ ab)
+    foot = a + (float((c - a) @ ab) / den if den > 0 else 0.0) * ab
+    near = closest_point_on_segment(a, b, c)
+    span = max(np.abs(np.concatenate([a, b, c])).max() + radius, 1.0) * 1.2
+    u = ab / np.sqrt(den) if den > 0 else np.array([1.0, 0.0])
+    far = np.stack((a - 4 * span * u, a + 4 * span * u))
+    ax.plot(far[:, 0], far[:, 1], ":", color=COLORS["grey"], lw=1, label="infinite line (MIS)")
+    ax.plot([a[0], b[0]], [a[1], b[1]], "-o", color=ARM, lw=3, ms=5, label="segment (link)")
+    ax.plot(*near, "o", color=COLORS["green"], ms=8, zorder=5, label="closest point (clipped)")
+    ax.plot(*foot, "x", color=COLORS["vermillion"], ms=9, mew=2, zorder=5,
+            label="foot on line (MIS)")
+    ax.plot([c[0], near[0]], [c[1], near[1]], "--", color=COLORS["green"], lw=1.5)
+    ax.plot([c[0], foot[0]], [c[1], foot[1]], ":", color=COLORS["vermillion"], lw=1.5)
+    ax.add_patch(patches.Circle(c, radius, facecolor=OBSTACLE, edgecolor=TEXT, alpha=0.6,
+                                label="obstacle"))
+    ax.set_xlim(-span, span)
+    ax.set_ylim(-span, span)
+    ax.set_aspect("equal")
+    ax.set_xlabel(f"x ({unit})")
+    ax.set_ylabel(f"y ({unit})")
+    ax.grid(True, color="#e6e6e6", linewidth=0.6)
+    return _legend(ax, loc="lower left")
+
+
+def animate(arm, q, obstacles=(), t=None, trail=True, *, max_frames=60, interval=None, ax=None,
+            unit="m", workspace=True):
+    """Animate the arm along a trajectory.
+
+    Parameters
+    ----------
+    arm : rapp.Arm
+    q : array_like, shape (k, n)
+    obstacles : sequence of Circle / Polygon
+    t : array_like, shape (k,), optional
+        Times of the samples; shown in the title and used for the frame
+        interval so that the animation plays in real time.
+    trail : bool
+        Draw the end-effector trace up to the current frame.
+    max_frames : int
+        The trajectory is subsampled evenly to at most this many frames
+        (first and last kept), which keeps GIFs and ``to_jshtml`` small.
+
+    Returns
+    -------
+    matplotlib.animation.FuncAnimation
+        Keep a reference; its figure is ``anim._fig``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> q = np.linspace([0.0, 0.0], [np.pi, np.pi / 2], 200)
+    >>> anim = animate(Arm([1.0, 1.0]), q)
+    >>> anim._save_count  # frames after subsampling 200 samples
+    60
+    >>> plt.close(anim._fig)
+    """
+    q = np.asarray(q, dtype=float).reshape(-1, arm.n)
+    idx = _subsample(len(q), max_frames)
+    pts = arm.joint_positions(q[idx])
+    times = None if t is None else np.asarray(t, dtype=float)[idx]
+    ax = _axes(ax)
+    fig = ax.figure
+    if workspace:
+        plot_workspace(arm, ax, unit=unit)
+    plot_obstacles(obstacles, ax)
+    _workspace_frame(ax, arm, unit)
+    (links,) = ax.plot([], [], "-o", color=ARM, lw=3, ms=6, mfc="white", mec=ARM, mew=1.5,
+                       zorder=3, solid_capstyle="round")
+    ax.plot([0.0], [0.0], "s", color=TEXT, ms=9, zorder=4)
+    (tip,) = ax.plot([], [], "o", color=EFFECTOR, ms=7, zorder=5)
+    (trace,) = ax.plot([], [], "-", color=PATH, lw=1.5, zorder=2)
+    title = ax.set_title("", fontsize="medium", color=TEXT)
+
+    def update(i):
+        links.set_data(pts[i, :, 0], pts[i, :, 1])
+        tip.set_data(pts[i, -1:, 0], pts[i, -1:, 1])
+        if trail:
+            trace.set_data(pts[: i + 1, -1, 0], pts[: i + 1, -1, 1])
+        title.set_text(f"t = {times[i]:.2f} s" if times is not None else f"frame {i + 1}/{len(pts)}")
+        return links, tip, trace, title
+
+    if interval is None:
+        span = 0.0 if times is None else float(times[-1] - times[0])
+        interval = 1000.0 * span / max(len(pts) - 1, 1) if span > 0 else 50.0
+    update(0)
+    return animation.FuncAnimation(fig, update, frames=len(pts), interval=interval, blit=False,
+                                   repeat=True, cache_frame_data=False)
+
+
+def save_gif(anim, path, fps=15, dpi=80):
+    """Write an animation to a GIF with Pillow; return the path.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> from rapp import Arm
+    >>> anim = animate(Arm([1.0, 1.0]), np.linspace([0, 0], [1, 1], 3))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = save_gif(anim, os.path.join(d, "a.gif"))
+    ...     open(p, "rb").read(6)
+    b'GIF89a'
+    >>> plt.close(anim._fig)
+    """
+    path = Path(path)
+    anim.save(str(path), writer=animation.PillowWriter(fps=fps), dpi=dpi)
+    return path
+
+
+def animation_html(anim, *, default_mode="loop"):
+    """The animation as self-contained HTML (``to_jshtml``) with play controls.
+
+    The figure is closed first: otherwise a notebook's inline backend shows
+    its last frame as a still image below the player as well. Wrap the result
+    in ``IPython.display.HTML`` to show it.
+    """
+    plt.close(anim._fig)
+    return anim.to_jshtml(default_mode=default_mode)

@@ -1,0 +1,674 @@
+"""Scenario files: the JSON input set of 2D-RAPP, its validation and its echo (R1, R2, NFR5).
+
+A scenario is one JSON object (see DESIGN.md "Scenario files")::
+
+    {"arm": {"link_lengths": [1, 1], "joint_limits": null},
+     "obstacles": [{"type": "circle", "center": [1.75, 0.75], "radius": 0.6}],
+     "start": [0, 0],
+     "goal": {"position": [-1.2, 0.8]},
+     "units": {"angle": "rad", "length": "m"},
+     "planner": {"algorithm": "astar", "cells": 100},
+     "trajectory": {"duration": 5.0, "profile": "quintic", "samples": 200}}
+
+:func:`load_scenario` is MIS ``loadParams``: it raises :class:`~rapp.errors.FileNotFound`,
+:class:`~rapp.errors.InvalidFormat` (not JSON, wrong types, unknown keys),
+:class:`~rapp.errors.MissingParameter` and :class:`~rapp.errors.InvalidValue`
+(a physical constraint broken), each with ``.field`` naming the entry as a
+dotted path such as ``"obstacles[2].radius"``. The software ranges of SRS
+Table 4 are not errors: they become ``scenario.warnings`` and are echoed,
+because the other seeds use arms outside them.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field as dc_field
+from importlib import resources
+from typing import Any, Mapping
+
+import numpy as np
+
+from rapp.arm import Arm
+from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
+from rapp.obstacles import Circle, Polygon
+
+__all__ = [
+    "Scenario",
+    "PlannerSettings",
+    "TrajectorySettings",
+    "load_scenario",
+    "list_scenarios",
+    "echo",
+    "preflight",
+    "L_MIN",
+    "L_MAX",
+    "R_MAX",
+    "MAX_CELLS",
+]
+
+#: SRS Table 4 software ranges (warnings, not errors).
+L_MIN, L_MAX, R_MAX = 0.1, 2.0, 0.5
+#: Largest joint grid accepted. The search keeps about ``BYTES_PER_CELL`` bytes
+#: per cell (occupancy, distances, parents, closed set), so this caps memory
+#: near 0.5 GB.
+MAX_CELLS = 20_000_000
+BYTES_PER_CELL = 26
+MAX_FILE_BYTES = 10_000_000
+MAX_SAMPLES = 1_000_000
+ALGORITHMS = ("astar", "rrt")
+PROFILES = ("cubic", "quintic", "spline")
+
+_TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
+             "description")
+_PLANNER_KEYS = ("algorithm", "cells", "heuristic_weight", "max_expansions", "seed", "step",
+                 "goal_bias", "goal_threshold", "max_iterations")
+_RRT_KEYS = ("step", "goal_bias", "goal_threshold", "max_iterations")
+
+
+@dataclass(frozen=True)
+class PlannerSettings:
+    """How to search: ``algorithm`` ("astar" or "rrt") and its parameters (angles in radians)."""
+
+    algorithm: str = "astar"
+    cells: tuple = (100, 100)
+    heuristic_weight: float = 1.0
+    max_expansions: int | None = None
+    seed: int = 0
+    step: float = 0.1
+    goal_bias: float = 0.1
+    goal_threshold: float = 0.01
+    max_iterations: int = 20000
+
+
+@dataclass(frozen=True)
+class TrajectorySettings:
+    """How to time the path: total ``duration`` (s), ``profile``, number of ``samples``."""
+
+    duration: float = 5.0
+    profile: str = "quintic"
+    samples: int = 200
+
+
+@dataclass(frozen=True, eq=False)
+class Scenario:
+    """A validated scenario, every angle in radians and every length in metres.
+
+    Exactly one of ``goal_q`` (joint goal) and ``goal_xy`` (Cartesian goal,
+    solved by IK in :func:`rapp.plan`) is set.
+
+    Examples
+    --------
+    >>> s = load_scenario("default")
+    >>> s.arm.link_lengths, len(s.obstacles), s.goal_xy is not None
+    ((1.0, 1.0), 3, True)
+    >>> load_scenario(s.to_dict()) == s
+    True
+    """
+
+    arm: Arm
+    obstacles: tuple
+    start: tuple
+    goal_q: tuple | None = None
+    goal_xy: tuple | None = None
+    planner: PlannerSettings = dc_field(default_factory=PlannerSettings)
+    trajectory: TrajectorySettings = dc_field(default_factory=TrajectorySettings)
+    name: str = ""
+    description: str = ""
+    angle_unit: str = "rad"
+    warnings: tuple = ()
+    source: str = "<mapping>"
+
+    def __eq__(self, other):
+        # The source and the declared unit say where the values came from, not what they are.
+        return isinstance(other, Scenario) and self.to_dict() == other.to_dict()
+
+    __hash__ = None
+
+    @property
+    def start_array(self) -> np.ndarray:
+        """``start`` as a float array of shape ``(n,)``."""
+        return np.array(self.start, dtype=float)
+
+    def to_dict(self) -> dict:
+        """The canonical JSON mapping (radians), accepted again by :func:`load_scenario`."""
+        obs = []
+        for ob in self.obstacles:
+            if isinstance(ob, Circle):
+                obs.append({"type": "circle", "center": list(ob.center), "radius": ob.radius})
+            else:
+                obs.append({"type": "polygon", "vertices": [list(v) for v in ob.vertices]})
+        limits = self.arm.joint_limits
+        p, t = self.planner, self.trajectory
+        planner = {"algorithm": p.algorithm, "cells": list(p.cells),
+                   "heuristic_weight": p.heuristic_weight, "max_expansions": p.max_expansions,
+                   "seed": p.seed}
+        if p.algorithm == "rrt":
+            planner.update(step=p.step, goal_bias=p.goal_bias, goal_threshold=p.goal_threshold,
+                           max_iterations=p.max_iterations)
+        return {
+            "name": self.name,
+            "description": self.description,
+            "arm": {
+                "link_lengths": list(self.arm.link_lengths),
+                "joint_limits": None if all(x is None for x in limits)
+                else [None if x is None else list(x) for x in limits],
+            },
+            "obstacles": obs,
+            "start": list(self.start),
+            "goal": {"joints": list(self.goal_q)} if self.goal_q is not None
+            else {"position": list(self.goal_xy)},
+            "units": {"angle": "rad", "length": "m"},
+            "planner": planner,
+            "trajectory": {"duration": t.duration, "profile": t.profile, "samples": t.samples},
+        }
+
+
+# --------------------------------------------------------------------------- reading
+
+
+class _NonFinite:
+    """Stands for a NaN/Infinity token so that validation can name its field."""
+
+    def __init__(self, token):
+        self.token = token
+
+
+def _pairs(pairs):
+    out = {}
+    for k, v in pairs:
+        if k in out:
+            raise InvalidFormat(f"duplicate key {k!r}", field=k)
+        out[k] = v
+    return out
+
+
+def _read_json(path) -> Any:
+    name = os.fspath(path)
+    if os.path.isdir(name):
+        raise FileNotFound(f"{name!r} is a directory, not a scenario file", field="scenario")
+    try:
+        with open(name, "rb") as fh:
+            raw = fh.read(MAX_FILE_BYTES + 1)
+    except FileNotFoundError:
+        raise FileNotFound(f"no such file {name!r}", field="scenario") from None
+    except OSError as e:
+        raise FileNotFound(f"cannot read {name!r}: {e.strerror or e}", field="scenario") from None
+    if len(raw) > MAX_FILE_BYTES:
+        raise InvalidFormat(f"file is larger than {MAX_FILE_BYTES} bytes", field="scenario")
+    return _parse_bytes(raw)
+
+
+def _parse_bytes(raw: bytes) -> Any:
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        raise InvalidFormat(
+            f"not UTF-8 text (byte 0x{raw[e.start]:02x} at offset {e.start})", field="scenario"
+        ) from None
+    if not text.strip():
+        raise InvalidFormat("the file is empty; expected a JSON object", field="scenario")
+    try:
+        return json.loads(text, parse_constant=_NonFinite, object_pairs_hook=_pairs)
+    except json.JSONDecodeError as e:
+        raise InvalidFormat(
+            f"not valid JSON: {e.msg} at line {e.lineno} column {e.colno}", field="scenario"
+        ) from None
+    except RecursionError:
+        raise InvalidFormat("JSON is nested too deeply", field="scenario") from None
+    except ValueError as e:  # e.g. an integer literal with too many digits
+        raise InvalidFormat(f"not valid JSON: {str(e).splitlines()[0]}", field="scenario") from None
+
+
+def _embedded(name: str):
+    return resources.files("rapp").joinpath("scenarios", f"{name}.json")
+
+
+def list_scenarios() -> list:
+    """Names of the embedded scenarios (package data in ``rapp/scenarios``).
+
+    Examples
+    --------
+    >>> "default" in list_scenarios()
+    True
+    """
+    folder = resources.files("rapp").joinpath("scenarios")
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".json"))
+
+
+# --------------------------------------------------------------------------- typed fields
+
+
+def _type_name(v) -> str:
+    if v is None:
+        return "null"
+    if isinstance(v, bool):
+        return "a boolean"
+    if isinstance(v, str):
+        return "a string"
+    if isinstance(v, (list, tuple)):
+        return "a list"
+    if isinstance(v, Mapping):
+        return "an object"
+    if isinstance(v, _NonFinite):
+        return v.token
+    return type(v).__name__
+
+
+def _number(v, field: str) -> float:
+    if isinstance(v, _NonFinite):
+        raise InvalidValue(f"{v.token} is not a finite number", field=field)
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer, np.floating)):
+        raise InvalidFormat(f"expected a number, got {_type_name(v)}", field=field)
+    try:
+        x = float(v)
+    except OverflowError:
+        raise InvalidValue("number is too large", field=field) from None
+    if not math.isfinite(x):
+        raise InvalidValue(f"{x} is not a finite number", field=field)
+    return x
+
+
+def _integer(v, field: str, lo: int, hi: int | None = None) -> int:
+    if isinstance(v, float) and math.isfinite(v) and v == int(v):
+        v = int(v)
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)):
+        if isinstance(v, (float, _NonFinite)):
+            _number(v, field)
+            raise InvalidValue(f"expected an integer, got {v}", field=field)
+        raise InvalidFormat(f"expected an integer, got {_type_name(v)}", field=field)
+    v = int(v)
+    if v < lo or (hi is not None and v > hi):
+        rng = f">= {lo}" if hi is None else f"in [{lo}, {hi}]"
+        raise InvalidValue(f"must be an integer {rng}, got {v}", field=field)
+    return v
+
+
+def _string(v, field: str, choices=None) -> str:
+    if not isinstance(v, str):
+        raise InvalidFormat(f"expected a string, got {_type_name(v)}", field=field)
+    if choices is not None and v not in choices:
+        raise InvalidValue(f"must be one of {', '.join(map(repr, choices))}, got {v!r}", field=field)
+    return v
+
+
+def _list(v, field: str, length: int | None = None, what: str = "entries") -> list:
+    if not isinstance(v, (list, tuple)):
+        raise InvalidFormat(f"expected a list, got {_type_name(v)}", field=field)
+    if length is not None and len(v) != length:
+        raise InvalidValue(f"expected {length} {what}, got {len(v)}", field=field)
+    return list(v)
+
+
+def _numbers(v, field: str, length: int | None = None, what: str = "numbers") -> list:
+    items = _list(v, field, length, what)
+    return [_number(x, f"{field}[{i}]") for i, x in enumerate(items)]
+
+
+def _object(v, field: str, required=(), optional=()) -> dict:
+    where = field or "scenario"
+    if not isinstance(v, Mapping):
+        raise InvalidFormat(f"expected a JSON object, got {_type_name(v)}", field=where)
+    prefix = f"{field}." if field else ""
+    for k in v:
+        if not isinstance(k, str) or k not in required and k not in optional:
+            known = ", ".join(list(required) + list(optional))
+            raise InvalidFormat(f"unknown key {k!r} (known keys: {known})", field=f"{prefix}{k}")
+    for k in required:
+        if k not in v:
+            raise MissingParameter(f"required key {k!r} is missing", field=f"{prefix}{k}")
+    return dict(v)
+
+
+# --------------------------------------------------------------------------- validation
+
+
+def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
+    top = _object(data, "", required=("arm", "start", "goal"), optional=_TOP_KEYS)
+    warnings: list = []
+
+    units = _object(top.get("units", {}), "units", optional=("angle", "length"))
+    angle_unit = _string(units.get("angle", "rad"), "units.angle", ("rad", "deg"))
+    _string(units.get("length", "m"), "units.length", ("m",))
+    k = math.pi / 180.0 if angle_unit == "deg" else 1.0
+
+    def angle(v, f):
+        return _number(v, f) * k
+
+    def angle_warn(values, f):
+        for i, a in enumerate(values):
+            if not -math.pi - 1e-12 <= a <= math.pi + 1e-12:
+                warnings.append(f"{f}[{i}] = {a:.4g} rad is outside the SRS range [-pi, pi]")
+
+    arm_d = _object(top["arm"], "arm", required=("link_lengths",), optional=("joint_limits",))
+    lengths = _numbers(arm_d["link_lengths"], "arm.link_lengths")
+    if not lengths:
+        raise InvalidValue("the arm needs at least one link", field="arm.link_lengths")
+    if len(lengths) > 16:
+        raise InvalidValue(f"at most 16 links are supported, got {len(lengths)}",
+                           field="arm.link_lengths")
+    for i, L in enumerate(lengths):
+        if L <= 0:
+            raise InvalidValue(f"link length must be > 0 m, got {L:g}", field=f"arm.link_lengths[{i}]")
+        if not L_MIN <= L <= L_MAX:
+            warnings.append(f"arm.link_lengths[{i}] = {L:g} m is outside the SRS range "
+                            f"[{L_MIN}, {L_MAX}] m")
+    n = len(lengths)
+    limits_v = arm_d.get("joint_limits")
+    limits = None
+    if limits_v is not None:
+        items = _list(limits_v, "arm.joint_limits", n, f"entries (one per joint; the arm has {n})")
+        limits = []
+        for i, lim in enumerate(items):
+            f = f"arm.joint_limits[{i}]"
+            if lim is None:
+                limits.append(None)
+                continue
+            lo_hi = _list(lim, f, 2, "numbers [lo, hi]")
+            lo, hi = angle(lo_hi[0], f"{f}[0]"), angle(lo_hi[1], f"{f}[1]")
+            if not lo < hi:
+                raise InvalidValue(f"needs lo < hi, got [{lo:.4g}, {hi:.4g}] rad", field=f)
+            if hi - lo > 2 * math.pi + 1e-9:
+                raise InvalidValue(f"spans {hi - lo:.4g} rad > 2 pi; use null for a free joint",
+                                   field=f)
+            angle_warn([lo, hi], f)
+            limits.append((lo, hi))
+    arm = Arm(lengths, limits)
+    r_in, r_out = arm.reach
+
+    obstacles = []
+    for i, ob in enumerate(_list(top.get("obstacles", []), "obstacles")):
+        f = f"obstacles[{i}]"
+        if not isinstance(ob, Mapping):
+            raise InvalidFormat(f"expected a JSON object, got {_type_name(ob)}", field=f)
+        if "type" not in ob:
+            raise MissingParameter("required key 'type' is missing "
+                                   "('circle', 'rectangle' or 'polygon')", field=f"{f}.type")
+        kind = _string(ob["type"], f"{f}.type", ("circle", "rectangle", "polygon"))
+        if kind == "circle":
+            d = _object(ob, f, required=("type", "center", "radius"))
+            c = _numbers(d["center"], f"{f}.center", 2)
+            r = _number(d["radius"], f"{f}.radius")
+            if r <= 0:
+                raise InvalidValue(f"radius must be > 0 m, got {r:g}", field=f"{f}.radius")
+            if r > R_MAX:
+                warnings.append(f"{f}.radius = {r:g} m is above the SRS r_max = {R_MAX} m")
+            obstacles.append(Circle(c, r))
+            far = math.hypot(*c) - r
+        elif kind == "rectangle":
+            d = _object(ob, f, required=("type", "corner", "width", "height"), optional=("angle",))
+            c = _numbers(d["corner"], f"{f}.corner", 2)
+            w = _number(d["width"], f"{f}.width")
+            h = _number(d["height"], f"{f}.height")
+            for name, val in (("width", w), ("height", h)):
+                if val <= 0:
+                    raise InvalidValue(f"{name} must be > 0 m, got {val:g}", field=f"{f}.{name}")
+            a = angle(d.get("angle", 0.0), f"{f}.angle")
+            poly = Polygon.rectangle(c, w, h, a)
+            obstacles.append(poly)
+            far = float(np.min(np.hypot(*poly.array.T)))
+        else:
+            d = _object(ob, f, required=("type", "vertices"))
+            verts = _list(d["vertices"], f"{f}.vertices")
+            if len(verts) < 3:
+                raise InvalidValue(f"a polygon needs at least 3 vertices, got {len(verts)}",
+                                   field=f"{f}.vertices")
+            pts = [_numbers(v, f"{f}.vertices[{j}]", 2) for j, v in enumerate(verts)]
+            try:
+                poly = Polygon(pts)
+            except ValueError as e:
+                raise InvalidValue(str(e), field=f"{f}.vertices") from None
+            obstacles.append(poly)
+            far = float(np.min(np.hypot(*poly.array.T)))
+        if far > r_out:
+            warnings.append(f"{f} lies beyond the arm's reach ({r_out:g} m); it cannot collide")
+
+    start = [angle(v, f"start[{i}]") for i, v in enumerate(
+        _list(top["start"], "start", n, f"joint angles (the arm has {n} joints)"))]
+    _within_limits(arm, start, "start")
+    angle_warn(start, "start")
+
+    goal_d = _object(top["goal"], "goal", optional=("joints", "position"))
+    if ("joints" in goal_d) == ("position" in goal_d):
+        raise (InvalidFormat if goal_d else MissingParameter)(
+            "give exactly one of 'joints' or 'position'", field="goal")
+    goal_q = goal_xy = None
+    if "joints" in goal_d:
+        goal_q = [angle(v, f"goal.joints[{i}]") for i, v in enumerate(
+            _list(goal_d["joints"], "goal.joints", n, f"joint angles (the arm has {n} joints)"))]
+        _within_limits(arm, goal_q, "goal.joints")
+        angle_warn(goal_q, "goal.joints")
+    else:
+        goal_xy = _numbers(goal_d["position"], "goal.position", 2)
+        r = math.hypot(*goal_xy)
+        if r > r_out * (1 + 1e-12) or r < r_in * (1 - 1e-12):
+            raise InvalidValue(
+                f"({goal_xy[0]:g}, {goal_xy[1]:g}) is out of reach: its distance {r:.4g} m from "
+                f"the base is outside the workspace annulus [{r_in:g}, {r_out:g}] m",
+                field="goal.position")
+
+    planner = _planner(top.get("planner", {}), n, warnings)
+    traj_d = _object(top.get("trajectory", {}), "trajectory",
+                     optional=("duration", "profile", "samples"))
+    duration = _number(traj_d.get("duration", 5.0), "trajectory.duration")
+    if duration <= 0:
+        raise InvalidValue(f"must be > 0 s, got {duration:g}", field="trajectory.duration")
+    trajectory = TrajectorySettings(
+        duration=duration,
+        profile=_string(traj_d.get("profile", "quintic"), "trajectory.profile", PROFILES),
+        samples=_integer(traj_d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES),
+    )
+    name = _string(top.get("name", ""), "name")
+    description = _string(top.get("description", ""), "description")
+
+    scenario = Scenario(
+        arm=arm, obstacles=tuple(obstacles), start=tuple(start),
+        goal_q=None if goal_q is None else tuple(goal_q),
+        goal_xy=None if goal_xy is None else tuple(goal_xy),
+        planner=planner, trajectory=trajectory, name=name, description=description,
+        angle_unit=angle_unit, warnings=tuple(warnings), source=source,
+    )
+    if preflight_checks:
+        preflight(scenario)
+    return scenario
+
+
+def _within_limits(arm: Arm, q: list, field: str) -> None:
+    for i, (a, lim) in enumerate(zip(q, arm.joint_limits)):
+        if lim is not None and not lim[0] <= a <= lim[1]:
+            raise InvalidValue(
+                f"joint {i} angle {a:.4g} rad is outside its limits [{lim[0]:.4g}, {lim[1]:.4g}] rad",
+                field=f"{field}[{i}]")
+
+
+def _planner(v, n: int, warnings: list) -> PlannerSettings:
+    d = _object(v, "planner", optional=_PLANNER_KEYS)
+    algorithm = _string(d.get("algorithm", "astar"), "planner.algorithm", ALGORITHMS)
+    default_cells = 100 if n <= 2 else max(8, int(round(2e6 ** (1.0 / n))))
+    cells_v = d.get("cells", default_cells)
+    if isinstance(cells_v, (list, tuple)):
+        cells = tuple(_integer(c, f"planner.cells[{i}]", 3) for i, c in enumerate(
+            _list(cells_v, "planner.cells", n, f"entries (one per joint; the arm has {n})")))
+    else:
+        cells = (_integer(cells_v, "planner.cells", 3),) * n
+    total = math.prod(cells)
+    if algorithm == "astar" and total > MAX_CELLS:
+        raise InvalidValue(
+            f"a grid of {total:.3g} cells would need about {total * BYTES_PER_CELL / 1e9:.3g} GB; "
+            f"the limit is {MAX_CELLS:.3g} cells", field="planner.cells")
+    weight = _number(d.get("heuristic_weight", 1.0), "planner.heuristic_weight")
+    if weight < 1:
+        raise InvalidValue(f"must be >= 1, got {weight:g}", field="planner.heuristic_weight")
+    max_exp = d.get("max_expansions")
+    if max_exp is not None:
+        max_exp = _integer(max_exp, "planner.max_expansions", 1)
+    seed = _integer(d.get("seed", 0), "planner.seed", 0, 2**63 - 1)
+    defaults = PlannerSettings()
+    step = _number(d.get("step", defaults.step), "planner.step")
+    if step <= 0:
+        raise InvalidValue(f"must be > 0 rad, got {step:g}", field="planner.step")
+    bias = _number(d.get("goal_bias", defaults.goal_bias), "planner.goal_bias")
+    if not 0 <= bias <= 1:
+        raise InvalidValue(f"must be in [0, 1], got {bias:g}", field="planner.goal_bias")
+    thr = _number(d.get("goal_threshold", defaults.goal_threshold), "planner.goal_threshold")
+    if thr <= 0:
+        raise InvalidValue(f"must be > 0 m, got {thr:g}", field="planner.goal_threshold")
+    iters = _integer(d.get("max_iterations", defaults.max_iterations), "planner.max_iterations",
+                     1, 10_000_000)
+    if algorithm != "rrt":
+        for key in _RRT_KEYS:
+            if key in d:
+                warnings.append(f"planner.{key} is an RRT setting and is ignored by {algorithm}")
+    return PlannerSettings(algorithm=algorithm, cells=cells, heuristic_weight=weight,
+                           max_expansions=max_exp, seed=seed, step=step, goal_bias=bias,
+                           goal_threshold=thr, max_iterations=iters)
+
+
+def preflight(scenario: Scenario) -> None:
+    """Refuse a scenario that cannot succeed, before any search (R2: say it plainly).
+
+    Raises :class:`~rapp.errors.InvalidValue` naming ``start`` or
+    ``goal.joints`` when that configuration collides.
+
+    Examples
+    --------
+    >>> s = load_scenario("default")
+    >>> preflight(s) is None
+    True
+    """
+    from rapp.collision import clearance, collides
+
+    obs = scenario.obstacles
+    if not obs:
+        return
+    checks = [("start", scenario.start)]
+    if scenario.goal_q is not None:
+        checks.append(("goal.joints", scenario.goal_q))
+    for field, q in checks:
+        if bool(collides(scenario.arm, np.array(q), obs)):
+            d = float(clearance(scenario.arm, np.array(q), obs))
+            raise InvalidValue(
+                f"this configuration collides with an obstacle (clearance {d:.3g} m)", field=field)
+
+
+def load_scenario(source, *, check: bool = True) -> Scenario:
+    """Load and validate a scenario (MIS ``loadParams``).
+
+    Parameters
+    ----------
+    source : str, os.PathLike, Mapping or Scenario
+        A path to a JSON file, the name of an embedded scenario (see
+        :func:`list_scenarios`), or an already parsed mapping.
+    check : bool, default True
+        Also run :func:`preflight` (start and joint goal must not collide).
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    FileNotFound, InvalidFormat, MissingParameter, InvalidValue
+        Each with ``.field`` naming the offending entry.
+
+    Examples
+    --------
+    >>> s = load_scenario({"arm": {"link_lengths": [1, 1]}, "start": [0, 0],
+    ...                    "goal": {"joints": [90, 0]}, "units": {"angle": "deg"}})
+    >>> round(s.goal_q[0], 6)
+    1.570796
+    >>> load_scenario({"arm": {"link_lengths": [1, -1]}, "start": [0, 0], "goal": {"joints": [0, 0]}})
+    Traceback (most recent call last):
+    ...
+    rapp.errors.InvalidValue: arm.link_lengths[1]: link length must be > 0 m, got -1
+    """
+    if isinstance(source, Scenario):
+        return source
+    if isinstance(source, Mapping):
+        data, src = source, "<mapping>"
+    elif isinstance(source, (str, os.PathLike)):
+        src = os.fspath(source)
+        if isinstance(src, bytes):
+            src = os.fsdecode(src)
+        if not os.path.exists(src) and src.isidentifier() and _embedded(src).is_file():
+            data = _parse_bytes(_embedded(src).read_bytes())
+            src = f"rapp:scenarios/{src}.json"
+        else:
+            data = _read_json(src)
+    else:
+        raise InvalidFormat(
+            f"expected a path, a scenario name or a mapping, got {type(source).__name__}",
+            field="scenario")
+    try:
+        return _parse(data, src, check)
+    except RecursionError:
+        raise InvalidFormat("the scenario is nested too deeply", field="scenario") from None
+
+
+# --------------------------------------------------------------------------- echo (R2)
+
+
+def _fmt(v, digits=4) -> str:
+    return f"{v:.{digits}g}"
+
+
+def echo(scenario: Scenario) -> str:
+    """Every input of the scenario as a readable table with units (R2), warnings last.
+
+    Angles are shown in radians, and in degrees when the file declared degrees.
+
+    Examples
+    --------
+    >>> print(echo(load_scenario("default")).splitlines()[0])
+    scenario      default
+    """
+    s = scenario
+    deg = s.angle_unit == "deg"
+
+    def ang(values):
+        txt = "[" + ", ".join(_fmt(v) for v in values) + "] rad"
+        if deg:
+            txt += "  = [" + ", ".join(_fmt(math.degrees(v)) for v in values) + "] deg"
+        return txt
+
+    rows = [("scenario", s.name or "(unnamed)"), ("source", s.source)]
+    if s.description:
+        rows.append(("description", s.description))
+    rows.append(("links", f"{s.arm.n}: [" + ", ".join(_fmt(v) for v in s.arm.link_lengths)
+                 + "] m"))
+    for i, lim in enumerate(s.arm.joint_limits):
+        rows.append((f"joint {i}", "free (wraps)" if lim is None else "limits " + ang(lim)))
+    r_in, r_out = s.arm.reach
+    rows.append(("reach", f"annulus [{_fmt(r_in)}, {_fmt(r_out)}] m"))
+    rows.append(("obstacles", str(len(s.obstacles))))
+    for i, ob in enumerate(s.obstacles):
+        if isinstance(ob, Circle):
+            txt = f"circle centre ({_fmt(ob.center[0])}, {_fmt(ob.center[1])}) m, radius {_fmt(ob.radius)} m"
+        else:
+            txt = "polygon " + " ".join(f"({_fmt(x)}, {_fmt(y)})" for x, y in ob.vertices) + " m"
+        rows.append((f"  [{i}]", txt))
+    rows.append(("start", ang(s.start)))
+    if s.goal_q is not None:
+        rows.append(("goal (joints)", ang(s.goal_q)))
+    else:
+        rows.append(("goal (x, y)", f"({_fmt(s.goal_xy[0])}, {_fmt(s.goal_xy[1])}) m"))
+    p = s.planner
+    rows.append(("planner", p.algorithm))
+    if p.algorithm == "astar":
+        rows.append(("  cells", " x ".join(map(str, p.cells)) + f" = {math.prod(p.cells)}"))
+        rows.append(("  weight", _fmt(p.heuristic_weight)))
+        rows.append(("  max expand", "none" if p.max_expansions is None else str(p.max_expansions)))
+    else:
+        rows.append(("  step", f"{_fmt(p.step)} rad"))
+        rows.append(("  goal bias", _fmt(p.goal_bias)))
+        rows.append(("  goal thresh", f"{_fmt(p.goal_threshold)} m"))
+        rows.append(("  iterations", str(p.max_iterations)))
+        rows.append(("  seed", str(p.seed)))
+    t = s.trajectory
+    rows.append(("trajectory", f"{t.profile}, {_fmt(t.duration)} s, {t.samples} samples"))
+    width = max(len(k) for k, _ in rows) + 2
+    lines = [f"{k:<{width}}{v}" for k, v in rows]
+    for w in s.warnings:
+        lines.append(f"warning: {w}")
+    return "\n".join(lines)

@@ -1,0 +1,702 @@
+"""Graph search on the discretized joint space (TM:AStarJointSpace, GD1).
+
+The search space is an occupancy grid of any dimension ``n``: ``occupied`` is
+a bool array, ``True`` where the cell is blocked. A cell is a tuple of ``n``
+indices. Every step moves one index by +-1 and costs 1, so a cell has at most
+``2n`` neighbours. An axis *wraps* (a joint that turns freely: the grid is a
+torus along it) or is bounded (a joint with limits); ``wraps`` is one bool for
+every axis, or one bool per axis.
+
+* :func:`astar` / :func:`astar_search` -- A* with the toroidal Manhattan
+  heuristic of GD1, optionally weighted (MIS ``HEURISTIC_FACTOR``) and with an
+  expansion limit (MIS ``MAX_ITERATIONS``).
+* :func:`bfs` / :func:`bfs_distances` -- breadth-first search, the optimal
+  oracle the tests compare A* against (on unit costs BFS is Dijkstra).
+* :func:`greedy_best_first` -- kept only to show why it is not optimal.
+* :func:`check_heuristic` -- exhaustive admissibility and consistency check.
+
+Implementation note: A* runs in Python over flat cell numbers. The neighbour
+table (with the wrap of each axis built in) and the heuristic of every cell are
+computed once with numpy; the inner loop only reads Python lists and a
+bytearray, which is several times faster than tuples of indices.
+"""
+
+from __future__ import annotations
+
+import heapq
+import operator
+from dataclasses import dataclass
+
+import numpy as np
+
+from rapp.errors import NoPathFound
+
+__all__ = [
+    "SearchResult",
+    "HeuristicCheck",
+    "astar",
+    "astar_search",
+    "bfs",
+    "bfs_distances",
+    "greedy_best_first",
+    "toroidal_manhattan",
+    "check_heuristic",
+]
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _grid(occupied):
+    occ = np.asarray(occupied)
+    if occ.dtype != bool:
+        raise ValueError(f"occupied must be a bool array, got dtype {occ.dtype}")
+    if occ.ndim < 1 or occ.size == 0:
+        raise ValueError("occupied must be a non-empty array of at least one dimension")
+    return np.ascontiguousarray(occ)
+
+
+def _wraps(wraps, n):
+    if isinstance(wraps, (bool, np.bool_)):
+        return (bool(wraps),) * n
+    w = tuple(bool(x) for x in wraps)
+    if len(w) != n:
+        raise ValueError(f"wraps needs one bool per axis ({n}), got {len(w)}")
+    return w
+
+
+def _cell(index, shape, what):
+    """Flat number of a cell; NoPathFound if it lies outside the grid."""
+    try:
+        idx = tuple(operator.index(i) for i in index)
+    except TypeError:
+        raise ValueError(f"{what} must be a sequence of integer indices, got {index!r}") from None
+    if len(idx) != len(shape):
+        raise ValueError(f"{what} has {len(idx)} indices but the grid has {len(shape)} axes")
+    if any(not 0 <= i < m for i, m in zip(idx, shape)):
+        raise NoPathFound(f"the {what} cell {idx} is outside the grid of shape {tuple(shape)}")
+    return idx, int(np.ravel_multi_index(idx, shape))
+
+
+def _neighbour_table(shape, wraps):
+    """(N, 2n) flat neighbour numbers; ``N`` (one past the last cell) marks 'off the grid'."""
+    size = int(np.prod(shape))
+    idx = np.arange(size).reshape(shape)
+    cols = []
+    for axis, (m, w) in enumerate(zip(shape, wraps)):
+        for step in (1, -1):
+            # np.roll wraps every axis; the bounded ones get their edge cut off below.
+            t = np.roll(idx, -step, axis=axis)
+            if not w:
+                edge = [slice(None)] * len(shape)
+                edge[axis] = m - 1 if step == 1 else 0
+                t[tuple(edge)] = size
+            cols.append(t.ravel())
+    return np.stack(cols, axis=1)
+
+
+def _heuristic_grid(shape, goal, wraps):
+    """GD1 for every cell at once, by broadcasting one 1-D term per axis."""
+    h = np.zeros(shape, dtype=np.int64)
+    for axis, (m, gi, w) in enumerate(zip(shape, goal, wraps)):
+        d = np.abs(np.arange(m) - gi)
+        if w:
+            d = np.minimum(d, m - d)
+        view = [1] * len(shape)
+        view[axis] = m
+        h += d.reshape(view)
+    return h
+
+
+def _path_array(flat_path, shape):
+    path = np.stack(np.unravel_index(np.asarray(flat_path, dtype=np.int64), shape), axis=-1)
+    path.setflags(write=False)
+    return path
+
+
+def _as_tuples(path):
+    return [tuple(int(i) for i in row) for row in path.tolist()]
+
+
+# --------------------------------------------------------------------------- heuristic
+
+
+def toroidal_manhattan(a, b, shape, wraps=True):
+    """Toroidal Manhattan distance of GD1, vectorized.
+
+    ``h(a, b) = sum_i min(|a_i - b_i|, M_i - |a_i - b_i|)`` on wrapping axes and
+    ``|a_i - b_i|`` on bounded ones. It is the exact step count between two
+    cells of an empty grid, so it never overestimates (admissible) and changes
+    by at most 1 per step (consistent).
+
+    Parameters
+    ----------
+    a, b : array_like of int, shape (..., n)
+        Cell indices; broadcast against each other.
+    shape : sequence of int
+        Grid shape ``(M_1, ..., M_n)``.
+    wraps : bool or sequence of bool
+        Which axes wrap.
+
+    Returns
+    -------
+    ndarray of int, shape (...)
+
+    Examples
+    --------
+    >>> int(toroidal_manhattan([0, 0], [359, 180], (360, 360)))
+    181
+    >>> toroidal_manhattan([[0, 0], [1, 2]], [359, 2], (360, 360), wraps=[False, True]).tolist()
+    [361, 358]
+    """
+    shape = tuple(int(m) for m in shape)
+    w = np.asarray(_wraps(wraps, len(shape)))
+    d = np.abs(np.asarray(a, dtype=np.int64) - np.asarray(b, dtype=np.int64))
+    if d.shape[-1:] != (len(shape),):
+        raise ValueError(f"cells must have shape (..., {len(shape)}), got {d.shape}")
+    m = np.asarray(shape, dtype=np.int64)
+    return np.where(w, np.minimum(d, m - d), d).sum(axis=-1)
+
+
+@dataclass(frozen=True)
+class HeuristicCheck:
+    """Result of :func:`check_heuristic`.
+
+    Attributes
+    ----------
+    consistent : bool
+        ``h(u) <= 1 + h(v)`` for every pair of neighbouring free cells.
+    admissible : bool
+        ``h(u) <=`` true distance to the goal for every cell that reaches it.
+    goal_zero : bool
+        ``h(goal) == 0``.
+    max_step_drop : int
+        Largest ``h(u) - h(v)`` over neighbouring free cells (consistent: <= 1).
+    max_overestimate : int
+        Largest ``h(u) - d(u)`` over cells that reach the goal (admissible: <= 0).
+    """
+
+    consistent: bool
+    admissible: bool
+    goal_zero: bool
+    max_step_drop: int
+    max_overestimate: int
+
+
+def check_heuristic(occupied, goal, *, wraps=True, heuristic_wraps=None):
+    """Check GD1 exhaustively on one grid: consistency, admissibility, ``h(goal) = 0``.
+
+    Every edge between free cells and every cell that reaches the goal is
+    checked at once with numpy; the true distances come from
+    :func:`bfs_distances` from the goal (the grid graph is undirected).
+
+    Parameters
+    ----------
+    occupied : ndarray of bool
+        The grid (``np.zeros(shape, bool)`` for an empty one).
+    goal : sequence of int
+        Goal cell (must be free).
+    wraps : bool or sequence of bool
+        Which axes wrap in the search space.
+    heuristic_wraps : bool or sequence of bool, optional
+        Which axes the heuristic treats as wrapping; defaults to ``wraps``.
+        Pass ``False`` on a torus to see the wrap-blind heuristic fail.
+
+    Returns
+    -------
+    HeuristicCheck
+
+    Examples
+    --------
+    >>> free = np.zeros((8, 8), bool)
+    >>> check_heuristic(free, (0, 0))
+    HeuristicCheck(consistent=True, admissible=True, goal_zero=True, max_step_drop=1, max_overestimate=0)
+    >>> check_heuristic(free, (0, 0), heuristic_wraps=False).admissible
+    False
+    """
+    occ = _grid(occupied)
+    shape = occ.shape
+    w = _wraps(wraps, occ.ndim)
+    hw = w if heuristic_wraps is None else _wraps(heuristic_wraps, occ.ndim)
+    gidx, gflat = _cell(goal, shape, "goal")
+    if occ[gidx]:
+        raise ValueError(f"the goal cell {gidx} is blocked")
+    size = occ.size
+    h = np.append(_heuristic_grid(shape, gidx, hw).ravel(), 0)
+    free = np.append(~occ.ravel(), False)
+    nb = _neighbour_table(shape, w)
+    u = np.flatnonzero(free[:size])
+    v = nb[u]
+    edge = free[v]
+    drops = (h[u][:, None] - h[v])[edge]
+    max_drop = int(drops.max()) if drops.size else 0
+    dist = bfs_distances(occ, gidx, wraps=w).ravel()
+    reach = dist >= 0
+    over = int((h[:size][reach] - dist[reach]).max())
+    return HeuristicCheck(
+        consistent=max_drop <= 1,
+        admissible=over <= 0,
+        goal_zero=bool(h[gflat] == 0),
+        max_step_drop=max_drop,
+        max_overestimate=over,
+    )
+
+
+# --------------------------------------------------------------------------- A*
+
+
+@dataclass(frozen=True, eq=False)
+class SearchResult:
+    """What a search found, with the numbers the metrics and figures need.
+
+    Attributes
+    ----------
+    path : ndarray of int, shape (k, n)
+        Cells from start to goal, both included.
+    cost : int
+        Number of steps, ``k - 1``.
+    expansions : int
+        Cells expanded (taken off the open list and their neighbours generated);
+        the goal is not counted.
+    closed : ndarray of bool, grid shape
+        The expanded cells, for figures of the search effort.
+    """
+
+    path: np.ndarray
+    cost: int
+    expansions: int
+    closed: np.ndarray
+
+
+def _prepare(occupied, start, goal, wraps):
+    occ = _grid(occupied)
+    w = _wraps(wraps, occ.ndim)
+    sidx, s = _cell(start, occ.shape, "start")
+    gidx, t = _cell(goal, occ.shape, "goal")
+    if occ[sidx]:
+        raise NoPathFound(f"the start cell {sidx} is blocked")
+    if occ[gidx]:
+        raise NoPathFound(f"the goal cell {gidx} is blocked")
+    return occ, w, sidx, s, gidx, t
+
+
+class _PaddedGraph:
+    """The grid as a graph for the Python search loops, in padded flat numbers.
+
+    The grid is embedded in one of shape ``M_i + 2`` on every axis, so that the
+    neighbours of any real cell are at the constant offsets ``+-stride_i``. A
+    pad cell of a bounded axis is closed from the start (off the grid); a pad
+    cell of a wrapping axis redirects (``red``) to the real cell on the other
+    side. Blocked cells are closed from the start too, so the inner loop needs
+    one lookup and one test per neighbour and no table of size ``N x 2n``,
+    whose construction would cost more than a typical search.
+    """
+
+    def __init__(self, occ, wraps):
+        n = occ.ndim
+        self.shape = occ.shape
+        self.pshape = tuple(m + 2 for m in occ.shape)
+        self.inner = (slice(1, -1),) * n
+        size = int(np.prod(self.pshape))
+        self.size = size
+        blocked = np.ones(self.pshape, dtype=np.uint8)
+        blocked[self.inner] = occ
+        red = np.arange(size).reshape(self.pshape)
+        for axis, (m, w) in enumerate(zip(occ.shape, wraps)):
+            if w:
+                for pad, real in ((0, m), (m + 1, 1)):
+                    dst = list(self.inner)
+                    src = list(self.inner)
+                    dst[axis], src[axis] = pad, real
+                    red[tuple(dst)] = red[tuple(src)]
+        self.closed = bytearray(blocked.tobytes())
+        self.red = red.ravel().tolist()
+        strides = [int(np.prod(self.pshape[i + 1:])) for i in range(n)]
+        self.offsets = [d for st in strides for d in (st, -st)]
+
+    def flat(self, idx):
+        return int(np.ravel_multi_index(tuple(i + 1 for i in idx), self.pshape))
+
+    def padded(self, values):
+        return np.pad(values, 1).ravel()
+
+    def path(self, flat):
+        cells = np.stack(np.unravel_index(np.asarray(flat, dtype=np.int64), self.pshape), axis=-1) - 1
+        cells.setflags(write=False)
+        return cells
+
+    def expanded(self, occ):
+        done = np.frombuffer(bytes(self.closed), dtype=np.uint8).reshape(self.pshape)[self.inner]
+        out = done.astype(bool) & ~occ
+        out.setflags(write=False)
+        return out
+
+
+def astar_search(
+    occupied,
+    start,
+    goal,
+    *,
+    wraps=True,
+    heuristic_weight=1.0,
+    max_expansions=None,
+    heuristic_wraps=None,
+):
+    """A* on an occupancy grid with the toroidal Manhattan heuristic (TM:AStarJointSpace).
+
+    Nodes are expanded in order of ``f = g + w h`` with ``h`` from GD1
+    (:func:`toroidal_manhattan`); among equal ``f`` the node with the larger
+    ``g`` goes first, which on unit-cost grids runs straight down one of the
+    many equally short paths instead of widening over all of them. Tie-breaking
+    never affects optimality: any order of equal ``f`` is a valid A* order.
+
+    Guarantees. With ``w = 1`` the heuristic is admissible and consistent, so
+    the path is a shortest one. With ``w > 1`` (weighted A*) the path costs at
+    most ``w`` times the optimum ``C*``. Cells are never re-expanded; that
+    keeps the bound because ``h`` is consistent: every expanded cell ``u`` has
+    ``g(u) <= w g*(u)`` (the bound proved for ARA* by Likhachev, Gordon and
+    Thrun, NIPS 2003), and the goal is returned when it is taken off the list. The tests check
+    ``cost <= w C*`` against the breadth-first optimum on random grids.
+
+    Parameters
+    ----------
+    occupied : ndarray of bool
+        The grid of any dimension ``n``; ``True`` = blocked.
+    start, goal : sequence of int
+        Cells, ``n`` indices each.
+    wraps : bool or sequence of bool, default True
+        Which axes wrap (free joints); used for the neighbours and the heuristic.
+    heuristic_weight : float, default 1.0
+        ``w >= 1`` (MIS ``HEURISTIC_FACTOR``).
+    max_expansions : int, optional
+        Stop with :class:`~rapp.errors.NoPathFound` after this many expansions
+        (MIS ``MAX_ITERATIONS``); ``None`` means no limit.
+    heuristic_wraps : bool or sequence of bool, optional
+        Which axes the *heuristic* treats as wrapping; defaults to ``wraps``.
+        Only for teaching: on a torus ``False`` overestimates across the seam,
+        and A* may then expand more cells or return a longer path.
+
+    Returns
+    -------
+    SearchResult
+
+    Raises
+    ------
+    NoPathFound
+        The start or goal is blocked or outside the grid, the goal is
+        unreachable, or the expansion limit was hit.
+
+    Examples
+    --------
+    >>> grid = np.zeros((360, 360), bool)
+    >>> r = astar_search(grid, (0, 0), (359, 10))
+    >>> r.cost, r.path[[0, 1, -1]].tolist()
+    (11, [[0, 0], [0, 1], [359, 10]])
+    >>> r.expansions, int(r.closed.sum())
+    (11, 11)
+    """
+    occ, w_ax, sidx, s, gidx, t = _prepare(occupied, start, goal, wraps)
+    hw = w_ax if heuristic_wraps is None else _wraps(heuristic_wraps, occ.ndim)
+    w = float(heuristic_weight)
+    if not (np.isfinite(w) and w >= 1.0):
+        raise ValueError(f"heuristic_weight must be a finite number >= 1, got {heuristic_weight!r}")
+    if max_expansions is None:
+        limit = -1
+    else:
+        limit = operator.index(max_expansions)
+        if limit < 0:
+            raise ValueError(f"max_expansions must be >= 0, got {max_expansions!r}")
+    G = _PaddedGraph(occ, w_ax)
+    size, closed, red, offs = G.size, G.closed, G.red, G.offsets
+    hgrid = G.padded(_heuristic_grid(occ.shape, gidx, hw))
+    s, t = G.flat(sidx), G.flat(gidx)
+    g = [size + 1] * size
+    parent = {}
+    g[s] = 0
+    expansions = 0
+    push, pop = heapq.heappush, heapq.heappop
+    found = s == t
+    stopped = False
+
+    if w == 1.0:
+        # One int key per heap entry, (f, -g, cell) packed, compares much faster
+        # than tuples: key = (f * (P + 1) + (P - g)) * P + cell, g <= P.
+        h = hgrid.tolist()
+        n1 = size + 1
+        heap = [(h[s] * n1 + size) * size + s]
+        while heap and not found:
+            u = pop(heap) % size
+            if closed[u]:
+                continue
+            if u == t:
+                found = True
+                break
+            if expansions == limit:
+                stopped = True
+                break
+            closed[u] = 1
+            expansions += 1
+            gv = g[u] + 1
+            for d in offs:
+                v = red[u + d]
+                if closed[v] or gv >= g[v]:
+                    continue
+                g[v] = gv
+                parent[v] = u
+                push(heap, ((gv + h[v]) * n1 + size - gv) * size + v)
+    else:
+        wh = (w * hgrid).tolist()
+        heap = [(wh[s], 0, s)]
+        while heap and not found:
+            u = pop(heap)[2]
+            if closed[u]:
+                continue
+            if u == t:
+                found = True
+                break
+            if expansions == limit:
+                stopped = True
+                break
+            closed[u] = 1
+            expansions += 1
+            gv = g[u] + 1
+            for d in offs:
+                v = red[u + d]
+                if closed[v] or gv >= g[v]:
+                    continue
+                g[v] = gv
+                parent[v] = u
+                push(heap, (gv + wh[v], -gv, v))
+
+    if not found:
+        if stopped:
+            raise NoPathFound(
+                f"search stopped after the limit of {limit} expansions without reaching the goal {gidx}"
+            )
+        raise NoPathFound(f"the goal {gidx} cannot be reached from the start {sidx}")
+    flat = [t]
+    while flat[-1] != s:
+        flat.append(parent[flat[-1]])
+    return SearchResult(
+        path=G.path(flat[::-1]), cost=len(flat) - 1, expansions=expansions, closed=G.expanded(occ)
+    )
+
+
+def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expansions=None):
+    """Shortest path on an occupancy grid by A* (TM:AStarJointSpace, MIS planPath).
+
+    A thin wrapper of :func:`astar_search` (see there for the heuristic, the
+    tie-breaking and the ``cost <= w * optimum`` bound of weighted A*).
+
+    Parameters
+    ----------
+    occupied : ndarray of bool
+        The grid of any dimension ``n``; ``True`` = blocked.
+    start, goal : sequence of int
+        Cells, ``n`` indices each.
+    wraps : bool or sequence of bool, default True
+        Which axes wrap.
+    heuristic_weight : float, default 1.0
+        ``w >= 1``; the path costs at most ``w`` times the optimum.
+    max_expansions : int, optional
+        Expansion limit; ``None`` means no limit.
+
+    Returns
+    -------
+    list of tuple of int
+        Cells from start to goal, both included.
+
+    Raises
+    ------
+    NoPathFound
+        Start or goal blocked or outside the grid, goal unreachable, or the
+        expansion limit hit.
+
+    Examples
+    --------
+    >>> grid = np.zeros((4, 4), bool)
+    >>> astar(grid, (0, 0), (3, 0))
+    [(0, 0), (3, 0)]
+    >>> astar(grid, (0, 0), (3, 0), wraps=False)
+    [(0, 0), (1, 0), (2, 0), (3, 0)]
+    """
+    r = astar_search(
+        occupied,
+        start,
+        goal,
+        wraps=wraps,
+        heuristic_weight=heuristic_weight,
+        max_expansions=max_expansions,
+    )
+    return _as_tuples(r.path)
+
+
+# --------------------------------------------------------------------------- BFS oracle
+
+
+def bfs_distances(occupied, start, wraps=True):
+    """Step distance from ``start`` to every cell, by breadth-first search.
+
+    The frontier of each level is expanded at once with numpy, so the cost is
+    one numpy pass per distance level over the frontier only.
+
+    Parameters
+    ----------
+    occupied : ndarray of bool
+        The grid; ``True`` = blocked.
+    start : sequence of int
+        The source cell.
+    wraps : bool or sequence of bool, default True
+        Which axes wrap.
+
+    Returns
+    -------
+    ndarray of int, grid shape
+        Distances; ``-1`` for blocked and unreachable cells (all ``-1`` when the
+        start itself is blocked).
+
+    Examples
+    --------
+    >>> bfs_distances(np.zeros(6, bool), [0]).tolist()
+    [0, 1, 2, 3, 2, 1]
+    >>> bfs_distances(np.array([False, False, True, False]), [0], wraps=False).tolist()
+    [0, 1, -1, -1]
+    """
+    occ = _grid(occupied)
+    w = _wraps(wraps, occ.ndim)
+    try:
+        sidx, s = _cell(start, occ.shape, "start")
+    except NoPathFound as e:
+        raise ValueError(str(e)) from None
+    size = occ.size
+    dist = np.full(size + 1, -1, dtype=np.int64)
+    if not occ[sidx]:
+        nb = _neighbour_table(occ.shape, w)
+        seen = np.append(occ.ravel(), True)  # blocked and off-grid count as seen
+        seen[s] = True
+        dist[s] = 0
+        frontier = np.array([s])
+        level = 0
+        while frontier.size:
+            level += 1
+            cand = nb[frontier].ravel()
+            cand = np.unique(cand[~seen[cand]])
+            seen[cand] = True
+            dist[cand] = level
+            frontier = cand
+    return dist[:size].reshape(occ.shape)
+
+
+def bfs(occupied, start, goal, *, wraps=True):
+    """A shortest path by breadth-first search: the optimal oracle for A*.
+
+    Parameters
+    ----------
+    occupied : ndarray of bool
+        The grid; ``True`` = blocked.
+    start, goal : sequence of int
+        Cells.
+    wraps : bool or sequence of bool, default True
+        Which axes wrap.
+
+    Returns
+    -------
+    list of tuple of int
+        Cells from start to goal, both included.
+
+    Raises
+    ------
+    NoPathFound
+        Start or goal blocked or outside the grid, or goal unreachable.
+
+    Examples
+    --------
+    >>> grid = np.zeros((3, 3), bool)
+    >>> grid[1, :2] = True
+    >>> bfs(grid, (0, 0), (2, 0), wraps=False)
+    [(0, 0), (0, 1), (0, 2), (1, 2), (2, 2), (2, 1), (2, 0)]
+    >>> bfs(grid, (0, 0), (2, 0))
+    [(0, 0), (2, 0)]
+    """
+    occ, w, sidx, s, gidx, t = _prepare(occupied, start, goal, wraps)
+    dist = bfs_distances(occ, gidx, wraps=w).ravel()  # undirected grid: from goal = to goal
+    if dist[s] < 0:
+        raise NoPathFound(f"the goal {gidx} cannot be reached from the start {sidx}")
+    nb = _neighbour_table(occ.shape, w)
+    dist = np.append(dist, -1)
+    flat = [s]
+    # Walk downhill in distance-to-goal: one step per loop, the path length.
+    while flat[-1] != t:
+        row = nb[flat[-1]]
+        flat.append(int(row[np.argmax(dist[row] == dist[flat[-1]] - 1)]))
+    return _as_tuples(_path_array(flat, occ.shape))
+
+
+# --------------------------------------------------------------------------- greedy best-first
+
+
+def greedy_best_first(occupied, start, goal, *, wraps=True, heuristic_wraps=None):
+    """Greedy best-first search: always expand the cell with the smallest ``h``.
+
+    Kept ONLY to show in the book why it is not a shortest-path method: it
+    ignores the cost already paid (``g``), so it follows the heuristic into
+    dead ends and keeps the first, often roundabout, route it finds. With a
+    heuristic that ignores the wrap (``heuristic_wraps=False`` on a torus), it
+    even walks the long way round.
+
+    Parameters
+    ----------
+    occupied : ndarray of bool
+        The grid; ``True`` = blocked.
+    start, goal : sequence of int
+        Cells.
+    wraps : bool or sequence of bool, default True
+        Which axes wrap in the search space.
+    heuristic_wraps : bool or sequence of bool, optional
+        Which axes the heuristic treats as wrapping; defaults to ``wraps``.
+
+    Returns
+    -------
+    list of tuple of int
+        A path from start to goal (not necessarily a shortest one).
+
+    Raises
+    ------
+    NoPathFound
+        Start or goal blocked or outside the grid, or goal unreachable.
+
+    Examples
+    --------
+    >>> ring = np.zeros(20, bool)
+    >>> len(greedy_best_first(ring, [2], [17], heuristic_wraps=False)) - 1
+    15
+    >>> len(astar(ring, [2], [17])) - 1
+    5
+    """
+    occ, w, sidx, s, gidx, t = _prepare(occupied, start, goal, wraps)
+    hw = w if heuristic_wraps is None else _wraps(heuristic_wraps, occ.ndim)
+    G = _PaddedGraph(occ, w)
+    size, closed, red, offs = G.size, G.closed, G.red, G.offsets
+    h = G.padded(_heuristic_grid(occ.shape, gidx, hw)).tolist()
+    s, t = G.flat(sidx), G.flat(gidx)
+    parent = {s: s}
+    heap = [h[s] * size + s]
+    while heap:
+        u = heapq.heappop(heap) % size
+        if u == t:
+            break
+        if closed[u]:
+            continue
+        closed[u] = 1
+        for d in offs:
+            v = red[u + d]
+            if closed[v] or v in parent:
+                continue
+            parent[v] = u
+            heapq.heappush(heap, h[v] * size + v)
+    else:
+        raise NoPathFound(f"the goal {gidx} cannot be reached from the start {sidx}")
+    flat = [t]
+    while flat[-1] != s:
+        flat.append(parent[flat[-1]])
+    return _as_tuples(G.path(flat[::-1]))

@@ -1,0 +1,436 @@
+"""Polynomial trajectories: cubic and quintic segments, via points, timed paths (seed 002, R3).
+
+Coefficients are in ascending powers of ABSOLUTE time ``t``, the matrix form
+of seed 002 (its eq. 5 writes them descending; we store ``a0, a1, ...``).
+
+Why we do not invert seed 002's matrix directly. Its 4 x 4 matrix has rows
+``(t0^3, t0^2, t0, 1)``: when a segment starts late compared with its length
+(``t0 / T`` large, ``T = tf - t0``) the matrix is nearly singular (its
+condition number grows like ``(t0 / T)^3``) and a numerical inverse loses
+digits. The same polynomial written in shifted time ``tau = t - t0`` has a
+closed-form, well-conditioned solution; the absolute-time coefficients then
+follow *exactly* (as algebra) by expanding ``(t - t0)^k`` with the binomial
+theorem. The only rounding left is that of the final sums, and
+:mod:`rapp.symbolic` checks the result against sympy's exact solution of the
+absolute-time system.
+
+Arrays in, arrays out: ``p0, pf, ...`` may be arrays (one polynomial per
+entry), and :class:`PiecewisePolynomial` evaluates a whole vector of times
+with one ``np.searchsorted``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from math import comb
+
+import numpy as np
+
+__all__ = [
+    "cubic",
+    "quintic",
+    "polyval",
+    "PiecewisePolynomial",
+    "via_points",
+    "heuristic_velocities",
+    "spline_velocities",
+    "time_path",
+]
+
+
+def _shift_to_absolute(b: np.ndarray, t0) -> np.ndarray:
+    """Coefficients of ``sum_k b_k (t - t0)^k`` in powers of ``t``.
+
+    ``a_j = sum_{k >= j} C(k, j) (-t0)^(k - j) b_k`` (binomial theorem).
+    ``b`` has the degree on axis 0.
+    """
+    deg = b.shape[0] - 1
+    s = -np.asarray(t0, dtype=float)
+    a = []
+    for j in range(deg + 1):
+        a.append(sum(comb(k, j) * s ** (k - j) * b[k] for k in range(j, deg + 1)))
+    return np.stack(np.broadcast_arrays(*a), axis=0)
+
+
+def _durations(t0, tf):
+    t0 = np.asarray(t0, dtype=float)
+    tf = np.asarray(tf, dtype=float)
+    h = tf - t0
+    if np.any(~(h > 0)):
+        raise ValueError("every segment needs tf > t0")
+    return t0, h
+
+
+def cubic(t0, tf, p0, pf, v0=0.0, vf=0.0) -> np.ndarray:
+    """Cubic through ``(t0, p0, v0)`` and ``(tf, pf, vf)`` (seed 002, eq. 5-6).
+
+    Returns
+    -------
+    ndarray, shape (4,) or (4, ...)
+        ``a0..a3`` with ``p(t) = a0 + a1 t + a2 t^2 + a3 t^3``, t absolute.
+        Array arguments broadcast; the coefficient index is axis 0.
+
+    Examples
+    --------
+    Seed 002, Task 1, segment BC of x (t from 3 s to 8 s, 5 m -> 14 m,
+    0.25 m/s -> 0):
+
+    >>> cubic(3.0, 8.0, 5.0, 14.0, 0.25, 0.0).round(3).tolist()
+    [16.688, -9.248, 2.186, -0.134]
+    """
+    t0, h = _durations(t0, tf)
+    p0, pf, v0, vf = (np.asarray(v, dtype=float) for v in (p0, pf, v0, vf))
+    d = pf - p0
+    b = [
+        p0,
+        v0,
+        (3 * d - (2 * v0 + vf) * h) / h**2,
+        (-2 * d + (v0 + vf) * h) / h**3,
+    ]
+    b = np.stack(np.broadcast_arrays(*b), axis=0)
+    return _shift_to_absolute(b, t0)
+
+
+def quintic(t0, tf, p0, pf, v0=0.0, vf=0.0, a0=0.0, af=0.0) -> np.ndarray:
+    """Quintic through position, velocity and acceleration at both ends.
+
+    Returns
+    -------
+    ndarray, shape (6,) or (6, ...)
+        Ascending powers of absolute time.
+
+    Examples
+    --------
+    >>> quintic(0.0, 1.0, 0.0, 1.0).round(9).tolist()
+    [0.0, 0.0, 0.0, 10.0, -15.0, 6.0]
+    """
+    t0, h = _durations(t0, tf)
+    p0, pf, v0, vf, a0, af = (np.asarray(v, dtype=float) for v in (p0, pf, v0, vf, a0, af))
+    d = pf - p0
+    b = [
+        p0,
+        v0,
+        a0 / 2,
+        (20 * d - (8 * vf + 12 * v0) * h - (3 * a0 - af) * h**2) / (2 * h**3),
+        (-30 * d + (14 * vf + 16 * v0) * h + (3 * a0 - 2 * af) * h**2) / (2 * h**4),
+        (12 * d - 6 * (vf + v0) * h - (a0 - af) * h**2) / (2 * h**5),
+    ]
+    b = np.stack(np.broadcast_arrays(*b), axis=0)
+    return _shift_to_absolute(b, t0)
+
+
+def _derivative_coeffs(c: np.ndarray, derivative: int, axis: int) -> np.ndarray:
+    c = np.moveaxis(c, axis, 0)
+    for _ in range(derivative):
+        k = np.arange(1, c.shape[0]).reshape((-1,) + (1,) * (c.ndim - 1))
+        c = c[1:] * k if c.shape[0] > 1 else np.zeros_like(c)
+    return np.moveaxis(c, 0, axis)
+
+
+def polyval(coeffs, t, derivative: int = 0) -> np.ndarray:
+    """Evaluate ascending-power coefficients (axis 0) or a derivative at ``t``.
+
+    ``coeffs`` (deg+1, ...) broadcasts against ``t``; Horner's rule.
+
+    Examples
+    --------
+    >>> c = cubic(0.0, 3.0, 2.0, 5.0, 0.0, 0.25)
+    >>> polyval(c, [0.0, 3.0]).round(12).tolist(), polyval(c, 3.0, 1).round(12).tolist()
+    ([2.0, 5.0], 0.25)
+    """
+    c = _derivative_coeffs(np.asarray(coeffs, dtype=float), derivative, 0)
+    t = np.asarray(t, dtype=float)
+    out = np.zeros(np.broadcast_shapes(c.shape[1:], t.shape))
+    for k in range(c.shape[0] - 1, -1, -1):
+        out = out * t + c[k]
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class PiecewisePolynomial:
+    """A trajectory made of polynomial segments in absolute time.
+
+    Parameters
+    ----------
+    breakpoints : (m + 1,) increasing times
+    coefficients : (m, deg + 1, d)
+        Segment ``i`` holds on ``[breakpoints[i], breakpoints[i+1]]``;
+        ascending powers of absolute ``t``.
+
+    Outside ``[t0, tf]`` the trajectory holds its end position with zero
+    velocity and acceleration (the arm waits).
+
+    Examples
+    --------
+    >>> pp = via_points([0.0, 3.0, 8.0], [[2.0, 5.0], [5.0, 8.0], [14.0, 7.0]],
+    ...                 velocities=[[0, 0], [0.25, 0.25], [0, 0]])
+    >>> pp.evaluate([0.0, 3.0, 8.0]).round(12).tolist()
+    [[2.0, 5.0], [5.0, 8.0], [14.0, 7.0]]
+    >>> q, qd, qdd = pp.sample(np.linspace(0, 8, 5))
+    >>> q.shape, qd[-1].tolist()
+    ((5, 2), [0.0, 0.0])
+    """
+
+    breakpoints: np.ndarray
+    coefficients: np.ndarray
+
+    def __post_init__(self):
+        bp = np.asarray(self.breakpoints, dtype=float)
+        c = np.asarray(self.coefficients, dtype=float)
+        if c.ndim == 2:
+            c = c[:, :, None]
+        if bp.ndim != 1 or bp.size < 2 or np.any(np.diff(bp) <= 0):
+            raise ValueError("breakpoints must be at least two strictly increasing times")
+        if c.ndim != 3 or c.shape[0] != bp.size - 1:
+            raise ValueError(
+                f"coefficients must have shape ({bp.size - 1}, deg+1, d), got {c.shape}"
+            )
+        bp.setflags(write=False)
+        c.setflags(write=False)
+        object.__setattr__(self, "breakpoints", bp)
+        object.__setattr__(self, "coefficients", c)
+
+    @property
+    def t0(self) -> float:
+        return float(self.breakpoints[0])
+
+    @property
+    def tf(self) -> float:
+        return float(self.breakpoints[-1])
+
+    @property
+    def duration(self) -> float:
+        return self.tf - self.t0
+
+    @property
+    def degree(self) -> int:
+        return self.coefficients.shape[1] - 1
+
+    @property
+    def dim(self) -> int:
+        return self.coefficients.shape[2]
+
+    def evaluate(self, t, derivative: int = 0) -> np.ndarray:
+        """Position (0), velocity (1) or acceleration (2) at times ``t``, shape ``t.shape + (d,)``."""
+        if derivative not in (0, 1, 2):
+            raise ValueError("derivative must be 0, 1 or 2")
+        t = np.asarray(t, dtype=float)
+        tc = np.clip(t, self.t0, self.tf)
+        seg = np.clip(np.searchsorted(self.breakpoints, tc, side="right") - 1,
+                      0, self.coefficients.shape[0] - 1)
+        c = _derivative_coeffs(self.coefficients, derivative, 1)[seg]  # t.shape + (k, d)
+        out = np.zeros(t.shape + (self.dim,))
+        for k in range(c.shape[-2] - 1, -1, -1):
+            out = out * tc[..., None] + c[..., k, :]
+        if derivative:
+            outside = (t < self.t0) | (t > self.tf)
+            out[outside] = 0.0
+        return out
+
+    def sample(self, t):
+        """``(q, qd, qdd)`` at times ``t``, each of shape ``t.shape + (d,)``."""
+        return self.evaluate(t, 0), self.evaluate(t, 1), self.evaluate(t, 2)
+
+
+# --------------------------------------------------------------------------- via points
+
+
+def _as_points(times, positions):
+    times = np.asarray(times, dtype=float)
+    positions = np.asarray(positions, dtype=float)
+    if positions.ndim == 1:
+        positions = positions[:, None]
+    if times.ndim != 1 or times.size < 2 or positions.shape[0] != times.size:
+        raise ValueError("need k >= 2 times and k positions")
+    if np.any(np.diff(times) <= 0):
+        raise ValueError("times must be strictly increasing")
+    return times, positions
+
+
+def heuristic_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray:
+    """The textbook via-point velocities: at an interior point the mean of the
+    two adjacent slopes, or zero where the slope changes sign; given values at
+    the ends (rest by default).
+
+    Examples
+    --------
+    >>> heuristic_velocities([0, 1, 2, 3], [0.0, 1.0, 3.0, 2.0]).ravel().tolist()
+    [0.0, 1.5, 0.0, 0.0]
+    """
+    times, p = _as_points(times, positions)
+    slopes = np.diff(p, axis=0) / np.diff(times)[:, None]
+    left, right = slopes[:-1], slopes[1:]
+    inner = np.where(np.sign(left) * np.sign(right) > 0, 0.5 * (left + right), 0.0)
+    v = np.empty_like(p)
+    v[0], v[-1], v[1:-1] = v_start, v_end, inner
+    return v
+
+
+def spline_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray:
+    """Knot velocities of the C2 cubic spline with clamped end velocities.
+
+    Continuity of acceleration at interior knot ``i`` gives the tridiagonal
+    system ``v_{i-1}/h_{i-1} + 2 v_i (1/h_{i-1} + 1/h_i) + v_{i+1}/h_i =
+    3 (D_{i-1}/h_{i-1}^2 + D_i/h_i^2)`` with ``D`` the position steps. It is
+    solved by the Thomas algorithm: a forward and a backward recurrence over
+    the knots (inherently sequential), vectorized over the dimensions.
+
+    Examples
+    --------
+    >>> spline_velocities([0, 1, 2], [0.0, 1.0, 0.0]).ravel().tolist()
+    [0.0, 0.0, 0.0]
+    """
+    times, p = _as_points(times, positions)
+    k, d = p.shape
+    v = np.empty_like(p)
+    v[0], v[-1] = v_start, v_end
+    if k == 2:
+        return v
+    h = np.diff(times)
+    step = np.diff(p, axis=0)
+    lower = 1.0 / h[:-1]                         # coefficient of v_{i-1}
+    diag = 2.0 * (1.0 / h[:-1] + 1.0 / h[1:])
+    upper = 1.0 / h[1:]                          # coefficient of v_{i+1}
+    rhs = 3.0 * (step[:-1] / h[:-1, None] ** 2 + step[1:] / h[1:, None] ** 2)
+    rhs[0] -= lower[0] * v[0]
+    rhs[-1] -= upper[-1] * v[-1]
+    nin = k - 2
+    cp = np.empty(nin)
+    dp = np.empty((nin, d))
+    cp[0] = upper[0] / diag[0]
+    dp[0] = rhs[0] / diag[0]
+    for i in range(1, nin):
+        den = diag[i] - lower[i] * cp[i - 1]
+        cp[i] = upper[i] / den
+        dp[i] = (rhs[i] - lower[i] * dp[i - 1]) / den
+    inner = np.empty((nin, d))
+    inner[-1] = dp[-1]
+    for i in range(nin - 2, -1, -1):
+        inner[i] = dp[i] - cp[i] * inner[i + 1]
+    v[1:-1] = inner
+    return v
+
+
+def _end_values(values, d):
+    if values is None:
+        return np.zeros(d), np.zeros(d)
+    values = np.asarray(values, dtype=float)
+    if values.ndim == 1:
+        values = values[:, None]
+    return values[0], values[-1]
+
+
+def via_points(times, positions, velocities=None, profile: str = "cubic",
+               accelerations=None) -> PiecewisePolynomial:
+    """A trajectory through via points (seed 002 Task 1, generalized).
+
+    Parameters
+    ----------
+    times : (k,) increasing
+    positions : (k, d) or (k,)
+    velocities : None, "continuous" or array (k, d)
+        For ``profile="cubic"`` or ``"quintic"``: the velocity at every via
+        point. ``None`` and ``"continuous"`` use the textbook heuristic
+        (:func:`heuristic_velocities`) with rest at both ends. An array gives
+        them all (seed 002: rest, 0.25 m/s at B, rest). For
+        ``profile="spline"`` only the end velocities are used (an array of
+        k or 2 rows; ``None`` means rest); the interior ones are solved.
+    profile : "cubic", "quintic" or "spline"
+        ``"cubic"``: cubic segments, continuous position and velocity.
+        ``"quintic"``: quintic segments, continuous acceleration as well
+        (each via point gets one acceleration shared by both segments).
+        ``"spline"``: the C2 cubic spline, continuous velocity AND
+        acceleration with clamped end velocities.
+    accelerations : None, "continuous" or array (k, d)
+        Quintic only. ``None`` or ``"continuous"``: the mean of the adjacent
+        velocity slopes, zero at both ends.
+
+    Examples
+    --------
+    >>> pp = via_points([0.0, 1.0, 2.0], [0.0, 1.0, 0.0], profile="spline")
+    >>> pp.evaluate(1.0, 1).round(12).tolist(), pp.degree
+    ([0.0], 3)
+    """
+    times, p = _as_points(times, positions)
+    k, d = p.shape
+    if profile == "spline":
+        if isinstance(velocities, str):
+            if velocities != "continuous":
+                raise ValueError(f"unknown velocities {velocities!r}")
+            velocities = None
+        vs, ve = _end_values(velocities, d)
+        v = spline_velocities(times, p, vs, ve)
+    elif profile in ("cubic", "quintic"):
+        if velocities is None or (isinstance(velocities, str) and velocities == "continuous"):
+            v = heuristic_velocities(times, p)
+        elif isinstance(velocities, str):
+            raise ValueError(f"unknown velocities {velocities!r}")
+        else:
+            v = np.asarray(velocities, dtype=float).reshape(k, d)
+    else:
+        raise ValueError(f"profile must be 'cubic', 'quintic' or 'spline', got {profile!r}")
+    t0, tf = times[:-1, None], times[1:, None]
+    if profile == "quintic":
+        if accelerations is None or (isinstance(accelerations, str)
+                                     and accelerations == "continuous"):
+            slopes = np.diff(v, axis=0) / np.diff(times)[:, None]
+            acc = np.zeros_like(v)
+            acc[1:-1] = 0.5 * (slopes[:-1] + slopes[1:])
+        elif isinstance(accelerations, str):
+            raise ValueError(f"unknown accelerations {accelerations!r}")
+        else:
+            acc = np.asarray(accelerations, dtype=float).reshape(k, d)
+        c = quintic(t0, tf, p[:-1], p[1:], v[:-1], v[1:], acc[:-1], acc[1:])
+    else:
+        c = cubic(t0, tf, p[:-1], p[1:], v[:-1], v[1:])
+    return PiecewisePolynomial(times, np.moveaxis(c, 0, 1))
+
+
+def time_path(waypoints, duration: float, profile: str = "cubic", *, wraps=None,
+              t0: float = 0.0) -> PiecewisePolynomial:
+    """Turn a joint-space path into ``q(t)``, starting and ending at rest.
+
+    The time of each waypoint is proportional to the joint-space (Euclidean)
+    distance travelled so far, so the arm keeps a roughly even speed along a
+    grid path; repeated waypoints are dropped.
+
+    Parameters
+    ----------
+    waypoints : (k, n)
+    duration : float, > 0
+    profile : "cubic", "quintic" or "spline"
+        See :func:`via_points`; all three have zero velocity at both ends.
+    wraps : sequence of bool, optional
+        Joints that turn freely: their angles are unwrapped along the path
+        first (``np.unwrap``) so that a step across ``+-pi`` moves the short
+        way instead of swinging all the way round.
+    t0 : float
+        Start time.
+
+    Examples
+    --------
+    >>> pp = time_path([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], 4.0)
+    >>> pp.breakpoints.tolist()
+    [0.0, 2.0, 4.0]
+    >>> pp.evaluate([0.0, 4.0], 1).tolist()
+    [[0.0, 0.0], [0.0, 0.0]]
+    """
+    w = np.asarray(waypoints, dtype=float)
+    if w.ndim == 1:
+        w = w[:, None]
+    if w.ndim != 2 or w.shape[0] < 1:
+        raise ValueError(f"waypoints must have shape (k, n), got {w.shape}")
+    if not duration > 0:
+        raise ValueError(f"duration must be > 0, got {duration}")
+    if wraps is not None:
+        wraps = np.asarray(wraps, dtype=bool)
+        w = np.where(wraps, np.unwrap(w, axis=0), w)
+    step = np.linalg.norm(np.diff(w, axis=0), axis=-1)
+    w = w[np.concatenate([[True], step > 0])]
+    if w.shape[0] == 1:
+        # Nowhere to go: rest at the single configuration.
+        return PiecewisePolynomial([t0, t0 + duration], np.stack(
+            [w[0], np.zeros_like(w[0]), np.zeros_like(w[0]), np.zeros_like(w[0])])[None])
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=-1))])
+    times = t0 + duration * s / s[-1]
+    return via_points(times, w, profile=profile)

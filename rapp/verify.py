@@ -1,0 +1,225 @@
+"""Verification of a planned trajectory (R4, NFR1; MIS ``verifyOutput``).
+
+Every check reports what it measured next to the limit it was held to, so a
+passing report is evidence and a failing one says by how much:
+
+* ``collision-free``: every straight joint-space segment between consecutive
+  samples is certified free (:func:`rapp.collision.segment_collision_free`, a
+  proof over the whole segment, not a test of the samples alone);
+* ``min clearance``: the smallest link-obstacle distance over the samples;
+* ``joint limits``: the largest violation of a limit;
+* ``starts at start`` and ``goal reached``: the first sample is the start, and
+  the last one is the joint goal within 0.01 rad or puts the end effector
+  within 1 mm of the Cartesian goal (NFR1);
+* ``continuity``: no jump between samples larger than the motion the sampled
+  velocity and acceleration allow, and finite derivatives;
+* ``time``: the sample times increase from 0 to the duration;
+* ``FK consistency``: the reported Cartesian path is ``FK(q)`` to 1e-9 m.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rapp.collision import clearance, segment_collision_free
+
+__all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL"]
+
+#: NFR1: joint angles within 0.01 rad, Cartesian positions within 0.1 cm.
+JOINT_TOL = 0.01
+POSITION_TOL = 0.001
+#: Reported Cartesian samples must be FK of the joint samples to rounding.
+FK_TOL = 1e-9
+START_TOL = 1e-9
+LIMIT_TOL = 1e-9
+
+
+def _num(v):
+    if v is None:
+        return None
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+@dataclass(frozen=True)
+class Check:
+    """One verification: measured ``value`` against ``limit`` (in ``unit``)."""
+
+    name: str
+    ok: bool
+    value: float | None
+    limit: float | None
+    unit: str
+    detail: str = ""
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "ok": bool(self.ok), "value": _num(self.value),
+                "limit": _num(self.limit), "unit": self.unit, "detail": self.detail}
+
+    @classmethod
+    def from_dict(cls, d) -> "Check":
+        return cls(str(d["name"]), bool(d["ok"]), d.get("value"), d.get("limit"),
+                   str(d.get("unit", "")), str(d.get("detail", "")))
+
+
+@dataclass(frozen=True)
+class Report:
+    """The outcome of :func:`verify`: ``ok`` when every check passed.
+
+    Examples
+    --------
+    >>> r = Report.from_checks([Check("goal reached", True, 2e-12, 0.001, "m")])
+    >>> r.ok, r["goal reached"].value
+    (True, 2e-12)
+    >>> Report.from_dict(r.to_dict()) == r
+    True
+    """
+
+    ok: bool
+    checks: tuple
+
+    @classmethod
+    def from_checks(cls, checks) -> "Report":
+        checks = tuple(checks)
+        return cls(all(c.ok for c in checks), checks)
+
+    def __getitem__(self, name: str) -> Check:
+        for c in self.checks:
+            if c.name == name:
+                return c
+        raise KeyError(name)
+
+    @property
+    def failed(self) -> tuple:
+        """The checks that did not pass."""
+        return tuple(c for c in self.checks if not c.ok)
+
+    def to_dict(self) -> dict:
+        return {"ok": bool(self.ok), "checks": [c.to_dict() for c in self.checks]}
+
+    @classmethod
+    def from_dict(cls, d) -> "Report":
+        return cls(bool(d["ok"]), tuple(Check.from_dict(c) for c in d["checks"]))
+
+    def __str__(self) -> str:
+        def fmt(v):
+            return "-" if v is None else f"{v:.3g}"
+
+        rows = [("check", "ok", "measured", "limit", "unit")]
+        rows += [(c.name, "yes" if c.ok else "NO", fmt(c.value), fmt(c.limit), c.unit)
+                 for c in self.checks]
+        w = [max(len(r[i]) for r in rows) for i in range(5)]
+        lines = ["  ".join(f"{r[i]:<{w[i]}}" for i in range(5)).rstrip() for r in rows]
+        lines.insert(1, "  ".join("-" * x for x in w))
+        lines.append(f"verification: {'passed' if self.ok else 'FAILED'}")
+        return "\n".join(lines)
+
+
+def _joint_error(arm, q, target) -> np.ndarray:
+    """|q - target| per joint, measured the short way round on a free joint."""
+    d = np.asarray(q, float) - np.asarray(target, float)
+    wrapped = (d + np.pi) % (2 * np.pi) - np.pi
+    return np.abs(np.where(arm.limited, d, wrapped))
+
+
+def verify(plan, scenario) -> Report:
+    """Check a plan's timed trajectory against the scenario (R4, NFR1).
+
+    Parameters
+    ----------
+    plan : Plan or any object with ``t`` (k,), ``q``, ``qd``, ``qdd`` (k, n) and ``xy`` (k, 2)
+    scenario : Scenario
+
+    Returns
+    -------
+    Report
+
+    Examples
+    --------
+    >>> from rapp import load_scenario, plan
+    >>> s = load_scenario("default")
+    >>> r = verify(plan(s), s)
+    >>> r.ok, r["goal reached"].unit
+    (True, 'm')
+    """
+    arm, obs = scenario.arm, scenario.obstacles
+    t = np.asarray(plan.t, dtype=float)
+    q = np.asarray(plan.q, dtype=float)
+    qd = np.asarray(plan.qd, dtype=float)
+    qdd = np.asarray(plan.qdd, dtype=float)
+    xy = np.asarray(plan.xy, dtype=float)
+    k = t.shape[0] if t.ndim == 1 else -1
+    shapes_ok = (t.ndim == 1 and k >= 1 and q.shape == (k, arm.n) and qd.shape == q.shape
+                 and qdd.shape == q.shape and xy.shape == (k, 2))
+    shape_check = Check("shapes", shapes_ok, None, None, "",
+                        f"t {t.shape}, q {q.shape}, qd {qd.shape}, qdd {qdd.shape}, xy {xy.shape}")
+    if not shapes_ok:
+        return Report.from_checks([shape_check])
+    finite = bool(np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
+                  and np.isfinite(t).all() and np.isfinite(xy).all())
+    if not finite:
+        return Report.from_checks([shape_check, Check(
+            "finite", False, None, None, "", "t, q, q', q'' or xy holds NaN or infinity")])
+    checks = [shape_check]
+
+    # Collision: a certified continuous check of each chord between samples.
+    if k >= 2:
+        free = segment_collision_free(arm, q[:-1], q[1:], obs)
+    else:
+        free = np.ones(0, bool)
+    from rapp.collision import collides
+    point_hits = collides(arm, q, obs) if obs else np.zeros(k, bool)
+    n_bad = int((~free).sum() + (k == 1 and point_hits.any()))
+    checks.append(Check("collision-free", n_bad == 0, n_bad, 0, "segments",
+                        f"{max(k - 1, 1)} segments between samples, each certified over its whole length"))
+    if obs:
+        c = float(clearance(arm, q, obs).min())
+        checks.append(Check("min clearance", c > 0, c, 0.0, "m",
+                            "smallest link-obstacle distance over the samples; must be > 0"))
+
+    lo, hi, lim = arm.lower, arm.upper, arm.limited
+    viol = np.where(lim, np.maximum(lo - q, q - hi), -np.inf).max() if lim.any() else -np.inf
+    viol = max(float(viol), 0.0)
+    checks.append(Check("joint limits", viol <= LIMIT_TOL, viol, LIMIT_TOL, "rad",
+                        "largest excess beyond a joint limit" if lim.any() else "no limited joint"))
+
+    e0 = float(_joint_error(arm, q[0], scenario.start).max())
+    checks.append(Check("starts at start", e0 <= START_TOL, e0, START_TOL, "rad",
+                        "first sample against the scenario's start"))
+    if scenario.goal_q is not None:
+        eg = float(_joint_error(arm, q[-1], scenario.goal_q).max())
+        checks.append(Check("goal reached", eg <= JOINT_TOL, eg, JOINT_TOL, "rad",
+                            "last sample against the joint goal (NFR1: 0.01 rad)"))
+    else:
+        eg = float(np.hypot(*(arm.end_effector(q[-1]) - np.asarray(scenario.goal_xy))))
+        checks.append(Check("goal reached", eg <= POSITION_TOL, eg, POSITION_TOL, "m",
+                            "FK of the last sample against the Cartesian goal (NFR1: 0.1 cm)"))
+
+    # Continuity: by Taylor, |q(t+h) - q(t)| <= |q'(t)| h + max|q''| h^2 / 2 per joint;
+    # a jump beyond 1.5 times that (plus rounding) is not a continuous motion.
+    if k >= 2:
+        h = np.diff(t)[:, None]
+        amax = np.abs(qdd).max(axis=0)
+        vmax = np.maximum(np.abs(qd[:-1]), np.abs(qd[1:]))
+        bound = 1.5 * (vmax * h + 0.5 * amax * h**2) + 1e-9
+        jump = np.abs(np.diff(q, axis=0))
+        ratio = float((jump / bound).max())
+        checks.append(Check("continuity", ratio <= 1.0, ratio, 1.0, "ratio",
+                            f"largest step {float(jump.max()):.3g} rad between samples over its "
+                            "bound 1.5 (|q'| dt + max|q''| dt^2 / 2)"))
+        dt_ok = bool(np.all(h > 0))
+        tspan = float(t[-1] - t[0])
+    else:
+        dt_ok, tspan = True, 0.0
+    dur = scenario.trajectory.duration
+    terr = abs(float(t[0])) + abs(tspan - dur) if k >= 2 else 0.0
+    checks.append(Check("time", dt_ok and terr <= 1e-9 * max(dur, 1.0), terr, 1e-9, "s",
+                        f"times increase from 0 to the duration {dur:g} s"))
+
+    fk = float(np.abs(arm.end_effector(q) - xy).max())
+    checks.append(Check("FK consistency", fk <= FK_TOL, fk, FK_TOL, "m",
+                        "reported Cartesian path against FK of the joint samples"))
+    return Report.from_checks(checks)

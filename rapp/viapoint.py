@@ -1,0 +1,398 @@
+"""Obstacle-avoiding via point for cubic via-point trajectories (seed 002, Tasks 2-3).
+
+The trajectory is ``start -> via -> goal`` made of two cubic segments in time
+(seed 002: B at ``t = 3`` with velocity ``v_start``, D at ``t = 5.5`` at rest,
+C at ``t = 8`` at rest). Two answers for the via point D:
+
+* :func:`search_via_point` - the seed's method: a grid of candidate points
+  around the obstacle, then a finer grid around the best one. It minimizes the
+  *straight-line* length ``|BD| + |DC|`` but requires the *cubic* path (and,
+  with an arm, the arm's links) to clear the circle. Here the path clearance is
+  exact: the minimum distance of a cubic curve to the centre is found from the
+  real roots of the degree-5 derivative of the squared distance
+  (:func:`curve_point_distance`), not from samples.
+* :func:`tangent_via_point` - the exact answer of the seed's Condition 2A read
+  literally (segments BD and DC straight and clear): the intersection of the
+  tangent from B and the tangent from C on the shorter side.
+
+Why they differ. Segment DC is rest-to-rest, so the cubic moves along the
+straight line DC. Segment BD starts with ``v_start`` not parallel to BD, so
+the curve is ``B + (D - B)(3u^2 - 2u^3) + v_start T u (1 - u)^2``: it bulges
+towards ``v_start`` (away from the disc for seed 002). The cubic path may
+therefore clear the disc although the straight segment BD cuts it, and the
+grid search can beat the tangent point on ``|BD| + |DC|`` - which is then no
+longer the length of the path the arm travels.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from math import comb
+
+import numpy as np
+
+__all__ = [
+    "ViaPoint",
+    "cubic_segment",
+    "to_absolute_time",
+    "curve_point_distance",
+    "via_segments",
+    "path_clearance",
+    "arm_link_distance",
+    "first_arm_collision",
+    "search_via_point",
+    "tangent_via_point",
+    "peak_rates",
+]
+
+SEED002_TIMES = (3.0, 5.5, 8.0)
+
+
+@dataclass(frozen=True)
+class ViaPoint:
+    """A via point D, the straight-line length ``|BD| + |DC|`` and the path's distance to the centre."""
+
+    point: tuple
+    length: float
+    clearance: float
+
+
+def cubic_segment(p0, p1, v0, v1, duration) -> np.ndarray:
+    """Cubic from ``(p0, v0)`` to ``(p1, v1)`` in ``duration``: coefficients ``(..., 4, d)``.
+
+    Ascending powers of the local time ``s = t - t0``. Broadcasts over
+    leading axes so that many candidate via points are handled at once.
+
+    Examples
+    --------
+    >>> cubic_segment([0.0], [3.0], [0.0], [0.25], 3.0).ravel().round(4).tolist()
+    [0.0, 0.0, 0.9167, -0.1944]
+    """
+    p0, p1, v0, v1 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (p0, p1, v0, v1)))
+    T = float(duration)
+    d = p1 - p0
+    a2 = 3 * d / T**2 - (2 * v0 + v1) / T
+    a3 = -2 * d / T**3 + (v0 + v1) / T**2
+    return np.stack((p0, v0, a2, a3), axis=-2)
+
+
+def to_absolute_time(coef, t0) -> np.ndarray:
+    """Rewrite local coefficients (powers of ``t - t0``) in powers of absolute ``t``.
+
+    Seed 002 prints its tables in absolute time. Works on ``(..., 4, d)``.
+
+    Examples
+    --------
+    >>> to_absolute_time(np.array([[0.0], [1.0], [0.0], [0.0]]), 2.0).ravel().tolist()
+    [-2.0, 1.0, 0.0, 0.0]
+    """
+    coef = np.asarray(coef, dtype=float)
+    m = coef.shape[-2]
+    # (t - t0)^k = sum_j C(k, j) t^j (-t0)^(k-j)
+    k = np.arange(m)
+    binom = np.array([[comb(int(a), int(b)) for b in k] for a in k], dtype=float)
+    shift = binom * (-float(t0)) ** np.clip(k[:, None] - k[None, :], 0, None)
+    return np.einsum("kj,...kd->...jd", shift, coef)
+
+
+def curve_point_distance(coef, duration, point):
+    """Exact minimum distance from a cubic curve ``p(s)``, ``s`` in ``[0, T]``, to ``point``.
+
+    ``|p(s) - c|^2`` is a degree-6 polynomial; its minimum on ``[0, T]`` is at
+    an end or at a real root of its derivative (degree 5). The roots of every
+    curve come from one batched eigenvalue call on the companion matrices.
+
+    Parameters
+    ----------
+    coef : array_like, shape (..., 4, 2)
+    duration : float
+    point : array_like, shape (2,)
+
+    Returns
+    -------
+    dist, s : ndarray, shape (...)
+        The distance and the local time where it is attained.
+
+    Examples
+    --------
+    >>> c = cubic_segment([0.0, 1.0], [2.0, 1.0], [0.0, 0.0], [0.0, 0.0], 1.0)
+    >>> d, s = curve_point_distance(c, 1.0, [1.0, 0.0])
+    >>> round(float(d), 12), round(float(s), 12)
+    (1.0, 0.5)
+    """
+    P = np.array(coef, dtype=float)
+    P[..., 0, :] -= np.asarray(point, dtype=float)
+    T = float(duration)
+    sq = np.zeros(P.shape[:-2] + (7,))
+    for i in range(4):
+        for j in range(4):
+            sq[..., i + j] += np.einsum("...d,...d->...", P[..., i, :], P[..., j, :])
+    der = sq[..., 1:] * np.arange(1, 7)
+    # Normalise by the largest coefficient; a vanishing leading term (a curve of
+    # lower degree) is handled by perturbing it, its spurious huge root is clipped away.
+    lead = der[..., -1]
+    scale = np.abs(der).max(axis=-1)
+    lead = np.where(np.abs(lead) > 1e-14 * np.where(scale > 0, scale, 1.0), lead, 1e-14 * scale + 1e-300)
+    comp = np.zeros(der.shape[:-1] + (5, 5))
+    comp[..., 1:, :-1] = np.eye(4)
+    comp[..., :, -1] = -der[..., :-1] / lead[..., None]
+    roots = np.linalg.eigvals(comp)
+    real = np.abs(roots.imag) <= 1e-7 * (1 + np.abs(roots.real))
+    s = np.where(real, roots.real, 0.0).clip(0.0, T)
+    cand = np.concatenate((s, np.zeros(s.shape[:-1] + (1,)), np.full(s.shape[:-1] + (1,), T)), axis=-1)
+    powers = cand[..., None] ** np.arange(7)
+    vals = np.einsum("...ck,...k->...c", powers, sq)
+    i = np.argmin(vals, axis=-1)
+    best = np.take_along_axis(vals, i[..., None], -1)[..., 0]
+    return np.sqrt(np.maximum(best, 0.0)), np.take_along_axis(cand, i[..., None], -1)[..., 0]
+
+
+def via_segments(start, via, goal, *, v_start=(0.0, 0.0), times=SEED002_TIMES):
+    """Local coefficients ``(..., 2, 4, 2)`` of the two segments start -> via -> goal.
+
+    The via point and the goal are reached at rest (seed 002's tables).
+
+    Examples
+    --------
+    >>> via_segments([5, 8], [10.2, 8.54], [14, 7], v_start=(0.25, 0.25)).shape
+    (2, 4, 2)
+    """
+    via = np.asarray(via, dtype=float)
+    zero = np.zeros_like(via)
+    t0, t1, t2 = (float(t) for t in times)
+    first = cubic_segment(start, via, v_start, zero, t1 - t0)
+    second = cubic_segment(via, goal, zero, zero, t2 - t1)
+    return np.stack(np.broadcast_arrays(first, second), axis=-3)
+
+
+def path_clearance(via, start, goal, center, *, v_start=(0.0, 0.0), times=SEED002_TIMES):
+    """Exact minimum distance from the centre to the whole path start -> via -> goal, ``(...)``.
+
+    Examples
+    --------
+    >>> round(float(path_clearance([10.2, 8.54], [5, 8], [14, 7], (10, 7), v_start=(0.25, 0.25))), 4)
+    1.5024
+    """
+    t0, t1, t2 = times
+    seg = via_segments(start, via, goal, v_start=v_start, times=times)
+    d1, _ = curve_point_distance(seg[..., 0, :, :], t1 - t0, center)
+    d2, _ = curve_point_distance(seg[..., 1, :, :], t2 - t1, center)
+    return np.minimum(d1, d2)
+
+
+def _sample_path(via, start, goal, v_start, times, samples):
+    t0, t1, t2 = times
+    seg = via_segments(start, via, goal, v_start=v_start, times=times)
+    u = np.linspace(0.0, 1.0, samples)
+    out = []
+    for j, T in enumerate((t1 - t0, t2 - t1)):
+        s = (u * T)[:, None] ** np.arange(4)  # (samples, 4)
+        out.append(np.einsum("sk,...kd->...sd", s, seg[..., j, :, :]))
+    t = np.concatenate((t0 + u * (t1 - t0), t1 + u * (t2 - t1)))
+    return t, np.concatenate(out, axis=-2)
+
+
+def _ik(lengths, p, elbow):
+    l1, l2 = lengths
+    x, y = p[..., 0], p[..., 1]
+    c2 = np.clip((x * x + y * y - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0)
+    q2 = np.arccos(c2) * (1.0 if elbow == "down" else -1.0)
+    q1 = np.arctan2(y, x) - np.arctan2(l2 * np.sin(q2), l1 + l2 * np.cos(q2))
+    return q1, q2
+
+
+def _link_distances(lengths, p, center, elbow):
+    """Distance from the centre to link 1 (base-elbow) and link 2 (elbow-tip), each ``p.shape[:-1]``."""
+    from rapp.collision import segment_point_distance
+
+    q1, _ = _ik(lengths, p, elbow)
+    elbow_pt = lengths[0] * np.stack((np.cos(q1), np.sin(q1)), axis=-1)
+    return (
+        segment_point_distance(np.zeros_like(p), elbow_pt, center),
+        segment_point_distance(elbow_pt, p, center),
+    )
+
+
+def arm_link_distance(lengths, via, start, goal, center, *, v_start=(0.0, 0.0),
+                      times=SEED002_TIMES, elbow="down", samples=2001):
+    """Distance from the centre to the 2-link arm while its tip follows the via path.
+
+    The joints come from analytic IK of the Cartesian path (``elbow`` branch,
+    continuous in time away from singularities). Each segment is sampled at
+    ``samples`` instants and the link segments are exact (no points along the
+    links). Returns ``(dist, bound)``: the sampled minimum and a lower bound
+    for continuous time, ``dist - h/2 * vmax`` with ``h`` the sampling step and
+    ``vmax`` the largest sampled speed of any point of the arm (the distance
+    of a segment to a point changes no faster than its end points move).
+
+    Examples
+    --------
+    >>> d, lb = arm_link_distance((9, 9), [9.86, 5.32], [5, 8], [14, 7], (10, 7), v_start=(0.25, 0.25))
+    >>> bool(lb > 1.5)
+    True
+    """
+    lengths = tuple(float(v) for v in lengths)
+    t, p = _sample_path(via, start, goal, v_start, tuple(float(v) for v in times), samples)
+    d1, d2 = _link_distances(lengths, p, center, elbow)
+    dist = np.minimum(d1, d2).min(axis=-1)
+    q1, q2 = _ik(lengths, p, elbow)
+    # Joint rates by finite differences inside each segment (both ends included).
+    n = samples
+    seg_t = t.reshape(2, n) if np.ndim(p) == 2 else t.reshape(2, n)
+    h = np.diff(seg_t, axis=-1).max()
+    q1s, q2s = (np.unwrap(a.reshape(a.shape[:-1] + (2, n)), axis=-1) for a in (q1, q2))
+    w1 = np.abs(np.diff(q1s, axis=-1)) / h
+    w12 = np.abs(np.diff(q1s + q2s, axis=-1)) / h
+    vmax = (lengths[0] * w1 + lengths[1] * w12).max(axis=(-1, -2))
+    return dist, dist - 0.5 * h * vmax
+
+
+def first_arm_collision(lengths, via, start, goal, obstacle, *, v_start=(0.0, 0.0),
+                        times=SEED002_TIMES, elbow="up", samples=2001):
+    """First sampled time at which a link of the arm touches the disc, and which link (1 or 2).
+
+    Returns ``None`` when no sample collides. Single via point only.
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> t, link = first_arm_collision((9, 9), [9.86, 5.32], [5, 8], [14, 7], Circle((10, 7), 1.5),
+    ...                               v_start=(0.25, 0.25))
+    >>> round(t, 3), link
+    (5.774, 2)
+    """
+    lengths = tuple(float(v) for v in lengths)
+    t, p = _sample_path(np.asarray(via, float), start, goal, v_start, tuple(float(v) for v in times), samples)
+    d1, d2 = _link_distances(lengths, p, obstacle.center, elbow)
+    hit = (d1 <= obstacle.radius) | (d2 <= obstacle.radius)
+    if not hit.any():
+        return None
+    k = int(np.argmax(hit))
+    return float(t[k]), 1 if d1[k] <= obstacle.radius else 2
+
+
+def _grid(center, bound, res):
+    k = int(np.floor(bound / res + 1e-9))
+    g = np.arange(-k, k + 1) * res
+    X, Y = np.meshgrid(center[0] + g, center[1] + g, indexing="ij")
+    return np.stack((X, Y), axis=-1).reshape(-1, 2)
+
+
+def search_via_point(start, goal, obstacle, *, v_start=(0.0, 0.0), times=SEED002_TIMES,
+                     bound=None, resolutions=(0.1, 0.01), refine_bound=0.1,
+                     arm_lengths=None, arm_samples=201) -> ViaPoint:
+    """Seed 002's grid search with refinement for the via point D.
+
+    Candidates are ``c + (i, j) res`` with ``|i res|, |j res| <= bound``
+    (default ``1.5 r``) around the obstacle centre, then around the best point
+    with ``refine_bound`` for each later resolution. A candidate is kept when
+    the whole cubic path clears the disc (exact, :func:`path_clearance`
+    ``> r``) and, with ``arm_lengths``, when both links of the elbow-down arm
+    clear it at ``arm_samples`` instants per segment (Condition 3); among kept
+    candidates the smallest ``|BD| + |DC|`` wins (Condition 2B).
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> d = search_via_point([5, 8], [14, 7], Circle((10, 7), 1.5), v_start=(0.25, 0.25))
+    >>> np.round(d.point, 2).tolist()
+    [10.2, 8.54]
+    """
+    start = np.asarray(start, dtype=float)
+    goal = np.asarray(goal, dtype=float)
+    c = np.asarray(obstacle.center, dtype=float)
+    r = obstacle.radius
+    bound = 1.5 * r if bound is None else float(bound)
+    best = c
+    for level, res in enumerate(resolutions):
+        D = _grid(best, bound if level == 0 else refine_bound, res)
+        clear = path_clearance(D, start, goal, c, v_start=v_start, times=times)
+        ok = clear > r
+        if arm_lengths is not None:
+            armd, _ = arm_link_distance(arm_lengths, D, start, goal, c, v_start=v_start,
+                                        times=times, elbow="down", samples=arm_samples)
+            ok &= armd > r
+        length = np.linalg.norm(D - start, axis=-1) + np.linalg.norm(goal - D, axis=-1)
+        length = np.where(ok, length, np.inf)
+        i = int(np.argmin(length))
+        if not np.isfinite(length[i]):
+            raise ValueError("no candidate via point clears the obstacle on this grid")
+        best = D[i]
+    return ViaPoint(tuple(best.tolist()), float(length[i]), float(clear[i]))
+
+
+def _tangent_points(p, c, r):
+    d = p - c
+    L = np.linalg.norm(d)
+    if L <= r:
+        raise ValueError(f"point {p.tolist()} lies inside the obstacle")
+    a = np.arccos(r / L)
+    base = np.arctan2(d[1], d[0])
+    ang = base + np.array([a, -a])
+    return c + r * np.stack((np.cos(ang), np.sin(ang)), axis=-1)
+
+
+def tangent_via_point(start, goal, obstacle) -> ViaPoint:
+    """Exact shortest two-segment path start -> D -> goal with straight segments clear of the disc.
+
+    D is where the tangent from the start meets the tangent from the goal,
+    on the side of the disc that gives the shorter path; the segments touch
+    the circle (distance exactly ``r``). It answers Condition 2A literally;
+    :func:`search_via_point` checks the cubic path instead, which bulges away
+    from the straight segment BD (see the module notes), so its D differs.
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> d = tangent_via_point([5, 8], [14, 7], Circle((10, 7), 1.5))
+    >>> np.round(d.point, 4).tolist(), round(d.length, 5)
+    ([10.2181, 8.5299], 9.32454)
+    """
+    from rapp.collision import segment_point_distance
+
+    b = np.asarray(start, dtype=float)
+    g = np.asarray(goal, dtype=float)
+    c = np.asarray(obstacle.center, dtype=float)
+    r = obstacle.radius
+    if segment_point_distance(b, g, c) > r:
+        return ViaPoint(tuple(((b + g) / 2).tolist()), float(np.linalg.norm(g - b)),
+                        float(segment_point_distance(b, g, c)))
+    tb, tg = _tangent_points(b, c, r), _tangent_points(g, c, r)
+    best = None
+    for side_b, side_g in ((0, 1), (1, 0)):  # tangents on the same side of the disc
+        u, w = tb[side_b] - b, tg[side_g] - g
+        M = np.column_stack((u, -w))
+        if abs(np.linalg.det(M)) < 1e-12:
+            continue
+        lam = np.linalg.solve(M, g - b)
+        if lam[0] <= 0 or lam[1] <= 0:
+            continue
+        D = b + lam[0] * u
+        length = float(np.linalg.norm(D - b) + np.linalg.norm(g - D))
+        if best is None or length < best.length:
+            clear = min(segment_point_distance(b, D, c), segment_point_distance(D, g, c))
+            best = ViaPoint(tuple(D.tolist()), length, float(clear))
+    return best
+
+
+def peak_rates(traj, t0, tf, samples=4001):
+    """Peak speed and peak acceleration magnitude of a trajectory over ``[t0, tf]``.
+
+    ``traj`` is anything with ``.sample(t) -> (q, qd, qdd)`` (e.g.
+    :func:`rapp.trajectory.via_points`'s result). Returns ``(vmax, amax)``
+    over a dense sample (the acceleration of a cubic jumps at the knots, and
+    the sample includes the knots, so at a jump one side is seen; use a fine sample).
+
+    Examples
+    --------
+    >>> class Line:
+    ...     def sample(self, t):
+    ...         t = np.asarray(t)[:, None]
+    ...         return t * [3.0, 4.0], np.ones_like(t) * [3.0, 4.0], np.zeros_like(t) * [1, 1]
+    >>> peak_rates(Line(), 0.0, 1.0)
+    (5.0, 0.0)
+    """
+    t = np.linspace(float(t0), float(tf), samples)
+    _, qd, qdd = traj.sample(t)
+    qd, qdd = np.asarray(qd, float), np.asarray(qdd, float)
+    return float(np.linalg.norm(qd, axis=-1).max()), float(np.linalg.norm(qdd, axis=-1).max())

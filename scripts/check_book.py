@@ -1,0 +1,234 @@
+"""Open every page of the built book in headless Chromium and check what a reader sees.
+
+Usage: python scripts/check_book.py [_build/html] [--chromium /usr/bin/chromium] [--budget MS]
+
+The book is served from a local HTTP server on 127.0.0.1; Chromium may resolve no other host, so
+anything that needs the network fails here as it would for an offline reader. For each page the
+DOM is dumped after the scripts ran (MathJax, the ipywidgets HTML manager, animations), and the
+page fails when:
+
+- it loads a script or stylesheet from an http(s) URL (the book must work offline);
+- a request the page made was not served (missing image, font, script: HTTP status >= 400);
+- an <img> has no src, or a src that is neither a data: URI nor a file of the build;
+- it has math and MathJax did not typeset it (a math element without an mjx-container);
+- a matplotlib animation (to_jshtml) has no controls or no frame shown;
+- a saved widget view rendered nothing (no widget DOM next to its view script).
+
+Prints one line per page and a summary line; exit status 1 when any page fails.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import http.server
+import shutil
+import subprocess
+import sys
+import tempfile
+import threading
+from pathlib import Path
+from urllib.parse import unquote, urljoin, urlparse
+
+from bs4 import BeautifulSoup
+
+WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
+SKIP_DIRS = {"_static", "_sources", "_images", "_sphinx_design_static", "_panels_static"}
+
+
+class Recorder(http.server.SimpleHTTPRequestHandler):
+    """Serve the build and remember every request with its status."""
+
+    log: list[tuple[str, int]]
+
+    def log_request(self, code="-", size="-"):
+        self.log.append((unquote(urlparse(self.path).path), int(code) if str(code).isdigit() else 0))
+
+    def log_message(self, format, *args):  # keep the report readable
+        pass
+
+
+def serve(root: Path) -> tuple[http.server.ThreadingHTTPServer, list[tuple[str, int]]]:
+    log: list[tuple[str, int]] = []
+    handler = type("Handler", (Recorder,), {"log": log})
+    server = http.server.ThreadingHTTPServer(
+        ("127.0.0.1", 0), functools.partial(handler, directory=str(root))
+    )
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    return server, log
+
+
+def dump_dom(chromium: str, url: str, budget_ms: int) -> str:
+    with tempfile.TemporaryDirectory(prefix="check_book_") as profile:
+        cmd = [
+            chromium,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-dev-shm-usage",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--disable-extensions",
+            "--no-first-run",
+            "--no-default-browser-check",
+            "--mute-audio",
+            f"--user-data-dir={profile}",
+            # Only the local server resolves: a page that needs the network breaks here.
+            "--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1",
+            f"--virtual-time-budget={budget_ms}",
+            "--run-all-compositor-stages-before-draw",
+            "--dump-dom",
+            url,
+        ]
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=180, stdin=subprocess.DEVNULL)
+    if proc.returncode != 0 or "<html" not in proc.stdout:
+        raise RuntimeError(f"chromium failed ({proc.returncode}): {proc.stderr.strip()[-500:]}")
+    return proc.stdout
+
+
+def is_remote(url: str | None) -> bool:
+    return bool(url) and (url.startswith("//") or urlparse(url).scheme in ("http", "https"))
+
+
+def check_static(html: str) -> list[str]:
+    """Problems visible in the page as built: resources loaded from the network."""
+    soup = BeautifulSoup(html, "html.parser")
+    problems = []
+    for tag in soup.find_all("script", src=True):
+        if is_remote(tag["src"]):
+            problems.append(f"remote script {tag['src']}")
+    for tag in soup.find_all("link", href=True):
+        rel = " ".join(tag.get("rel", []))
+        if is_remote(tag["href"]) and any(r in rel for r in ("stylesheet", "preload", "modulepreload")):
+            problems.append(f"remote {rel} {tag['href']}")
+    for tag in soup.find_all("style"):
+        if "@import" in tag.text and ("http://" in tag.text or "https://" in tag.text):
+            problems.append("remote @import in <style>")
+    return problems
+
+
+def count_math(soup: BeautifulSoup) -> tuple[int, int]:
+    """(math elements, math elements MathJax did not typeset)."""
+    maths = [el for el in soup.find_all(class_="math") if el.name in ("span", "div")]
+    raw = [el for el in maths if el.find("mjx-container") is None]
+    return len(maths), len(raw)
+
+
+def check_dom(dom: str, page_url: str, root: Path, base_url: str) -> tuple[list[str], dict[str, int]]:
+    soup = BeautifulSoup(dom, "html.parser")
+    problems: list[str] = []
+    stats = {"math": 0, "img": 0, "anim": 0, "widget": 0}
+
+    n_math, n_raw = count_math(soup)
+    stats["math"] = n_math
+    if n_raw:
+        problems.append(f"{n_raw} of {n_math} math elements not typeset by MathJax")
+    # MathJax leaves delimiters in text only when it did not run over that text.
+    body = soup.find("article") or soup.body
+    if n_math and body is not None:
+        text = body.get_text(" ")
+        if "\\(" in text or "\\[" in text:
+            problems.append("raw TeX delimiters \\( or \\[ left in the page text")
+
+    for img in soup.find_all("img"):
+        if img.find_parent(class_="animation") is not None:
+            continue  # checked with its animation below
+        stats["img"] += 1
+        src = img.get("src", "")
+        if not src:
+            problems.append(f"<img> without src (alt={img.get('alt', '')!r})")
+        elif src.startswith("data:"):
+            continue
+        elif is_remote(src) and not src.startswith(base_url):
+            problems.append(f"<img> from the network: {src}")
+        else:
+            path = unquote(urlparse(urljoin(page_url, src)).path).lstrip("/")
+            if not (root / path).is_file():
+                problems.append(f"<img> file missing: {path}")
+
+    for anim in soup.find_all("div", class_="animation"):
+        stats["anim"] += 1
+        controls = anim.find(class_="anim-buttons") or anim.find(class_="anim-controls")
+        buttons = anim.find_all("button")
+        frame = anim.find("img")
+        if controls is None or len(buttons) < 3:
+            problems.append("animation without controls")
+        if frame is None or not frame.get("src", "").startswith("data:image"):
+            problems.append("animation shows no frame")
+
+    for script in soup.find_all("script", type=WIDGET_VIEW):
+        stats["widget"] += 1
+        holder = script.parent
+        rendered = holder.find_all(class_="widget-subarea") if holder is not None else []
+        nodes = [el for area in rendered for el in area.find_all(True)]
+        if not nodes:
+            problems.append("widget view rendered blank")
+    return problems, stats
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("build", nargs="?", default="_build/html", type=Path)
+    parser.add_argument("--chromium", default=shutil.which("chromium") or "/usr/bin/chromium")
+    parser.add_argument("--budget", type=int, default=20000, help="virtual time per page, ms")
+    args = parser.parse_args(argv)
+
+    root = args.build.resolve()
+    pages = sorted(
+        p for p in root.rglob("*.html") if not (set(p.relative_to(root).parts[:-1]) & SKIP_DIRS)
+    )
+    if not pages:
+        print(f"check_book: no HTML pages under {root}")
+        return 1
+    if not Path(args.chromium).exists():
+        print(f"check_book: chromium not found at {args.chromium}")
+        return 1
+
+    server, log = serve(root)
+    base_url = f"http://127.0.0.1:{server.server_address[1]}/"
+    failed = 0
+    totals = {"math": 0, "img": 0, "anim": 0, "widget": 0}
+    try:
+        for page in pages:
+            rel = page.relative_to(root).as_posix()
+            url = base_url + rel
+            problems = check_static(page.read_text(encoding="utf-8"))
+            start = len(log)
+            try:
+                dom = dump_dom(args.chromium, url, args.budget)
+            except (RuntimeError, subprocess.TimeoutExpired) as err:
+                problems.append(str(err))
+                dom = ""
+            if dom:
+                found, stats = check_dom(dom, url, root, base_url)
+                problems += found
+                for key in totals:
+                    totals[key] += stats[key]
+            else:
+                stats = {k: 0 for k in totals}
+            # Chromium asks for /favicon.ico on its own when a page names none.
+            missing = sorted(
+                {path for path, code in log[start:] if code >= 400 and path != "/favicon.ico"}
+            )
+            problems += [f"not served: {path}" for path in missing]
+            summary = ", ".join(f"{v} {k}" for k, v in stats.items())
+            if problems:
+                failed += 1
+                print(f"FAIL {rel} ({summary})")
+                for problem in problems:
+                    print(f"     - {problem}")
+            else:
+                print(f"ok   {rel} ({summary})")
+    finally:
+        server.shutdown()
+    checked = ", ".join(f"{v} {k}" for k, v in totals.items())
+    print(
+        f"check_book: {len(pages) - failed} of {len(pages)} pages ok; "
+        f"checked {checked}; {len(log)} requests served locally"
+    )
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

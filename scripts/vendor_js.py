@@ -1,0 +1,73 @@
+"""Copy the book's JavaScript from node_modules/ into book/_static_vendor/offline/.
+
+The book must render offline: MathJax 3 (typesetting), RequireJS and the
+ipywidgets HTML manager (saved widget views) are served from the book itself
+instead of CDNs. `npm ci` installs the versions pinned in package-lock.json;
+this script copies only the files a browser loads. _config.yml lists
+book/_static_vendor in html_static_path, so Sphinx copies it to
+_build/html/_static/offline/.
+
+Usage: python scripts/vendor_js.py   (run from anywhere; paths are repo-relative)
+"""
+
+from __future__ import annotations
+
+import shutil
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+NODE = ROOT / "node_modules"
+DEST = ROOT / "book" / "_static_vendor" / "offline"
+
+# (source under node_modules, destination under DEST); directories are copied whole.
+MANIFEST = [
+    # tex-chtml loads TeX extensions (autoload), its woff fonts, and the menu's
+    # accessibility parts from paths relative to itself, so those come along.
+    ("mathjax/es5/tex-chtml.js", "mathjax/tex-chtml.js"),
+    ("mathjax/es5/input/tex/extensions", "mathjax/input/tex/extensions"),
+    ("mathjax/es5/output/chtml/fonts/woff-v2", "mathjax/output/chtml/fonts/woff-v2"),
+    ("mathjax/es5/a11y", "mathjax/a11y"),
+    ("mathjax/es5/ui", "mathjax/ui"),
+    ("mathjax/es5/sre", "mathjax/sre"),
+    ("mathjax/LICENSE", "mathjax/LICENSE"),
+    ("requirejs/require.js", "require.js"),
+    # embed-amd.js bundles @jupyter-widgets/base, controls and output; the
+    # hashed font files are the icon fonts its CSS refers to.
+    ("@jupyter-widgets/html-manager/dist/embed-amd.js", "html-manager/embed-amd.js"),
+]
+FONT_SUFFIXES = (".woff2", ".woff", ".ttf", ".eot", ".svg")
+
+
+def main() -> int:
+    if not NODE.is_dir():
+        print(f"vendor_js: {NODE} is missing; run `npm ci` first", file=sys.stderr)
+        return 1
+    if DEST.exists():
+        shutil.rmtree(DEST)
+    DEST.mkdir(parents=True)
+    missing = []
+    for src_rel, dst_rel in MANIFEST:
+        src, dst = NODE / src_rel, DEST / dst_rel
+        if not src.exists():
+            missing.append(src_rel)
+            continue
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        if src.is_dir():
+            shutil.copytree(src, dst)
+        else:
+            shutil.copy2(src, dst)
+    dist = NODE / "@jupyter-widgets/html-manager/dist"
+    for font in sorted(dist.glob("*")) if dist.is_dir() else []:
+        if font.suffix in FONT_SUFFIXES:
+            shutil.copy2(font, DEST / "html-manager" / font.name)
+    if missing:
+        print("vendor_js: missing in node_modules: " + ", ".join(missing), file=sys.stderr)
+        return 1
+    n = sum(1 for p in DEST.rglob("*") if p.is_file())
+    print(f"vendor_js: {n} files in {DEST.relative_to(ROOT)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
