@@ -69,6 +69,22 @@ from rapp.planner import PLANNERS, GridTooCoarse, Plan, load_result, plan, save_
 # -- verify --
 from rapp.verify import Check, Report, verify
 # -- rrt --
+from rapp.rrt import RRTResult, alpha_beta_experiment, plan_rrt, rrt
 # -- viapoint --
+from rapp.viapoint import (
+    ViaPoint,
+    first_arm_collision,
+    path_clearance,
+    search_via_point,
+    spline_vs_cubic,
+    tangent_via_point,
+)
+# -- workspace --
+from rapp.workspace import (
+    elbow_solutions,
+    motion_through_solutions,
+    reachable,
+    workspace_radii,
+)
 
 __version__ = "0.1.0"

@@ -234,7 +234,7 @@ def _dls_step(jx, jy, ex, ey, sigma_floor, lambda_max):
 
     The damping is zero while the smallest singular value of ``J`` stays above
     ``sigma_floor`` (a plain Newton step, quadratic convergence) and grows
-    smoothly to ``lambda_max`` as ``J`` becomes singular (Nakamura-Hanafusa /
+    smoothly to ``min(lambda_max, |error|)`` as ``J`` becomes singular (Nakamura-Hanafusa /
     Maciejewski-Klein rule), so the step stays bounded at a stretched or
     folded arm.
     """
@@ -243,7 +243,11 @@ def _dls_step(jx, jy, ex, ey, sigma_floor, lambda_max):
     c = (jy * jy).sum(axis=0)
     half_tr = 0.5 * (a + c)
     sig2_min = np.maximum(half_tr - np.sqrt((0.5 * (a - c)) ** 2 + b * b), 0.0)
-    lam2 = (1.0 - np.minimum(sig2_min / sigma_floor**2, 1.0)) * lambda_max**2
+    # Capping lambda by the residual (Levenberg-Marquardt / Yamashita-Fukushima)
+    # lets the damping vanish as the error does, so a target whose solution is
+    # itself near-singular (a nearly stretched arm) still converges fast.
+    lam2 = (1.0 - np.minimum(sig2_min / sigma_floor**2, 1.0)) * np.minimum(
+        lambda_max**2, ex * ex + ey * ey)
     a += lam2
     c += lam2
     det = a * c - b * b
@@ -308,6 +312,8 @@ def _newton(arm, targets, q, stop_tol, max_iter, max_step):
     scale = float(lengths.sum())
     sigma_floor = 1e-3 * scale
     lambda_max = 1e-2 * scale
+    any_limited = bool(limited.any())
+    lim, lo_c, hi_c = limited[:, None], lo[:, None], hi[:, None]
     q = q.copy()
     err = np.full(q.shape[1], np.inf)
     idx = np.arange(q.shape[1])
@@ -327,6 +333,17 @@ def _newton(arm, targets, q, stop_tol, max_iter, max_step):
             qa, ta, idx = qa[:, keep], ta[:, keep], idx[keep]
             jx, jy, ex, ey = jx[:, keep], jy[:, keep], ex[keep], ey[keep]
         dq = _dls_step(jx, jy, ex, ey, sigma_floor, lambda_max)
+        if any_limited:
+            # Joint clamping: a limited joint the step would push out of its
+            # interval is frozen (its Jacobian column zeroed) and the step is
+            # recomputed, so the free joints make up for it instead of the
+            # clip silently undoing part of the step.
+            q_try = qa + dq
+            blocked = lim & ((q_try < lo_c) | (q_try > hi_c))
+            if blocked.any():
+                jx = np.where(blocked, 0.0, jx)
+                jy = np.where(blocked, 0.0, jy)
+                dq = _dls_step(jx, jy, ex, ey, sigma_floor, lambda_max)
         norm2 = (dq * dq).sum(axis=0)
         big = norm2 > max_step * max_step
         if big.any():

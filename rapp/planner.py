@@ -121,6 +121,8 @@ class Plan:
             "format": RESULT_FORMAT,
             "version": RESULT_VERSION,
             "scenario": self.scenario.to_dict(),
+            "scenario_source": self.scenario.source,
+            "scenario_angle_unit": self.scenario.angle_unit,
             "echo": echo(self.scenario).splitlines(),
             "profile": self.profile,
             "t": self.t, "q": self.q, "qd": self.qd, "qdd": self.qdd, "xy": self.xy,
@@ -137,7 +139,9 @@ class Plan:
         try:
             if d.get("format") != RESULT_FORMAT:
                 raise InvalidFormat(f"not a rapp result (format {d.get('format')!r})", field="format")
-            scenario = load_scenario(d["scenario"], check=False)
+            scenario = replace(load_scenario(d["scenario"], check=False),
+                               source=str(d.get("scenario_source", "<result>")),
+                               angle_unit="deg" if d.get("scenario_angle_unit") == "deg" else "rad")
             n = scenario.arm.n
 
             def arr(key, shape):
@@ -207,6 +211,8 @@ def save_result(plan: Plan, path) -> None:
     folder = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix=".rapp-", suffix=".tmp", dir=folder)
     try:
+        mode = os.stat(path).st_mode & 0o777 if os.path.exists(path) else 0o644
+        os.chmod(tmp, mode)  # mkstemp makes 0600; keep what a plain open() would give
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
             fh.flush()
@@ -507,9 +513,10 @@ def _route_on(arm, obs, grid, work, start, goal_qs, p, *, certified: bool):
                 msg = (f"no collision-free path: the {shape_txt} grid holds no path from the "
                        f"start to any of the {len(g_cells)} goal configuration(s) "
                        f"({int((dist >= 0).sum())} cells are reachable)")
-                if repairs or certified:
-                    raise GridTooCoarse(msg)
-                raise NoPathFound(msg)
+                err = GridTooCoarse(msg) if repairs or certified else NoPathFound(msg)
+                # What was searched, so that a test can re-check the proof independently.
+                err.start_cell, err.goal_cells = tuple(int(i) for i in s_cell), g_cells.copy()
+                raise err
             best = int(np.argmin(np.where(d_goal >= 0, d_goal, np.iinfo(np.int64).max)))
             bfs_optimum = int(d_goal[best])
         try:

@@ -22,7 +22,6 @@ import matplotlib.pyplot as plt
 from matplotlib import animation, patches
 from matplotlib.collections import LineCollection
 from matplotlib.colors import ListedColormap, to_rgba
-from matplotlib.figure import Figure
 
 __all__ = [
     "COLORS",
@@ -512,6 +511,11 @@ def _stage_times(metrics):
     return out
 
 
+def _num(v):
+    """Three significant digits without an exponent for everyday magnitudes."""
+    return f"{v:.0f}" if abs(v) >= 100 else f"{v:.3g}"
+
+
 def plot_metrics(metrics, ax=None, *, keys=None, unit="s"):
     """Horizontal bar chart of the stage times in ``metrics``, each bar annotated.
 
@@ -521,7 +525,7 @@ def plot_metrics(metrics, ax=None, *, keys=None, unit="s"):
         ``plan.metrics``. Stage times are taken from a nested ``stage_times``
         (or ``times``) dict when present, else from the numeric entries whose
         name says time (``*time*``, ``*_s``, ``t_*``); ``keys`` picks them
-        explicitly.
+        explicitly. An entry ``total`` is shown in the title, not as a bar.
     unit : str
         Unit of the values; the bars are labelled in milliseconds when it is
         ``"s"``.
@@ -539,6 +543,8 @@ def plot_metrics(metrics, ax=None, *, keys=None, unit="s"):
     >>> plt.close(ax.figure)
     """
     times = ({k: float(metrics[k]) for k in keys} if keys is not None else _stage_times(metrics))
+    # A total is the sum of the bars, not a stage: it goes in the title.
+    total = times.pop("total", None) if keys is None else None
     if not times:
         raise ValueError("metrics holds no stage times to plot")
     ax = _axes(ax, figsize=(6.0, 0.5 + 0.45 * len(times)))
@@ -548,11 +554,12 @@ def plot_metrics(metrics, ax=None, *, keys=None, unit="s"):
     bars = ax.barh(np.arange(len(names)), vals * scale, color=COLORS["sky"], edgecolor=TEXT)
     ax.set_yticks(np.arange(len(names)), names)
     ax.invert_yaxis()
-    ax.bar_label(bars, labels=[f"{v * scale:.3g} {shown}" for v in vals], padding=3, color=TEXT,
+    ax.bar_label(bars, labels=[f"{_num(v * scale)} {shown}" for v in vals], padding=3, color=TEXT,
                  fontsize="small")
     ax.set_xlim(0, max(vals.max() * scale, 1e-12) * 1.25)
     ax.set_xlabel(f"time ({shown})")
-    ax.set_title("time per stage", fontsize="medium")
+    ax.set_title("time per stage" if total is None else
+                 f"time per stage (total {_num(total * scale)} {shown})", fontsize="medium")
     return style_axes(ax)
 
 

@@ -56,6 +56,8 @@ from rapp.ik import jacobian
 
 __all__ = ["RRTResult", "rrt", "plan_rrt", "path_cost", "alpha_beta_experiment"]
 
+_BATCH = 32  # random targets drawn, and edges certified together, per batch
+
 
 @dataclass(frozen=True, eq=False)
 class RRTResult:
@@ -217,41 +219,73 @@ def rrt(
             return np.linalg.norm(p - gxy) <= goal_threshold
         return np.min(np.linalg.norm(_delta(q, goals, free), axis=-1)) <= goal_threshold
 
+    def steer_from(base, target):
+        """Nearest node(s) among ``base`` to each target and the steered new configuration."""
+        diff = _delta(base[None, :, :], target[:, None, :], free)  # (t, m, n)
+        d2 = np.einsum("tmi,tmi->tm", diff, diff)
+        i = np.argmin(d2, axis=1)
+        rows = np.arange(target.shape[0])
+        dq, dist = diff[rows, i], np.sqrt(d2[rows, i])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            scale = np.minimum(1.0, step / dist) if steer == "step" else np.full_like(dist, step)
+        # Unwrapped: the edge certified is the short way round.
+        return i, base[i] + scale[:, None] * dq, dist
+
     hit = 0 if reached(root, xy[0]) else -1
     it = 0
+    newton_goal = goals is None
     while hit < 0 and it < max_iterations:
-        it += 1
-        u = rng.random()
-        sample = rng.uniform(lower, upper)
-        if u < goal_bias:
-            if goals is not None:
-                target = goals[rng.integers(goals.shape[0])]
+        # Random numbers come in fixed batches, so a run is a prefix of any longer run.
+        u = rng.random(_BATCH)
+        targets = rng.uniform(lower, upper, (_BATCH, n))
+        to_goal = u < goal_bias
+        if goals is not None:
+            pick = rng.integers(goals.shape[0], size=_BATCH)
+            targets[to_goal] = goals[pick[to_goal]]
+        # Speculation: the edges each target would add to the tree as it is now, certified in
+        # one batched call. A target whose nearest node turns out to be one added later in this
+        # batch (or a Newton target, known only then) gets its own check; the tree is the same
+        # as one grown edge by edge.
+        m0 = m
+        spec = ~to_goal if newton_goal else np.ones(_BATCH, dtype=bool)
+        spec_i = np.full(_BATCH, -1)
+        spec_free = np.zeros(_BATCH, dtype=bool)
+        if spec.any():
+            i_s, q_s, d_s = steer_from(nodes[:m0], targets[spec])
+            ok = d_s > 0
+            spec_free_s = np.zeros(i_s.shape, dtype=bool)
+            if ok.any():
+                spec_free_s[ok] = segment_collision_free(arm, nodes[i_s[ok]], q_s[ok], obstacles)
+            spec_i[spec], spec_free[spec] = i_s, spec_free_s
+        for k in range(_BATCH):
+            if hit >= 0 or it >= max_iterations:
+                break
+            it += 1
+            target = targets[k]
+            if newton_goal and to_goal[k]:
+                j = np.argmin(np.einsum("ij,ij->i", xy[:m] - gxy, xy[:m] - gxy))
+                newton = np.linalg.pinv(jacobian(arm, nodes[j])) @ (gxy - xy[j])
+                target = np.clip(nodes[j] + newton, lower, upper)
+            i, q_new, dist = steer_from(nodes[:m], target[None])
+            i, q_new, dist = int(i[0]), q_new[0], dist[0]
+            if dist == 0.0:
+                continue
+            if i == spec_i[k] and i < m0:
+                edge_free = spec_free[k]
             else:
-                k = np.argmin(np.einsum("ij,ij->i", xy[:m] - gxy, xy[:m] - gxy))
-                newton = np.linalg.pinv(jacobian(arm, nodes[k])) @ (gxy - xy[k])
-                target = np.clip(nodes[k] + newton, lower, upper)
-        else:
-            target = sample
-        diff = _delta(nodes[:m], target, free)
-        d2 = np.einsum("ij,ij->i", diff, diff)
-        i = int(np.argmin(d2))
-        dist = np.sqrt(d2[i])
-        if dist == 0.0:
-            continue
-        move = diff[i] * (min(1.0, step / dist) if steer == "step" else step)
-        q_new = nodes[i] + move  # unwrapped: the edge certified is the short way round
-        if not segment_collision_free(arm, nodes[i], q_new, obstacles):
-            continue
-        if m == cap:
-            cap *= 2
-            nodes = np.concatenate((nodes, np.empty_like(nodes)))
-            parent = np.concatenate((parent, np.empty_like(parent)))
-            xy = np.concatenate((xy, np.empty_like(xy)))
-        nodes[m] = np.where(free, (q_new + np.pi) % (2 * np.pi) - np.pi, q_new)
-        parent[m], xy[m] = i, arm.end_effector(q_new)
-        m += 1
-        if reached(nodes[m - 1], xy[m - 1]):
-            hit = m - 1
+                edge_free = bool(segment_collision_free(arm, nodes[i], q_new, obstacles))
+            if not edge_free:
+                continue
+            if m == cap:
+                cap *= 2
+                nodes = np.concatenate((nodes, np.empty_like(nodes)))
+                parent = np.concatenate((parent, np.empty_like(parent)))
+                xy = np.concatenate((xy, np.empty_like(xy)))
+            nodes[m] = np.where(free, (q_new + np.pi) % (2 * np.pi) - np.pi, q_new)
+            parent[m], xy[m] = i, arm.end_effector(q_new)
+            m += 1
+            if reached(nodes[m - 1], xy[m - 1]):
+                hit = m - 1
 
     if hit < 0:
         return fail(

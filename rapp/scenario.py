@@ -488,10 +488,10 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
     default_cells = 100 if n <= 2 else max(8, int(round(2e6 ** (1.0 / n))))
     cells_v = d.get("cells", default_cells)
     if isinstance(cells_v, (list, tuple)):
-        cells = tuple(_integer(c, f"planner.cells[{i}]", 3) for i, c in enumerate(
+        cells = tuple(_integer(c, f"planner.cells[{i}]", 3, MAX_CELLS) for i, c in enumerate(
             _list(cells_v, "planner.cells", n, f"entries (one per joint; the arm has {n})")))
     else:
-        cells = (_integer(cells_v, "planner.cells", 3),) * n
+        cells = (_integer(cells_v, "planner.cells", 3, MAX_CELLS),) * n
     total = math.prod(cells)
     if algorithm == "astar" and total > MAX_CELLS:
         raise InvalidValue(

@@ -43,6 +43,7 @@ __all__ = [
     "search_via_point",
     "tangent_via_point",
     "peak_rates",
+    "spline_vs_cubic",
 ]
 
 SEED002_TIMES = (3.0, 5.5, 8.0)
@@ -375,24 +376,61 @@ def tangent_via_point(start, goal, obstacle) -> ViaPoint:
     return best
 
 
-def peak_rates(traj, t0, tf, samples=4001):
-    """Peak speed and peak acceleration magnitude of a trajectory over ``[t0, tf]``.
+def peak_rates(traj, samples: int = 2001):
+    """Peak speed and peak acceleration magnitude of a piecewise polynomial trajectory.
 
-    ``traj`` is anything with ``.sample(t) -> (q, qd, qdd)`` (e.g.
-    :func:`rapp.trajectory.via_points`'s result). Returns ``(vmax, amax)``
-    over a dense sample (the acceleration of a cubic jumps at the knots, and
-    the sample includes the knots, so at a jump one side is seen; use a fine sample).
+    ``traj`` is a :class:`rapp.trajectory.PiecewisePolynomial`. Each segment
+    is sampled on its own closed interval with its own coefficients, so both
+    one-sided accelerations at a knot (where piecewise cubics jump) are seen.
+    The acceleration of a cubic segment is linear in time, so its peak (at a
+    segment end) is exact; the speed peak is exact up to the sampling.
+
+    Returns
+    -------
+    (vmax, amax) : tuple of float
 
     Examples
     --------
-    >>> class Line:
-    ...     def sample(self, t):
-    ...         t = np.asarray(t)[:, None]
-    ...         return t * [3.0, 4.0], np.ones_like(t) * [3.0, 4.0], np.zeros_like(t) * [1, 1]
-    >>> peak_rates(Line(), 0.0, 1.0)
-    (5.0, 0.0)
+    >>> from rapp.trajectory import via_points
+    >>> pp = via_points([0.0, 2.0], [[0.0, 0.0], [3.0, 4.0]], velocities=[[0, 0], [0, 0]])
+    >>> [round(v, 6) for v in peak_rates(pp)]      # rest-to-rest cubic: 1.5 d/T and 6 d/T^2
+    [3.75, 7.5]
     """
-    t = np.linspace(float(t0), float(tf), samples)
-    _, qd, qdd = traj.sample(t)
-    qd, qdd = np.asarray(qd, float), np.asarray(qdd, float)
-    return float(np.linalg.norm(qd, axis=-1).max()), float(np.linalg.norm(qdd, axis=-1).max())
+    bp = np.asarray(traj.breakpoints, dtype=float)
+    c = np.asarray(traj.coefficients, dtype=float)  # (m, k, d) ascending absolute time
+    u = np.linspace(0.0, 1.0, samples)
+    t = bp[:-1, None] + u * np.diff(bp)[:, None]  # (m, samples)
+    k = np.arange(c.shape[1])
+    d1 = (c * k[:, None])[:, 1:, :]
+    d2 = (d1 * k[:-1, None])[:, 1:, :]
+    v = np.einsum("msk,mkd->msd", t[..., None] ** k[:-1], d1)
+    a = np.einsum("msk,mkd->msd", t[..., None] ** k[:-2], d2)
+    return float(np.linalg.norm(v, axis=-1).max()), float(np.linalg.norm(a, axis=-1).max())
+
+
+def spline_vs_cubic(times, positions, velocities, samples: int = 2001):
+    """Peak speed and acceleration of seed 002's piecewise cubics and of the C2 spline.
+
+    The piecewise cubics take ``velocities`` at every via point (seed 002:
+    rest, 0.25 m/s at B, rest at D and C); the spline
+    (:func:`rapp.trajectory.via_points` ``profile="spline"``) keeps only the
+    end velocities and solves the interior ones so that acceleration is
+    continuous too.
+
+    Returns
+    -------
+    dict
+        ``{"cubic": (vmax, amax), "spline": (vmax, amax)}``.
+
+    Examples
+    --------
+    >>> out = spline_vs_cubic([0, 1, 2], [[0, 0], [1, 0], [2, 0]], [[0, 0], [0, 0], [0, 0]])
+    >>> out["spline"][1] < out["cubic"][1]
+    True
+    """
+    from rapp.trajectory import via_points
+
+    vel = np.asarray(velocities, dtype=float)
+    cub = via_points(times, positions, velocities=vel, profile="cubic")
+    spl = via_points(times, positions, velocities=vel[[0, -1]], profile="spline")
+    return {"cubic": peak_rates(cub, samples), "spline": peak_rates(spl, samples)}

@@ -38,6 +38,18 @@ MANIFEST = [
 ]
 FONT_SUFFIXES = (".woff2", ".woff", ".ttf", ".eot", ".svg")
 
+# The HTML manager finds its icon fonts relative to the RequireJS URL of its own module; by
+# default that is the page's folder. Loaded between require.js and embed-amd.js
+# (nb_ipywidgets_js in _config.yml), this points the module at the vendored copy, whatever the
+# depth of the page.
+REQUIRE_CONFIG = """\
+// Written by scripts/vendor_js.py: map the widget manager's AMD modules to this folder.
+(function () {
+  var here = document.currentScript.src.replace(/[^/]*$/, "");
+  require.config({ paths: { "@jupyter-widgets/html-manager/dist": here + "html-manager" } });
+})();
+"""
+
 
 def main() -> int:
     if not NODE.is_dir():
@@ -61,6 +73,7 @@ def main() -> int:
     for font in sorted(dist.glob("*")) if dist.is_dir() else []:
         if font.suffix in FONT_SUFFIXES:
             shutil.copy2(font, DEST / "html-manager" / font.name)
+    (DEST / "require-config.js").write_text(REQUIRE_CONFIG, encoding="utf-8")
     if missing:
         print("vendor_js: missing in node_modules: " + ", ".join(missing), file=sys.stderr)
         return 1

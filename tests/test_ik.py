@@ -140,7 +140,7 @@ def test_seed002_shoulder_formula_fails_where_atan2_does_not():
 # ----------------------------------------------------------------- numeric N-link
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(st.integers(3, 6), st.integers(0, 2**31 - 1))
 def test_numeric_fk_of_ik_is_target(n, seed):
     rng = np.random.default_rng(seed)
@@ -173,7 +173,7 @@ def test_numeric_unreachable_hole_is_not_reported_ok():
     assert ok.tolist() == [False, True]
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(st.integers(0, 2**31 - 1))
 def test_numeric_respects_joint_limits(seed):
     rng = np.random.default_rng(seed)
@@ -241,7 +241,7 @@ def test_ik_one_link():
 # ----------------------------------------------------------------- Jacobian
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(st.integers(1, 6), st.integers(0, 2**31 - 1))
 def test_jacobian_matches_central_differences_and_sympy(n, seed):
     rng = np.random.default_rng(seed)

@@ -151,15 +151,21 @@ def test_plot_workspace_shades_exactly_the_annulus(lengths):
     assert len(ax.lines) == (2 if r_min > 0 else 1)
     radii = sorted(np.linalg.norm(line.get_xydata(), axis=1).mean() for line in ax.lines)
     np.testing.assert_allclose(radii, [r for r in (r_min, r_max) if r > 0])
-    ax.figure.canvas.draw()
+    # What the reader sees: pixels tinted blue exactly inside the annulus.
+    ax.grid(False)
+    fig = ax.figure
+    fig.set_dpi(100)
+    fig.canvas.draw()
+    rgb = np.asarray(fig.canvas.buffer_rgba())[..., :3] / 255.0
     rng = np.random.default_rng(1)
-    r = rng.uniform(0, 1.2 * r_max, 400)
+    r = rng.uniform(0, 1.05 * r_max, 400)
     th = rng.uniform(0, 2 * np.pi, 400)
     pts = np.stack((r * np.cos(th), r * np.sin(th)), axis=-1)
-    keep = np.abs(r - r_min) > 0.02 * r_max
-    keep &= np.abs(r - r_max) > 0.02 * r_max
-    drawn = np.array([ax.patches[0].contains_point(p) for p in ax.transData.transform(pts)])
-    np.testing.assert_array_equal(drawn[keep], ((r >= r_min) & (r <= r_max))[keep])
+    keep = (np.abs(r - r_min) > 0.03 * r_max) & (np.abs(r - r_max) > 0.03 * r_max)
+    px = ax.transData.transform(pts)
+    col = rgb[(rgb.shape[0] - px[:, 1]).astype(int), px[:, 0].astype(int)]
+    tinted = col[:, 2] - col[:, 0] > 0.05
+    np.testing.assert_array_equal(tinted[keep], ((r >= r_min) & (r <= r_max))[keep])
     assert ax.get_aspect() == 1.0
 
 
@@ -297,13 +303,14 @@ def test_plot_metrics_bars_are_the_stage_times():
     np.testing.assert_allclose(widths, [30.0, 10.0, 2.0])  # ms; path_length is not a time
     labels = [t.get_text() for t in ax.texts]
     assert labels == ["30 ms", "10 ms", "2 ms"]
-    ax = P.plot_metrics({"stage_times": {"ik": 0.5, "search": 1.5}, "nodes": 99})
+    ax = P.plot_metrics({"stage_times": {"ik": 0.5, "search": 1.5, "total": 2.0}, "nodes": 99})
     assert [t.get_text() for t in ax.get_yticklabels()] == ["ik", "search"]
+    assert ax.get_title() == "time per stage (total 2000 ms)"
     with pytest.raises(ValueError, match="no stage times"):
         P.plot_metrics({"path_length": 1.0})
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(st.tuples(*[st.floats(-2, 2)] * 6), st.floats(0.05, 1.0))
 def test_plot_segment_circle_marks_the_closest_point(abc, r):
     a, b, c = np.array(abc[:2]), np.array(abc[2:4]), np.array(abc[4:])
@@ -323,8 +330,9 @@ def test_plot_polynomials_velocity_is_the_slope():
     fig = P.plot_polynomials({"cubic": [0.0, 0.0, 0.75, -0.25]}, 0.0, 2.0)
     p, v, a = (ax.lines[0] for ax in fig.axes)
     t = p.get_xdata()
-    np.testing.assert_allclose(np.gradient(p.get_ydata(), t), v.get_ydata(), atol=2e-3)
-    np.testing.assert_allclose(np.gradient(v.get_ydata(), t), a.get_ydata(), atol=2e-3)
+    inner = slice(1, -1)  # central differences only
+    np.testing.assert_allclose(np.gradient(p.get_ydata(), t)[inner], v.get_ydata()[inner], atol=1e-3)
+    np.testing.assert_allclose(np.gradient(v.get_ydata(), t)[inner], a.get_ydata()[inner], atol=1e-3)
 
 
 # ----------------------------------------------------------------------------- animation
@@ -341,7 +349,7 @@ def test_animate_subsamples_and_moves_the_arm(tmp_path):
     anim._func(59)
     np.testing.assert_allclose(links.get_xydata(), ARM.joint_positions(q[-1]))
     assert ax.get_title() == "t = 5.00 s"
-    trace = ax.lines[-2]
+    trace = ax.lines[-1]
     assert len(trace.get_xydata()) == 60
     assert_readable(ax)
     short = P.animate(ARM, q[:7], trail=False)
@@ -349,20 +357,20 @@ def test_animate_subsamples_and_moves_the_arm(tmp_path):
 
 
 def test_save_gif_writes_every_frame(tmp_path):
-    q = np.linspace([0.0, 0.0], [np.pi, 1.0], 12)
-    anim = P.animate(ARM, q, OBSTACLES)
-    path = P.save_gif(anim, tmp_path / "arm.gif", fps=10)
+    q = np.linspace([0.0, 0.0], [np.pi, 1.0], 5)
+    anim = P.animate(ARM, q, OBSTACLES, ax=plt.subplots(figsize=(2, 2))[1])
+    path = P.save_gif(anim, tmp_path / "arm.gif", fps=10, dpi=40)
     with Image.open(path) as im:
         assert im.format == "GIF"
-        assert im.n_frames == 12
+        assert im.n_frames == 5
         assert im.info["duration"] == 100
 
 
 def test_animation_html_has_controls_and_closes_the_figure():
-    q = np.linspace([0.0, 0.0], [np.pi, 1.0], 6)
-    anim = P.animate(ARM, q)
-    num = anim._fig.number
+    q = np.linspace([0.0, 0.0], [np.pi, 1.0], 4)
+    fig, ax = plt.subplots(figsize=(2, 2), dpi=40)
+    anim = P.animate(ARM, q, ax=ax)
     html = P.animation_html(anim)
-    assert not plt.fignum_exists(num)
+    assert not plt.fignum_exists(fig.number)
     assert 'class="anim-controls"' in html and 'class="anim-slider"' in html
-    assert html.count("data:image/png;base64") == 6
+    assert html.count("data:image/png;base64") == 4

@@ -1,0 +1,54 @@
+# The two commands of the README:
+#   make book   set up .venv and node_modules, build the book into _build/html, check it in Chromium
+#   make test   set up .venv, run every test (unit, property, doctests, notebooks via nbval)
+# Other targets: make setup, make notebooks (re-execute notebooks/*.ipynb in place), make clean.
+
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DELETE_ON_ERROR:
+.SUFFIXES:
+MAKEFLAGS += --no-print-directory
+
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+PY_STAMP := $(VENV)/.environment.stamp
+NODE_STAMP := node_modules/.package-lock.json
+VENDOR_STAMP := book/_static_vendor/offline/.stamp
+export PIP_DISABLE_PIP_VERSION_CHECK := 1
+export NO_COLOR := 1
+
+.PHONY: setup setup-python setup-js book test notebooks clean
+
+setup: setup-python setup-js
+setup-python: $(PY_STAMP)
+setup-js: $(VENDOR_STAMP)
+
+# Re-installed whenever environment.txt (pinned, ends with `-e .`) or pyproject.toml changes.
+$(PY_STAMP): environment.txt pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --progress-bar off -r environment.txt
+	touch $@
+
+# MathJax 3, RequireJS and the ipywidgets HTML manager, pinned in package-lock.json.
+$(NODE_STAMP): package.json package-lock.json
+	npm ci --ignore-scripts --no-audit --no-fund --loglevel=error
+	touch $@
+
+# Copied into book/_static_vendor/offline/, which _config.yml serves as static files.
+$(VENDOR_STAMP): $(NODE_STAMP) scripts/vendor_js.py
+	$(PYTHON) scripts/vendor_js.py
+	touch $@
+
+book: setup
+	$(VENV)/bin/jupyter-book build . --all --quiet --warningiserror --nitpick --keep-going
+	$(PY) scripts/check_book.py _build/html
+
+test: setup-python
+	$(PY) -m pytest
+
+notebooks: setup-python
+	$(PY) scripts/execute_notebooks.py
+
+clean:
+	rm -rf _build book/_static_vendor

@@ -1,0 +1,214 @@
+"""plan() (IM1, MIS executePlanning): every embedded scenario plans and verifies; the
+pieces (certified cells, shortcutting, polyline timing) keep their promises; random
+scenarios either verify or fail only when breadth-first search agrees there is no path."""
+
+from collections import deque
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings, strategies as st
+
+from rapp import Arm, Circle, NoPathFound, load_scenario, plan
+from rapp.collision import collides, segment_collision_free
+from rapp.cspace import JointGrid, occupancy
+from rapp.planner import (PLANNERS, GridTooCoarse, Plan, certified_free, load_result,
+                          save_result, shortcut, time_polyline)
+from rapp.scenario import list_scenarios
+from rapp.verify import verify
+
+SOLVABLE = [n for n in list_scenarios() if n != "no_solution"]
+
+
+def slow_bfs_reachable(occ, start, wraps):
+    """Obviously correct breadth-first search, one cell at a time (the oracle)."""
+    seen = {tuple(start)}
+    todo = deque([tuple(start)])
+    while todo:
+        c = todo.popleft()
+        for ax in range(occ.ndim):
+            for d in (1, -1):
+                nb = list(c)
+                nb[ax] += d
+                if wraps[ax]:
+                    nb[ax] %= occ.shape[ax]
+                elif not 0 <= nb[ax] < occ.shape[ax]:
+                    continue
+                nb = tuple(nb)
+                if nb not in seen and not occ[nb]:
+                    seen.add(nb)
+                    todo.append(nb)
+    return seen
+
+
+@pytest.fixture(scope="module")
+def plans():
+    return {name: plan(name) for name in SOLVABLE}
+
+
+@pytest.mark.parametrize("name", SOLVABLE)
+def test_every_embedded_scenario_plans_and_verifies(plans, name):
+    p = plans[name]
+    s = p.scenario
+    assert p.report.ok, str(p.report)
+    assert verify(p, s) == p.report
+    n = s.arm.n
+    k = len(p.t)
+    assert p.q.shape == p.qd.shape == p.qdd.shape == (k, n) and p.xy.shape == (k, 2)
+    assert k >= s.trajectory.samples
+    assert np.array_equal(p.q[0], s.start_array)
+    assert np.allclose(p.xy, s.arm.end_effector(p.q), atol=0, rtol=0)
+    # The timed polyline is certified free segment by segment, and shortcutting only shortens.
+    assert segment_collision_free(s.arm, p.shortcut[:-1], p.shortcut[1:], s.obstacles).all()
+    assert p.metrics["shortcut_length_rad"] <= p.metrics["waypoint_length_rad"] + 1e-12
+    assert set(p.metrics["stage_times"]) == {"ik", "cspace", "search", "smoothing",
+                                             "trajectory", "verify", "total"}
+    if s.goal_xy is not None:
+        assert np.hypot(*(p.xy[-1] - s.goal_xy)) <= 1e-3
+
+
+def test_the_goal_is_the_nearest_reachable_ik_solution(plans):
+    p = plans["default"]
+    assert p.metrics["goal_candidates"] == 2 and p.metrics["ik_solutions"] == 2
+    assert p.metrics["path_cells"] == p.metrics["bfs_optimum_cells"]
+
+
+def test_no_solution_is_proved_by_exhausting_the_grid():
+    s = load_scenario("no_solution")
+    with pytest.raises(NoPathFound) as e:
+        plan(s)
+    assert not isinstance(e.value, GridTooCoarse)
+    grid = JointGrid(s.arm, s.planner.cells)
+    occ = occupancy(s.arm, s.obstacles, grid)
+    reach = slow_bfs_reachable(occ, e.value.start_cell, grid.wraps)
+    assert not any(tuple(g) in reach for g in e.value.goal_cells)
+    assert len(reach) > 100  # the start is not simply boxed in: the wall is the proof
+
+
+def test_result_round_trip(plans, tmp_path):
+    p = plans["three_link"]
+    path = tmp_path / "r.json"
+    save_result(p, path)
+    back = load_result(path)
+    for name in ("t", "q", "qd", "qdd", "xy", "waypoints", "shortcut", "goal_q"):
+        assert np.array_equal(getattr(back, name), getattr(p, name)), name
+    assert np.array_equal(back.occupancy, p.occupancy) and back.grid == p.grid
+    assert back.report == p.report and back.scenario == p.scenario
+    assert back.metrics == p.metrics and back.profile == p.profile
+    assert Plan.from_dict(back.to_dict()).to_dict() == p.to_dict()
+
+
+def test_save_result_is_atomic(plans, tmp_path, monkeypatch):
+    path = tmp_path / "r.json"
+    save_result(plans["srs_typical"], path)
+    before = path.read_bytes()
+
+    def boom(*a, **k):
+        raise OSError("disk full")
+
+    monkeypatch.setattr("rapp.planner.os.replace", boom)
+    with pytest.raises(OSError):
+        save_result(plans["default"], path)
+    assert path.read_bytes() == before
+    assert [f.name for f in tmp_path.iterdir()] == ["r.json"]  # no temporary left behind
+
+
+def test_rrt_is_dispatched_by_name():
+    assert set(PLANNERS) >= {"astar", "rrt"}
+    s = load_scenario({**load_scenario("srs_typical").to_dict(),
+                       "planner": {"algorithm": "rrt", "step": 0.2, "seed": 3,
+                                   "goal_threshold": 0.01, "max_iterations": 5000}})
+    p = plan(s)
+    assert p.report.ok and p.grid is None
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(8, 24), st.integers(0, 2**32 - 1))
+def test_certified_cells_certify_every_move_between_them(cells, seed):
+    rng = np.random.default_rng(seed)
+    arm = Arm(rng.uniform(0.3, 1.2, 2))
+    obs = [Circle(rng.uniform(-1.5, 1.5, 2), rng.uniform(0.1, 0.5)) for _ in range(2)]
+    grid = JointGrid(arm, cells)
+    safe = certified_free(arm, obs, grid)
+    assert not (safe & occupancy(arm, obs, grid)).any()
+    a = np.argwhere(safe)
+    assume(len(a))
+    a = a[rng.integers(len(a), size=min(len(a), 40))]
+    axis = rng.integers(2, size=len(a))
+    b = a.copy()
+    b[np.arange(len(a)), axis] = (b[np.arange(len(a)), axis] + 1) % cells
+    both = safe[tuple(b.T)]
+    qa = grid.angles(a[both])
+    qb = qa + np.eye(2)[axis[both]] * grid.step  # the short way across the seam
+    assert segment_collision_free(arm, qa, qb, obs).all()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(3, 12))
+def test_shortcut_keeps_endpoints_order_and_freedom(seed, k):
+    rng = np.random.default_rng(seed)
+    arm = Arm([1.0, 0.7])
+    obs = [Circle((1.0, 1.0), 0.3)]
+    path = np.cumsum(rng.uniform(-0.15, 0.15, (k, 2)), axis=0)
+    ok = segment_collision_free(arm, path[:-1], path[1:], obs)
+    assume(ok.all() and not collides(arm, path, obs).any())
+    out = shortcut(arm, path, obs)
+    assert np.array_equal(out[0], path[0]) and np.array_equal(out[-1], path[-1])
+    idx = [int(np.flatnonzero((path == r).all(axis=1))[0]) for r in out]
+    assert idx == sorted(idx)
+    assert segment_collision_free(arm, out[:-1], out[1:], obs).all()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(2, 6), st.integers(2, 50))
+def test_time_polyline_stays_on_the_polyline_and_rests_at_waypoints(seed, k, samples):
+    rng = np.random.default_rng(seed)
+    w = rng.uniform(-2, 2, (k, 3))
+    t, q, qd, qdd = time_polyline(w, 3.0, samples)
+    assert t[0] == 0 and t[-1] == 3.0 and np.all(np.diff(t) > 0)
+    assert np.array_equal(q[0], w[0]) and np.array_equal(q[-1], w[-1])
+    # Every sample lies on some segment of the polyline.
+    a, b = w[:-1], w[1:]
+    d = b - a
+    u = np.clip(np.einsum("sij,ij->si", q[:, None] - a, d) / np.einsum("ij,ij->i", d, d), 0, 1)
+    dist = np.linalg.norm(q[:, None] - (a + u[..., None] * d), axis=-1).min(axis=1)
+    assert dist.max() < 1e-12
+    # Every waypoint is a sample, at rest.
+    at = np.array([np.flatnonzero(np.all(np.abs(q - p) < 1e-12, axis=1))[0] for p in w])
+    assert np.abs(qd[at]).max() < 1e-9
+    # q' and q'' are the derivatives of q: finite differences on a fine sampling agree.
+    t, q, qd, qdd = time_polyline(w, 3.0, 6000)
+    scale = max(np.abs(qdd).max(), 1.0)
+    assert np.abs(np.gradient(q, t, axis=0) - qd)[1:-1].max() < 1e-2 * scale
+    assert np.abs(np.gradient(qd, t, axis=0) - qdd)[1:-1].max() < 2e-2 * scale
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32 - 1), st.integers(16, 40), st.integers(1, 3),
+       st.sampled_from(["cubic", "quintic", "spline"]))
+def test_random_scenarios_verify_or_bfs_agrees_there_is_no_path(seed, cells, n_obs, profile):
+    rng = np.random.default_rng(seed)
+    lengths = rng.uniform(0.4, 1.2, 2).round(3).tolist()
+    reach = sum(lengths)
+    obstacles = [{"type": "circle", "center": rng.uniform(-reach, reach, 2).round(3).tolist(),
+                  "radius": round(float(rng.uniform(0.1, 0.45)), 3)} for _ in range(n_obs)]
+    data = {"arm": {"link_lengths": lengths}, "obstacles": obstacles,
+            "start": rng.uniform(-np.pi, np.pi, 2).tolist(),
+            "goal": {"joints": rng.uniform(-np.pi, np.pi, 2).tolist()},
+            "planner": {"cells": cells},
+            "trajectory": {"duration": 2.0, "profile": profile, "samples": 60}}
+    try:
+        s = load_scenario(data)
+    except Exception:
+        assume(False)
+    try:
+        p = plan(s)
+    except GridTooCoarse:
+        return  # the grid holds a path its moves could not certify: a resolution answer
+    except NoPathFound as e:
+        grid = JointGrid(s.arm, cells)
+        occ = occupancy(s.arm, s.obstacles, grid)
+        assert not occ[e.start_cell]
+        reach_set = slow_bfs_reachable(occ, e.start_cell, grid.wraps)
+        assert not any(tuple(g) in reach_set for g in e.goal_cells)
+        return
+    assert p.report.ok, str(p.report)
