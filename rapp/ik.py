@@ -101,7 +101,7 @@ def _equivalents_within(arm: Arm, q: np.ndarray, tol: float) -> np.ndarray:
     return np.concatenate(out, axis=0)
 
 
-def ik_2link(arm_or_lengths, target, *, tol: float = 1e-9) -> np.ndarray:
+def ik_2link(arm_or_lengths, target, *, tol: float = 1e-10) -> np.ndarray:
     """Every joint solution of a 2-link arm for one target (seed 004), shape ``(k, 2)``.
 
     Law of cosines: ``|target|^2 = L1^2 + L2^2 + 2 L1 L2 cos q2``, then
@@ -115,10 +115,10 @@ def ik_2link(arm_or_lengths, target, *, tol: float = 1e-9) -> np.ndarray:
     arm_or_lengths : Arm or (L1, L2)
     target : (2,) array_like
     tol : float
-        A target whose distance from the base is within ``tol * (L1 + L2)`` of
-        a boundary circle of the annulus ``|L1-L2| <= r <= L1+L2`` gets the
+        A length. A target whose distance from the base is within ``tol`` of a
+        boundary circle of the annulus ``|L1-L2| <= r <= L1+L2`` gets the
         single boundary solution (straight arm ``q2 = 0`` or folded
-        ``q2 = -pi``).
+        ``q2 = -pi``), which then places the tip within ``tol`` of it.
 
     Returns
     -------
@@ -155,7 +155,7 @@ def ik_2link(arm_or_lengths, target, *, tol: float = 1e-9) -> np.ndarray:
     l1, l2 = arm.link_lengths
     r = float(np.hypot(x, y))
     r_out, r_in = l1 + l2, abs(l1 - l2)
-    band = tol * r_out
+    band = tol
     if r > r_out + band or r < r_in - band:
         raise NoIKSolution(
             f"target ({x:g}, {y:g}) is out of reach: r = {r:g} is outside [{r_in:g}, {r_out:g}]",

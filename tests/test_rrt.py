@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rapp import Arm, Circle, NoPathFound, Polygon, collides
+from rapp import Arm, Circle, NoPathFound, Polygon, collides, segment_collision_free
 from rapp.rrt import alpha_beta_experiment, path_cost, plan_rrt, rrt
 
 
@@ -82,9 +82,14 @@ def test_tree_is_an_rrt():
 
 
 def test_limited_joints_stay_within_limits():
-    arm = Arm([1.0, 1.0], [(-0.5, 2.0), (-1.0, 1.0)])
-    res = rrt(arm, [0.0, 0.0], [1.8, 0.9], [Circle((1.6, 0.9), 0.25)], step=0.2, seed=5)
+    # The disc blocks the stretched arm; the way round is to fold joint 2 past |q2| ~ 1.
+    arm = Arm([1.0, 1.0], [(-0.5, 2.0), (-1.5, 1.5)])
+    obs = [Circle((1.85 * np.cos(1.0), 1.85 * np.sin(1.0)), 0.1)]
+    assert not segment_collision_free(arm, [0.0, 0.0], [1.8, 0.9], obs)
+    res = rrt(arm, [0.0, 0.0], [1.8, 0.9], obs, step=0.2, seed=5)
     assert arm.within_limits(res.nodes).all() and arm.within_limits(res.path).all()
+    assert densely_free(arm, res.path, obs)
+    assert np.abs(res.path[:, 1]).max() > 1.0
 
 
 def test_wraps_the_short_way_across_the_seam():
