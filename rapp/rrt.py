@@ -37,6 +37,11 @@ edge to it is free, so the path ends exactly at the goal. A task-space goal
 goal-biased iteration targets a Gauss-Newton step (the report's Algorithm 1,
 ``q + J^+ dx``) from the node whose end effector is nearest to ``goal_xy``.
 
+Speed. Edges are certified in batches: each batch of random targets is
+steered from the tree as it stands and all those edges are checked in one
+vectorized call; a target whose nearest node was added later in the same batch
+gets its own check. The tree is exactly the one grown edge by edge.
+
 Failure. :func:`rrt` raises :class:`rapp.NoPathFound` when ``max_iterations``
 pass without reaching the goal (the planner relies on this); with
 ``raise_on_failure=False`` it returns a result with ``success=False`` instead,

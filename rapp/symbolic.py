@@ -135,7 +135,8 @@ def _boundary_value(degree: int):
     t, t0, tf = sp.symbols("t t0 tf", real=True)
     names = ["p0", "pf", "v0", "vf", "a0", "af"][: degree + 1]
     vals = sp.symbols(" ".join(names), real=True)
-    a = sp.symbols(f"a0:{degree + 1}", real=True)
+    # Unknowns named c_k: "a0" is also the start acceleration of the quintic.
+    a = sp.symbols(f"c0:{degree + 1}", real=True)
     p = sum(ai * t**i for i, ai in enumerate(a))
     derivs = [p, sp.diff(p, t), sp.diff(p, t, 2)]
     eqs = []

@@ -280,13 +280,14 @@ def _grid(center, bound, res):
 
 
 def search_via_point(start, goal, obstacle, *, v_start=(0.0, 0.0), times=SEED002_TIMES,
-                     bound=None, resolutions=(0.1, 0.01), refine_bound=0.1,
+                     bound=None, resolutions=(0.1, 0.01), refine_bound=None,
                      arm_lengths=None, arm_samples=201) -> ViaPoint:
     """Seed 002's grid search with refinement for the via point D.
 
     Candidates are ``c + (i, j) res`` with ``|i res|, |j res| <= bound``
     (default ``1.5 r``) around the obstacle centre, then around the best point
-    with ``refine_bound`` for each later resolution. A candidate is kept when
+    with ``refine_bound`` (default: the previous resolution, which is the
+    seed's 0.1 for its 0.01 pass) for each later resolution. A candidate is kept when
     the whole cubic path clears the disc (exact, :func:`path_clearance`
     ``> r``) and, with ``arm_lengths``, when both links of the elbow-down arm
     clear it at ``arm_samples`` instants per segment (Condition 3); among kept
@@ -306,7 +307,11 @@ def search_via_point(start, goal, obstacle, *, v_start=(0.0, 0.0), times=SEED002
     bound = 1.5 * r if bound is None else float(bound)
     best = c
     for level, res in enumerate(resolutions):
-        D = _grid(best, bound if level == 0 else refine_bound, res)
+        if level == 0:
+            window = bound
+        else:
+            window = resolutions[level - 1] if refine_bound is None else float(refine_bound)
+        D = _grid(best, window, res)
         clear = path_clearance(D, start, goal, c, v_start=v_start, times=times)
         ok = clear > r
         if arm_lengths is not None:
@@ -363,12 +368,16 @@ def tangent_via_point(start, goal, obstacle) -> ViaPoint:
     for side_b, side_g in ((0, 1), (1, 0)):  # tangents on the same side of the disc
         u, w = tb[side_b] - b, tg[side_g] - g
         M = np.column_stack((u, -w))
-        if abs(np.linalg.det(M)) < 1e-12:
-            continue
-        lam = np.linalg.solve(M, g - b)
-        if lam[0] <= 0 or lam[1] <= 0:
-            continue
-        D = b + lam[0] * u
+        if abs(np.linalg.det(M)) < 1e-12 * np.dot(u, u) * np.dot(w, w):
+            # Parallel tangents: usable only when they are one line, i.e. BC itself is tangent.
+            if abs(u[0] * (g - b)[1] - u[1] * (g - b)[0]) > 1e-9 * np.dot(u, u):
+                continue
+            D = tb[side_b]
+        else:
+            lam = np.linalg.solve(M, g - b)
+            if lam[0] <= 0 or lam[1] <= 0:
+                continue
+            D = b + lam[0] * u
         length = float(np.linalg.norm(D - b) + np.linalg.norm(g - D))
         if best is None or length < best.length:
             clear = min(segment_point_distance(b, D, c), segment_point_distance(D, g, c))

@@ -1,8 +1,8 @@
-"""Copy the book's JavaScript from node_modules/ into book/_static_vendor/offline/.
+"""Copy the book's JavaScript and CSS from node_modules/ into book/_static_vendor/offline/.
 
 The book must render offline: MathJax 3 (typesetting), RequireJS and the
 ipywidgets HTML manager (saved widget views) are served from the book itself
-instead of CDNs. `npm ci` installs the versions pinned in package-lock.json;
+instead of CDNs, and so is the Font Awesome CSS of matplotlib's animation controls. `npm ci` installs the versions pinned in package-lock.json;
 this script copies only the files a browser loads. _config.yml lists
 book/_static_vendor in html_static_path, so Sphinx copies it to
 _build/html/_static/offline/.
@@ -35,6 +35,10 @@ MANIFEST = [
     # embed-amd.js bundles @jupyter-widgets/base, controls and output; the
     # hashed font files are the icon fonts its CSS refers to.
     ("@jupyter-widgets/html-manager/dist/embed-amd.js", "html-manager/embed-amd.js"),
+    # matplotlib's to_jshtml() links Font Awesome 4 from a CDN for its animation buttons;
+    # book/_ext/offline_assets.py points that link here.
+    ("font-awesome/css/font-awesome.min.css", "font-awesome/css/font-awesome.min.css"),
+    ("font-awesome/fonts", "font-awesome/fonts"),
 ]
 FONT_SUFFIXES = (".woff2", ".woff", ".ttf", ".eot", ".svg")
 

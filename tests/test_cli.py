@@ -160,7 +160,11 @@ def test_out_round_trips_and_keeps_the_old_result_on_a_crash(capsys, tmp_path, m
     assert out_path.read_bytes() == before
 
 
-def test_plot_and_animate(capsys, tmp_path):
+def test_plot_and_animate(capsys, tmp_path, monkeypatch):
+    import rapp.plotting as plotting
+
+    full = plotting.animate  # a GIF of every frame takes long; the wiring is what is tested here
+    monkeypatch.setattr(plotting, "animate", lambda *a, **k: full(*a, **{**k, "max_frames": 3}))
     fig, gif = tmp_path / "f.png", tmp_path / "a.gif"
     code, out, err = run(capsys, "plan", "srs_typical", "--plot", str(fig), "--animate",
                          str(gif), "-q")

@@ -6,9 +6,9 @@ from collections import deque
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings, strategies as st
+from hypothesis import HealthCheck, assume, event, given, settings, strategies as st
 
-from rapp import Arm, Circle, NoPathFound, load_scenario, plan
+from rapp import Arm, Circle, InvalidValue, NoPathFound, load_scenario, plan, wrap_angle
 from rapp.collision import collides, segment_collision_free
 from rapp.cspace import JointGrid, occupancy
 from rapp.planner import (PLANNERS, GridTooCoarse, Plan, certified_free, load_result,
@@ -182,27 +182,32 @@ def test_time_polyline_stays_on_the_polyline_and_rests_at_waypoints(seed, k, sam
     assert np.abs(np.gradient(qd, t, axis=0) - qdd)[1:-1].max() < 2e-2 * scale
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.integers(0, 2**32 - 1), st.integers(16, 40), st.integers(1, 3),
-       st.sampled_from(["cubic", "quintic", "spline"]))
-def test_random_scenarios_verify_or_bfs_agrees_there_is_no_path(seed, cells, n_obs, profile):
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(st.integers(0, 2**32 - 1), st.integers(16, 40), st.integers(1, 5),
+       st.sampled_from(["cubic", "quintic", "spline"]), st.booleans())
+def test_random_scenarios_verify_or_bfs_agrees_there_is_no_path(seed, cells, n_obs, profile,
+                                                               limited):
     rng = np.random.default_rng(seed)
     lengths = rng.uniform(0.4, 1.2, 2).round(3).tolist()
     reach = sum(lengths)
     obstacles = [{"type": "circle", "center": rng.uniform(-reach, reach, 2).round(3).tolist(),
-                  "radius": round(float(rng.uniform(0.1, 0.45)), 3)} for _ in range(n_obs)]
-    data = {"arm": {"link_lengths": lengths}, "obstacles": obstacles,
-            "start": rng.uniform(-np.pi, np.pi, 2).tolist(),
-            "goal": {"joints": rng.uniform(-np.pi, np.pi, 2).tolist()},
+                  "radius": round(float(rng.uniform(0.1, 0.7)), 3)} for _ in range(n_obs)]
+    # A limited first joint turns the torus into a band that obstacles can cut in two.
+    limits = [[-2.5, 2.5], None] if limited else None
+    lo = -2.5 if limited else -np.pi
+    data = {"arm": {"link_lengths": lengths, "joint_limits": limits}, "obstacles": obstacles,
+            "start": [rng.uniform(lo, -lo), rng.uniform(-np.pi, np.pi)],
+            "goal": {"joints": [rng.uniform(lo, -lo), rng.uniform(-np.pi, np.pi)]},
             "planner": {"cells": cells},
             "trajectory": {"duration": 2.0, "profile": profile, "samples": 60}}
     try:
         s = load_scenario(data)
-    except Exception:
+    except InvalidValue:  # start or goal in collision
         assume(False)
     try:
         p = plan(s)
     except GridTooCoarse:
+        event("grid too coarse")
         return  # the grid holds a path its moves could not certify: a resolution answer
     except NoPathFound as e:
         grid = JointGrid(s.arm, cells)
@@ -210,5 +215,25 @@ def test_random_scenarios_verify_or_bfs_agrees_there_is_no_path(seed, cells, n_o
         assert not occ[e.start_cell]
         reach_set = slow_bfs_reachable(occ, e.start_cell, grid.wraps)
         assert not any(tuple(g) in reach_set for g in e.goal_cells)
+        event("no path (proved)")
         return
+    event("planned")
     assert p.report.ok, str(p.report)
+
+
+def test_search_on_the_plain_occupancy_repairs_uncertified_moves():
+    # On the plain occupancy (cell centres only) a coarse grid offers moves that sweep an
+    # obstacle; the fallback search must find them, block them and still end certified.
+    from rapp.planner import _goal_configurations, _route_on
+
+    s = load_scenario("rectangles")
+    grid = JointGrid(s.arm, 40)
+    occ = occupancy(s.arm, s.obstacles, grid)
+    goals, _ = _goal_configurations(s)
+    full, metrics = _route_on(s.arm, s.obstacles, grid, occ, s.start_array, goals, s.planner,
+                              certified=False)
+    assert metrics["certification_repairs"] > 0
+    assert segment_collision_free(s.arm, full[:-1], full[1:], s.obstacles).all()
+    assert np.array_equal(full[0], s.start_array)
+    assert np.allclose(wrap_angle(full[-1] - s.goal_q), 0)  # unwrapped: whole turns apart
+    assert metrics["path_cells"] >= metrics["bfs_optimum_cells"]

@@ -84,11 +84,18 @@ def test_ik_2link_symbolic_law_of_cosines_and_back_substitution():
                                          (quintic_coefficients_symbolic, 5)])
 def test_boundary_value_solutions_satisfy_their_system(make, order):
     a, syms = make()
+    assert all(e.free_symbols <= set(syms) for e in a)
     t0, tf = syms[:2]
     vals = syms[2:]
     t = sp.Symbol("t", real=True)
     p = sum(c * t**k for k, c in enumerate(a))
-    for k in range((order + 1) // 2):
-        dk = sp.diff(p, t, k)
-        assert sp.simplify(dk.subs(t, t0) - vals[2 * k]) == 0
-        assert sp.simplify(dk.subs(t, tf) - vals[2 * k + 1]) == 0
+    rng = np.random.default_rng(7)
+    for _ in range(3):
+        # exact rational values: the check is exact arithmetic, not a tolerance
+        num = [sp.Rational(int(v), 7) for v in rng.integers(-50, 50, len(syms))]
+        num[1] = num[0] + sp.Rational(int(rng.integers(1, 30)), 11)
+        sub = dict(zip(syms, num))
+        for k in range((order + 1) // 2):
+            dk = sp.diff(p, t, k)
+            assert (dk.subs(t, t0).subs(sub) - sub[vals[2 * k]]) == 0
+            assert (dk.subs(t, tf).subs(sub) - sub[vals[2 * k + 1]]) == 0
