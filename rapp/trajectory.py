@@ -21,7 +21,7 @@ with one ``np.searchsorted``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from math import comb
 
 import numpy as np
@@ -42,10 +42,14 @@ def _shift_to_absolute(b: np.ndarray, t0) -> np.ndarray:
     """Coefficients of ``sum_k b_k (t - t0)^k`` in powers of ``t``.
 
     ``a_j = sum_{k >= j} C(k, j) (-t0)^(k - j) b_k`` (binomial theorem).
-    ``b`` has the degree on axis 0.
+    ``b`` has the degree on axis 0; ``t0`` broadcasts against ``b[0]``.
     """
+    return _shift(b, -np.asarray(t0, dtype=float))
+
+
+def _shift(b: np.ndarray, s) -> np.ndarray:
+    """Coefficients of ``sum_k b_k (x + s)^k`` in powers of ``x``."""
     deg = b.shape[0] - 1
-    s = -np.asarray(t0, dtype=float)
     a = []
     for j in range(deg + 1):
         a.append(sum(comb(k, j) * s ** (k - j) * b[k] for k in range(j, deg + 1)))
@@ -79,6 +83,11 @@ def cubic(t0, tf, p0, pf, v0=0.0, vf=0.0) -> np.ndarray:
     [16.688, -9.248, 2.186, -0.134]
     """
     t0, h = _durations(t0, tf)
+    return _shift_to_absolute(_cubic_local(h, p0, pf, v0, vf), t0)
+
+
+def _cubic_local(h, p0, pf, v0, vf) -> np.ndarray:
+    """Cubic coefficients in ``tau = t - t0`` over a segment of length ``h``."""
     p0, pf, v0, vf = (np.asarray(v, dtype=float) for v in (p0, pf, v0, vf))
     d = pf - p0
     b = [
@@ -87,8 +96,7 @@ def cubic(t0, tf, p0, pf, v0=0.0, vf=0.0) -> np.ndarray:
         (3 * d - (2 * v0 + vf) * h) / h**2,
         (-2 * d + (v0 + vf) * h) / h**3,
     ]
-    b = np.stack(np.broadcast_arrays(*b), axis=0)
-    return _shift_to_absolute(b, t0)
+    return np.stack(np.broadcast_arrays(*b), axis=0)
 
 
 def quintic(t0, tf, p0, pf, v0=0.0, vf=0.0, a0=0.0, af=0.0) -> np.ndarray:
@@ -105,6 +113,11 @@ def quintic(t0, tf, p0, pf, v0=0.0, vf=0.0, a0=0.0, af=0.0) -> np.ndarray:
     [0.0, 0.0, 0.0, 10.0, -15.0, 6.0]
     """
     t0, h = _durations(t0, tf)
+    return _shift_to_absolute(_quintic_local(h, p0, pf, v0, vf, a0, af), t0)
+
+
+def _quintic_local(h, p0, pf, v0, vf, a0, af) -> np.ndarray:
+    """Quintic coefficients in ``tau = t - t0`` over a segment of length ``h``."""
     p0, pf, v0, vf, a0, af = (np.asarray(v, dtype=float) for v in (p0, pf, v0, vf, a0, af))
     d = pf - p0
     b = [
@@ -115,8 +128,7 @@ def quintic(t0, tf, p0, pf, v0=0.0, vf=0.0, a0=0.0, af=0.0) -> np.ndarray:
         (-30 * d + (14 * vf + 16 * v0) * h + (3 * a0 - 2 * af) * h**2) / (2 * h**4),
         (12 * d - 6 * (vf + v0) * h - (a0 - af) * h**2) / (2 * h**5),
     ]
-    b = np.stack(np.broadcast_arrays(*b), axis=0)
-    return _shift_to_absolute(b, t0)
+    return np.stack(np.broadcast_arrays(*b), axis=0)
 
 
 def _derivative_coeffs(c: np.ndarray, derivative: int, axis: int) -> np.ndarray:
@@ -148,14 +160,23 @@ def polyval(coeffs, t, derivative: int = 0) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class PiecewisePolynomial:
-    """A trajectory made of polynomial segments in absolute time.
+    """A trajectory made of polynomial segments.
 
     Parameters
     ----------
     breakpoints : (m + 1,) increasing times
     coefficients : (m, deg + 1, d)
         Segment ``i`` holds on ``[breakpoints[i], breakpoints[i+1]]``;
-        ascending powers of absolute ``t``.
+        ascending powers of ABSOLUTE ``t`` (the contract, seed 002's form).
+    local : (m, deg + 1, d), optional
+        The same segments in local time ``tau = t - breakpoints[i]``. The
+        constructors of this module pass it; otherwise it is derived from
+        ``coefficients``.
+
+    Evaluation uses the local form. Absolute-time coefficients of a segment
+    late in a long trajectory are large and cancel each other (evaluating
+    ``sum a_k t^k`` at ``t = 20`` for a degree-5 segment 0.5 s long loses about
+    seven digits); local time keeps every term of the size of the motion.
 
     Outside ``[t0, tf]`` the trajectory holds its end position with zero
     velocity and acceleration (the arm waits).
@@ -169,10 +190,13 @@ class PiecewisePolynomial:
     >>> q, qd, qdd = pp.sample(np.linspace(0, 8, 5))
     >>> q.shape, qd[-1].tolist()
     ((5, 2), [0.0, 0.0])
+    >>> pp.coefficients[1, :, 0].round(3).tolist()   # seed 002, x of segment BC
+    [16.688, -9.248, 2.186, -0.134]
     """
 
     breakpoints: np.ndarray
     coefficients: np.ndarray
+    local: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         bp = np.asarray(self.breakpoints, dtype=float)
@@ -185,10 +209,26 @@ class PiecewisePolynomial:
             raise ValueError(
                 f"coefficients must have shape ({bp.size - 1}, deg+1, d), got {c.shape}"
             )
-        bp.setflags(write=False)
-        c.setflags(write=False)
+        if self.local is None:
+            loc = np.moveaxis(_shift(np.moveaxis(c, 1, 0), bp[:-1, None]), 0, 1)
+        else:
+            loc = np.asarray(self.local, dtype=float).reshape(c.shape)
+        for arr in (bp, c, loc):
+            arr.setflags(write=False)
         object.__setattr__(self, "breakpoints", bp)
         object.__setattr__(self, "coefficients", c)
+        object.__setattr__(self, "local", loc)
+
+    @classmethod
+    def from_local(cls, breakpoints, local) -> "PiecewisePolynomial":
+        """Build from local-time coefficients (m, deg + 1, d)."""
+        bp = np.asarray(breakpoints, dtype=float)
+        loc = np.asarray(local, dtype=float)
+        if loc.ndim == 2:
+            loc = loc[:, :, None]
+        absolute = np.moveaxis(
+            _shift_to_absolute(np.moveaxis(loc, 1, 0), bp[:-1, None]), 0, 1)
+        return cls(bp, absolute, loc)
 
     @property
     def t0(self) -> float:
@@ -218,10 +258,11 @@ class PiecewisePolynomial:
         tc = np.clip(t, self.t0, self.tf)
         seg = np.clip(np.searchsorted(self.breakpoints, tc, side="right") - 1,
                       0, self.coefficients.shape[0] - 1)
-        c = _derivative_coeffs(self.coefficients, derivative, 1)[seg]  # t.shape + (k, d)
+        c = _derivative_coeffs(self.local, derivative, 1)[seg]  # t.shape + (k, d)
+        tau = (tc - self.breakpoints[seg])[..., None]
         out = np.zeros(t.shape + (self.dim,))
         for k in range(c.shape[-2] - 1, -1, -1):
-            out = out * tc[..., None] + c[..., k, :]
+            out = out * tau + c[..., k, :]
         if derivative:
             outside = (t < self.t0) | (t > self.tf)
             out[outside] = 0.0
@@ -380,10 +421,10 @@ def via_points(times, positions, velocities=None, profile: str = "cubic",
             raise ValueError(f"unknown accelerations {accelerations!r}")
         else:
             acc = np.asarray(accelerations, dtype=float).reshape(k, d)
-        c = quintic(t0, tf, p[:-1], p[1:], v[:-1], v[1:], acc[:-1], acc[1:])
+        c = _quintic_local(tf - t0, p[:-1], p[1:], v[:-1], v[1:], acc[:-1], acc[1:])
     else:
-        c = cubic(t0, tf, p[:-1], p[1:], v[:-1], v[1:])
-    return PiecewisePolynomial(times, np.moveaxis(c, 0, 1))
+        c = _cubic_local(tf - t0, p[:-1], p[1:], v[:-1], v[1:])
+    return PiecewisePolynomial.from_local(times, np.moveaxis(c, 0, 1))
 
 
 def time_path(waypoints, duration: float, profile: str = "cubic", *, wraps=None,
@@ -429,7 +470,7 @@ def time_path(waypoints, duration: float, profile: str = "cubic", *, wraps=None,
     w = w[np.concatenate([[True], step > 0])]
     if w.shape[0] == 1:
         # Nowhere to go: rest at the single configuration.
-        return PiecewisePolynomial([t0, t0 + duration], np.stack(
+        return PiecewisePolynomial.from_local([t0, t0 + duration], np.stack(
             [w[0], np.zeros_like(w[0]), np.zeros_like(w[0]), np.zeros_like(w[0])])[None])
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=-1))])
     times = t0 + duration * s / s[-1]

@@ -31,6 +31,8 @@ from math import comb
 
 import numpy as np
 
+from rapp.collision import segment_point_distance
+
 __all__ = [
     "ViaPoint",
     "cubic_segment",
@@ -204,8 +206,6 @@ def _ik(lengths, p, elbow):
 
 def _link_distances(lengths, p, center, elbow):
     """Distance from the centre to link 1 (base-elbow) and link 2 (elbow-tip), each ``p.shape[:-1]``."""
-    from rapp.collision import segment_point_distance
-
     q1, _ = _ik(lengths, p, elbow)
     elbow_pt = lengths[0] * np.stack((np.cos(q1), np.sin(q1)), axis=-1)
     return (
@@ -239,8 +239,7 @@ def arm_link_distance(lengths, via, start, goal, center, *, v_start=(0.0, 0.0),
     q1, q2 = _ik(lengths, p, elbow)
     # Joint rates by finite differences inside each segment (both ends included).
     n = samples
-    seg_t = t.reshape(2, n) if np.ndim(p) == 2 else t.reshape(2, n)
-    h = np.diff(seg_t, axis=-1).max()
+    h = np.diff(t.reshape(2, n), axis=-1).max()
     q1s, q2s = (np.unwrap(a.reshape(a.shape[:-1] + (2, n)), axis=-1) for a in (q1, q2))
     w1 = np.abs(np.diff(q1s, axis=-1)) / h
     w12 = np.abs(np.diff(q1s + q2s, axis=-1)) / h
@@ -354,8 +353,6 @@ def tangent_via_point(start, goal, obstacle) -> ViaPoint:
     >>> np.round(d.point, 4).tolist(), round(d.length, 5)
     ([10.2181, 8.5299], 9.32454)
     """
-    from rapp.collision import segment_point_distance
-
     b = np.asarray(start, dtype=float)
     g = np.asarray(goal, dtype=float)
     c = np.asarray(obstacle.center, dtype=float)

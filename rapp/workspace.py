@@ -89,12 +89,13 @@ def elbow_solutions(lengths, targets) -> np.ndarray:
     return np.where(ok[..., None, None], q, np.nan)
 
 
-def interpolate_joints(q0, q1, steps: int) -> np.ndarray:
+def interpolate_joints(q0, q1, steps: int, *, wrap: bool = True) -> np.ndarray:
     """Rest-to-rest cubic joint-space motion from ``q0`` to ``q1``, shape ``(..., steps, n)``.
 
     Each joint follows ``q0 + (3 u^2 - 2 u^3) dq``, ``u`` in ``[0, 1]``, with
     ``dq`` the wrapped (shortest) difference, so a free joint never turns the
-    long way round. Both end points are included; the last equals ``q1`` up to
+    long way round (``wrap=False``: the plain difference, for angles the
+    caller has already unwrapped). Both end points are included; the last equals ``q1`` up to
     a multiple of ``2 pi``.
 
     Examples
@@ -105,7 +106,9 @@ def interpolate_joints(q0, q1, steps: int) -> np.ndarray:
     if steps < 2:
         raise ValueError(f"steps must be >= 2, got {steps}")
     q0 = np.asarray(q0, dtype=float)
-    dq = wrap_angle(np.asarray(q1, dtype=float) - q0)
+    dq = np.asarray(q1, dtype=float) - q0
+    if wrap:
+        dq = wrap_angle(dq)
     u = np.linspace(0.0, 1.0, steps)
     s = 3 * u**2 - 2 * u**3
     return q0[..., None, :] + s[:, None] * dq[..., None, :]
@@ -156,6 +159,6 @@ def motion_through_solutions(lengths, targets, *, steps: int = 30, q_start=None)
         return way.copy(), flags
     # Unwrap the waypoints so each leg takes the short way and the motion is continuous.
     way = way[0] + np.concatenate(([[0.0, 0.0]], np.cumsum(wrap_angle(np.diff(way, axis=0)), axis=0)))
-    legs = interpolate_joints(way[:-1], way[1:], steps)  # (w-1, steps, 2)
+    legs = interpolate_joints(way[:-1], way[1:], steps, wrap=False)  # (w-1, steps, 2)
     q = np.vstack((legs[:, :-1, :].reshape(-1, 2), way[-1:]))
     return q, flags
