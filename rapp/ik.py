@@ -270,7 +270,7 @@ def _initial_guess(arm: Arm, targets: np.ndarray) -> np.ndarray:
     m = targets.shape[1]
     if n == 1:
         return np.arctan2(targets[1], targets[0])[None, :]
-    beta = np.linspace(0.0, np.pi, 257)
+    beta = np.linspace(0.0, np.pi, 2049)
     qs = np.zeros((n, beta.size))
     qs[1:] = beta
     px, py = _fk(arm.lengths, qs)

@@ -14,6 +14,12 @@ theorem. The only rounding left is that of the final sums, and
 :mod:`rapp.symbolic` checks the result against sympy's exact solution of the
 absolute-time system.
 
+The same ill-conditioning returns when absolute-time coefficients are
+*evaluated* late in a trajectory (large terms that cancel), so
+:class:`PiecewisePolynomial` keeps each segment in local time as well and
+evaluates there; its ``coefficients`` field still holds the absolute-time
+form of the contract.
+
 Arrays in, arrays out: ``p0, pf, ...`` may be arrays (one polynomial per
 entry), and :class:`PiecewisePolynomial` evaluates a whole vector of times
 with one ``np.searchsorted``.

@@ -20,6 +20,7 @@ Prints one line per page and a summary line; exit status 1 when any page fails.
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import functools
 import http.server
 import shutil
@@ -172,6 +173,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("build", nargs="?", default="_build/html", type=Path)
     parser.add_argument("--chromium", default=shutil.which("chromium") or "/usr/bin/chromium")
     parser.add_argument("--budget", type=int, default=20000, help="virtual time per page, ms")
+    parser.add_argument("--jobs", type=int, default=2, help="pages opened at once (default 2)")
     args = parser.parse_args(argv)
 
     root = args.build.resolve()
@@ -187,41 +189,46 @@ def main(argv: list[str] | None = None) -> int:
 
     server, log = serve(root)
     base_url = f"http://127.0.0.1:{server.server_address[1]}/"
-    failed = 0
     totals = {"math": 0, "img": 0, "anim": 0, "widget": 0}
+
+    def visit(page: Path) -> tuple[list[str], dict[str, int]]:
+        url = base_url + page.relative_to(root).as_posix()
+        problems = check_static(page.read_text(encoding="utf-8"))
+        stats = {k: 0 for k in totals}
+        try:
+            dom = dump_dom(args.chromium, url, args.budget)
+        except (RuntimeError, subprocess.TimeoutExpired) as err:
+            return problems + [str(err)], stats
+        found, stats = check_dom(dom, url, root, base_url)
+        return problems + found, stats
+
+    failed = 0
     try:
-        for page in pages:
-            rel = page.relative_to(root).as_posix()
-            url = base_url + rel
-            problems = check_static(page.read_text(encoding="utf-8"))
-            start = len(log)
-            try:
-                dom = dump_dom(args.chromium, url, args.budget)
-            except (RuntimeError, subprocess.TimeoutExpired) as err:
-                problems.append(str(err))
-                dom = ""
-            if dom:
-                found, stats = check_dom(dom, url, root, base_url)
-                problems += found
-                for key in totals:
-                    totals[key] += stats[key]
-            else:
-                stats = {k: 0 for k in totals}
-            # Chromium asks for /favicon.ico on its own when a page names none.
-            missing = sorted(
-                {path for path, code in log[start:] if code >= 400 and path != "/favicon.ico"}
-            )
-            problems += [f"not served: {path}" for path in missing]
-            summary = ", ".join(f"{v} {k}" for k, v in stats.items())
-            if problems:
-                failed += 1
-                print(f"FAIL {rel} ({summary})")
-                for problem in problems:
-                    print(f"     - {problem}")
-            else:
-                print(f"ok   {rel} ({summary})")
+        with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+            results = list(pool.map(visit, pages))
     finally:
         server.shutdown()
+    # Pages are opened in parallel, so a failed request is reported under every page whose HTML
+    # names the file; one nothing names (e.g. a font a stylesheet asked for) fails on its own line.
+    missing = sorted({path for path, code in log if code >= 400 and path != "/favicon.ico"})
+    for page, (problems, stats) in zip(pages, results):
+        rel = page.relative_to(root).as_posix()
+        html = page.read_text(encoding="utf-8")
+        problems += [f"not served: {path}" for path in missing if Path(path).name in html]
+        for key in totals:
+            totals[key] += stats[key]
+        summary = ", ".join(f"{v} {k}" for k, v in stats.items())
+        if problems:
+            failed += 1
+            print(f"FAIL {rel} ({summary})")
+            for problem in problems:
+                print(f"     - {problem}")
+        else:
+            print(f"ok   {rel} ({summary})")
+    unattributed = [p for p in missing if not any(Path(p).name in pg.read_text(encoding="utf-8") for pg in pages)]
+    if unattributed:
+        failed += 1
+        print("FAIL requests not served: " + ", ".join(unattributed))
     checked = ", ".join(f"{v} {k}" for k, v in totals.items())
     print(
         f"check_book: {len(pages) - failed} of {len(pages)} pages ok; "

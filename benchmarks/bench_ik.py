@@ -1,0 +1,118 @@
+"""Batch numerical IK vs the classic per-target loop.
+
+Times ``rapp.ik_numeric`` on 10,000 random reachable targets of the 3-link arm
+[1.0, 0.8, 0.5] against the baseline of classic demos: a Python loop over
+targets, each solved by plain Newton-Raphson with ``np.linalg.pinv`` from a
+random start (restarted from a new random start when it fails). Both run in
+this one process on the same targets; the ratio is the number to quote, since
+absolute times depend on the machine and its load.
+
+Run: ``python benchmarks/bench_ik.py`` -> prints a table, writes
+``benchmarks/results/ik.json``.
+"""
+
+from __future__ import annotations
+
+import datetime
+import json
+import os
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+from rapp import Arm, ik_numeric
+
+N_TARGETS = 10_000
+TOL = 1e-10
+
+
+def naive_ik(arm: Arm, target, rng, tol=TOL, max_iter=100, restarts=8):
+    """Plain Newton-Raphson with the pseudo-inverse, one target at a time."""
+    lengths = arm.lengths
+    for _ in range(restarts + 1):
+        q = rng.uniform(-np.pi, np.pi, arm.n)
+        for _ in range(max_iter):
+            phi = np.cumsum(q)
+            tip = np.array([np.sum(lengths * np.cos(phi)), np.sum(lengths * np.sin(phi))])
+            err = target - tip
+            if np.linalg.norm(err) <= tol:
+                return q, True
+            J = np.zeros((2, arm.n))
+            for j in range(arm.n):
+                J[0, j] = -np.sum(lengths[j:] * np.sin(phi[j:]))
+                J[1, j] = np.sum(lengths[j:] * np.cos(phi[j:]))
+            q = q + np.linalg.pinv(J) @ err
+    return q, False
+
+
+def best_of(fn, repeat):
+    times = []
+    out = None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t)
+    return min(times), out
+
+
+def main():
+    arm = Arm([1.0, 0.8, 0.5])
+    rng = np.random.default_rng(2024)
+    targets = arm.end_effector(rng.uniform(-np.pi, np.pi, (N_TARGETS, arm.n)))
+
+    ik_numeric(arm, targets[:100])  # warm-up
+    t_fast, (q, ok) = best_of(lambda: ik_numeric(arm, targets, tol=TOL), repeat=7)
+    err = np.linalg.norm(arm.end_effector(q) - targets, axis=-1)
+
+    def run_naive():
+        r = np.random.default_rng(0)
+        return [naive_ik(arm, tt, r) for tt in targets]
+
+    t_naive, res = best_of(run_naive, repeat=1)
+    qn = np.array([r[0] for r in res])
+    okn = np.array([r[1] for r in res])
+    errn = np.linalg.norm(arm.end_effector(qn) - targets, axis=-1)
+
+    us_fast = 1e6 * t_fast / N_TARGETS
+    us_naive = 1e6 * t_naive / N_TARGETS
+    rows = [
+        ("rapp.ik_numeric (batched NR + DLS)", us_fast, ok.mean(), err.max(), err[ok].max()),
+        ("naive loop (NR + np.linalg.pinv)", us_naive, okn.mean(), errn.max(),
+         errn[okn].max()),
+    ]
+    print(f"3-link arm {arm.link_lengths}, {N_TARGETS} reachable targets, tol {TOL:g} m")
+    print(f"{'method':38s} {'us/target':>10s} {'success':>8s} {'max err':>10s} {'max err ok':>11s}")
+    for name, us, succ, emax, eok in rows:
+        print(f"{name:38s} {us:10.2f} {succ:8.4f} {emax:10.2e} {eok:11.2e}")
+    print(f"speed-up: {us_naive / us_fast:.1f}x")
+
+    result = {
+        "benchmark": "ik_numeric vs per-target Newton-Raphson with pinv",
+        "arm": list(arm.link_lengths),
+        "targets": N_TARGETS,
+        "tol_m": TOL,
+        "batched": {"us_per_target": us_fast, "success_rate": float(ok.mean()),
+                    "max_error_m": float(err.max()), "max_error_ok_m": float(err[ok].max())},
+        "naive": {"us_per_target": us_naive, "success_rate": float(okn.mean()),
+                  "max_error_m": float(errn.max()), "max_error_ok_m": float(errn[okn].max())},
+        "speedup": us_naive / us_fast,
+        "machine": {
+            "python": platform.python_version(),
+            "numpy": np.__version__,
+            "platform": platform.platform(),
+            "processor": platform.processor() or platform.machine(),
+            "cpus": os.cpu_count(),
+            "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+        },
+        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+    }
+    out = Path(__file__).resolve().parent / "results" / "ik.json"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(result, indent=2) + "\n")
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
