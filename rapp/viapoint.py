@@ -143,11 +143,14 @@ def curve_point_distance(coef, duration, point):
     real = np.abs(roots.imag) <= 1e-7 * (1 + np.abs(roots.real))
     s = np.where(real, roots.real, 0.0).clip(0.0, T)
     cand = np.concatenate((s, np.zeros(s.shape[:-1] + (1,)), np.full(s.shape[:-1] + (1,), T)), axis=-1)
-    powers = cand[..., None] ** np.arange(7)
-    vals = np.einsum("...ck,...k->...c", powers, sq)
+    # Distances from the curve points themselves: the expanded degree-6 polynomial
+    # cancels catastrophically near a zero distance (sqrt turns 1e-14 into 1e-7).
+    powers = cand[..., None] ** np.arange(4)
+    pts = np.einsum("...ck,...kd->...cd", powers, P)
+    vals = np.linalg.norm(pts, axis=-1)
     i = np.argmin(vals, axis=-1)
     best = np.take_along_axis(vals, i[..., None], -1)[..., 0]
-    return np.sqrt(np.maximum(best, 0.0)), np.take_along_axis(cand, i[..., None], -1)[..., 0]
+    return best, np.take_along_axis(cand, i[..., None], -1)[..., 0]
 
 
 def via_segments(start, via, goal, *, v_start=(0.0, 0.0), times=SEED002_TIMES):
