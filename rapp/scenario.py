@@ -513,7 +513,8 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
         raise InvalidValue(f"must be in [0, 1], got {bias:g}", field="planner.goal_bias")
     thr = _number(d.get("goal_threshold", defaults.goal_threshold), "planner.goal_threshold")
     if thr <= 0:
-        raise InvalidValue(f"must be > 0 m, got {thr:g}", field="planner.goal_threshold")
+        raise InvalidValue(f"must be > 0 rad (joint-space distance to a goal configuration), got {thr:g}",
+                           field="planner.goal_threshold")
     iters = _integer(d.get("max_iterations", defaults.max_iterations), "planner.max_iterations",
                      1, 10_000_000)
     if algorithm != "rrt":
@@ -662,7 +663,7 @@ def echo(scenario: Scenario) -> str:
     else:
         rows.append(("  step", f"{_fmt(p.step)} rad"))
         rows.append(("  goal bias", _fmt(p.goal_bias)))
-        rows.append(("  goal thresh", f"{_fmt(p.goal_threshold)} m"))
+        rows.append(("  goal thresh", f"{_fmt(p.goal_threshold)} rad"))
         rows.append(("  iterations", str(p.max_iterations)))
         rows.append(("  seed", str(p.seed)))
     t = s.trajectory
