@@ -227,7 +227,25 @@ def save_result(plan: Plan, path) -> None:
 
 
 def load_result(path) -> Plan:
-    """Read a result file written by :func:`save_result` (see its example)."""
+    """Read a result file written by :func:`save_result`.
+
+    Raises :class:`~rapp.errors.FileNotFound` or :class:`~rapp.errors.InvalidFormat`
+    (field ``"result"``) for a missing, unreadable or malformed file.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = os.path.join(d, "r.json")
+    ...     save_result(plan(load_scenario("srs_typical")), path)
+    ...     back = load_result(path)
+    >>> back.report.ok, back.q.shape[1]
+    (True, 2)
+    >>> load_result("no/such/result.json")
+    Traceback (most recent call last):
+    ...
+    rapp.errors.FileNotFound: result: no such file 'no/such/result.json'
+    """
     path = os.fspath(path)
     if os.path.isdir(path):
         raise FileNotFound(f"{path!r} is a directory, not a result file", field="result")

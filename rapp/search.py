@@ -418,6 +418,9 @@ def astar_search(
     found = s == t
     stopped = False
 
+    # The two loops below differ only in their heap key. They are written out
+    # twice on purpose: a key function called per push costs more than the
+    # search itself on a 360 x 360 torus.
     if w == 1.0:
         # One int key per heap entry, (f, -g, cell) packed, compares much faster
         # than tuples: key = (f * (P + 1) + (P - g)) * P + cell, g <= P.
