@@ -313,8 +313,10 @@ def _object(v, field: str, required=(), optional=()) -> dict:
     prefix = f"{field}." if field else ""
     for k in v:
         if not isinstance(k, str) or k not in required and k not in optional:
-            known = ", ".join(list(required) + list(optional))
-            raise InvalidFormat(f"unknown key {k!r} (known keys: {known})", field=f"{prefix}{k}")
+            known = ", ".join(dict.fromkeys(list(required) + list(optional)))
+            # A key that is empty or not a plain word is shown quoted so the field is never blank.
+            name = k if isinstance(k, str) and k.isidentifier() else repr(k)
+            raise InvalidFormat(f"unknown key {k!r} (known keys: {known})", field=f"{prefix}{name}")
     for k in required:
         if k not in v:
             raise MissingParameter(f"required key {k!r} is missing", field=f"{prefix}{k}")
