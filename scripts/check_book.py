@@ -49,10 +49,18 @@ class Recorder(http.server.SimpleHTTPRequestHandler):
         pass
 
 
+class QuietServer(http.server.ThreadingHTTPServer):
+    """Chromium drops connections it no longer needs (a favicon, say); that is no error."""
+
+    def handle_error(self, request, client_address):
+        if not isinstance(sys.exc_info()[1], ConnectionError):
+            super().handle_error(request, client_address)
+
+
 def serve(root: Path) -> tuple[http.server.ThreadingHTTPServer, list[tuple[str, int]]]:
     log: list[tuple[str, int]] = []
     handler = type("Handler", (Recorder,), {"log": log})
-    server = http.server.ThreadingHTTPServer(
+    server = QuietServer(
         ("127.0.0.1", 0), functools.partial(handler, directory=str(root))
     )
     threading.Thread(target=server.serve_forever, daemon=True).start()
