@@ -1,0 +1,33 @@
+"""The README's tour is code a reader will paste: it must run and say what it claims."""
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+import rapp
+
+README = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+BLOCKS = re.findall(r"```python\n(.*?)```", README, re.S)
+
+
+def test_readme_python_blocks_run_and_plan_verifies(capsys):
+    assert len(BLOCKS) >= 2
+    ns: dict = {}
+    for block in BLOCKS:
+        exec(compile(block, "README.md", "exec"), ns)
+    assert "verification: passed" in capsys.readouterr().out
+    assert ns["plan"].report.ok
+    path = ns["path"]
+    assert path[0] == (50, 50) and path[-1] == (10, 80)
+    assert len(path) - 1 == len(rapp.bfs(ns["occupied"], (50, 50), (10, 80))) - 1
+    assert not any(ns["occupied"][cell] for cell in path)
+    solutions = rapp.ik(ns["arm"], (1.2, 0.7))
+    assert solutions.shape == (2, 2)
+    assert np.allclose(ns["arm"].end_effector(solutions), (1.2, 0.7), atol=1e-12)
+
+
+def test_readme_names_the_two_commands_ci_runs():
+    ci = (Path(__file__).resolve().parents[1] / ".ci" / "run").read_text(encoding="utf-8")
+    for command in ("make book", "make test"):
+        assert command in README and command in ci
