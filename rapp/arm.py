@@ -130,7 +130,13 @@ class Arm:
         return (max(0.0, 2.0 * float(lengths.max()) - total), total)
 
     def absolute_angles(self, q) -> np.ndarray:
-        """Angle of every link measured from +x: the running sum of ``q``."""
+        """Angle of every link measured from +x: the running sum of ``q``.
+
+        Examples
+        --------
+        >>> Arm([1.0, 1.0]).absolute_angles([0.5, 0.25]).tolist()
+        [0.5, 0.75]
+        """
         q = self._check_q(q)
         return np.cumsum(q, axis=-1)
 
@@ -145,6 +151,11 @@ class Arm:
         -------
         ndarray, shape (..., n + 1, 2)
             Base first (the origin), end effector last.
+
+        Examples
+        --------
+        >>> Arm([1.0, 2.0]).joint_positions(np.zeros((5, 2))).shape
+        (5, 3, 2)
         """
         phi = self.absolute_angles(q)
         steps = np.stack((np.cos(phi), np.sin(phi)), axis=-1) * self.lengths[:, None]
@@ -153,11 +164,23 @@ class Arm:
         return out
 
     def end_effector(self, q) -> np.ndarray:
-        """End-effector position ``x = f(q)`` of DD1, shape ``(..., 2)``."""
+        """End-effector position ``x = f(q)`` of DD1, shape ``(..., 2)``.
+
+        Examples
+        --------
+        >>> Arm([1.0, 2.0]).end_effector([[0.0, 0.0], [np.pi, 0.0]]).round(12).tolist()
+        [[3.0, 0.0], [-3.0, 0.0]]
+        """
         return self.joint_positions(q)[..., -1, :]
 
     def within_limits(self, q, tol: float = 0.0) -> np.ndarray:
-        """True where every limited joint lies in ``[lo - tol, hi + tol]``."""
+        """True where every limited joint lies in ``[lo - tol, hi + tol]``.
+
+        Examples
+        --------
+        >>> Arm([1.0, 1.0], [None, (-1.0, 1.0)]).within_limits([[3.0, 0.5], [0.0, 1.5]]).tolist()
+        [True, False]
+        """
         q = self._check_q(q)
         lim = self.limited
         ok = (q >= self.lower - tol) & (q <= self.upper + tol)

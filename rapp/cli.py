@@ -35,7 +35,14 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argparse parser of ``python -m rapp`` (each subcommand has ``--help``)."""
+    """The argparse parser of ``python -m rapp`` (each subcommand has ``--help``).
+
+    Examples
+    --------
+    >>> args = build_parser().parse_args(["plan", "--out", "r.json"])
+    >>> args.command, args.scenario, args.out
+    ('plan', 'default', 'r.json')
+    """
     p = _Parser(prog="rapp", description="2D robot-arm path planning (2D-RAPP).")
     sub = p.add_subparsers(dest="command", metavar="{plan,check,list}", parser_class=_Parser)
     sub.required = True
@@ -140,7 +147,13 @@ def _cmd_plan(args, out, err) -> int:
 
 
 def main(argv=None) -> int:
-    """Run the command line; returns the exit code (see the module notes)."""
+    """Run the command line; returns the exit code (see the module notes).
+
+    Examples
+    --------
+    >>> main(["check", "no/such/file.json"])
+    2
+    """
     out, err = sys.stdout, sys.stderr
     try:
         try:

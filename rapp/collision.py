@@ -237,8 +237,12 @@ def link_clearances(arm, q, obstacles) -> np.ndarray:
     [0.6180339887498949, 0.5]
     """
     pts = arm.joint_positions(q)
-    a, b = pts[..., :-1, :], pts[..., 1:, :]
-    out = np.full(a.shape[:-1], np.inf)
+    return _segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
+
+
+def _segment_clearances(a, b, obstacles) -> np.ndarray:
+    """Clearance of segments ``ab`` (..., 2) from the nearest obstacle, shape ``(...)``."""
+    out = np.full(np.broadcast_shapes(a.shape, b.shape)[:-1], np.inf)
     for ob in obstacles:
         if isinstance(_check_obstacle(ob), Circle):
             d = segment_circle_distance(a, b, ob.center, ob.radius)

@@ -82,8 +82,8 @@ class JointGrid:
 
     @property
     def lower(self) -> np.ndarray:
-        """Angle of index 0 on every axis."""
-        return np.array([-np.pi if w else lo for w, lo in zip(self.wraps, self.arm.lower)])
+        """Angle of index 0 on every axis (``-pi`` on a wrapping one): the arm's lower bounds."""
+        return self.arm.lower
 
     @property
     def step(self) -> np.ndarray:
@@ -222,15 +222,15 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     shape = grid.shape
     n = arm.n
     occ = np.zeros(shape, dtype=bool)
+    if not obstacles:
+        return occ
+    circles = [ob for ob in obstacles if isinstance(ob, Circle)]
+    polys = [ob for ob in obstacles if not isinstance(ob, Circle)]
     axes = grid.axes
     for i in range(n):
-        if not obstacles:
-            break
         P, phi_prev = _prefix_grid(grid, i)
         L = arm.link_lengths[i]
         hit = np.zeros(shape[: i + 1], dtype=bool)
-        circles = [ob for ob in obstacles if isinstance(ob, Circle)]
-        polys = [ob for ob in obstacles if not isinstance(ob, Circle)]
         # cos/sin of phi_prev + theta by the addition formulas: outer products, no trig on the grid.
         cp, sp = np.cos(phi_prev)[..., None], np.sin(phi_prev)[..., None]
         ct, st = np.cos(axes[i]), np.sin(axes[i])

@@ -37,7 +37,13 @@ class Circle:
         object.__setattr__(self, "radius", r)
 
     def contains(self, points) -> np.ndarray:
-        """True where a point of shape ``(..., 2)`` lies in the closed disc."""
+        """True where a point of shape ``(..., 2)`` lies in the closed disc.
+
+        Examples
+        --------
+        >>> Circle((0, 0), 1.0).contains([[1.0, 0.0], [1.0, 0.1]]).tolist()
+        [True, False]
+        """
         d = np.asarray(points, dtype=float) - np.array(self.center)
         return np.einsum("...i,...i->...", d, d) <= self.radius**2
 
@@ -85,6 +91,11 @@ class Polygon:
 
         This is how seed 003 places its obstacles: corner, width, height and
         orientation.
+
+        Examples
+        --------
+        >>> np.round(Polygon.rectangle((1, 1), 2, 1, np.pi / 2).array, 12).tolist()
+        [[1.0, 1.0], [1.0, 3.0], [0.0, 3.0], [0.0, 1.0]]
         """
         w, h, a = float(width), float(height), float(angle)
         if not (np.isfinite(w) and w > 0 and np.isfinite(h) and h > 0):
@@ -97,11 +108,23 @@ class Polygon:
 
     @property
     def array(self) -> np.ndarray:
-        """Vertices as a ``(k, 2)`` float array (counter-clockwise)."""
+        """Vertices as a ``(k, 2)`` float array (counter-clockwise).
+
+        Examples
+        --------
+        >>> Polygon([(0, 0), (0, 1), (1, 0)]).array.tolist()   # given clockwise
+        [[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]
+        """
         return np.array(self.vertices)
 
     def contains(self, points) -> np.ndarray:
-        """True where a point of shape ``(..., 2)`` lies in the closed polygon."""
+        """True where a point of shape ``(..., 2)`` lies in the closed polygon.
+
+        Examples
+        --------
+        >>> Polygon.rectangle((0, 0), 2, 1).contains([[2.0, 1.0], [2.0, 1.5]]).tolist()
+        [True, False]
+        """
         v = self.array
         e = np.roll(v, -1, axis=0) - v
         p = np.asarray(points, dtype=float)[..., None, :] - v

@@ -32,14 +32,17 @@ import os
 import tempfile
 import time
 from dataclasses import dataclass, field as dc_field, replace
-from typing import Any, Callable
+from types import MappingProxyType
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.collision import collides, segment_collision_free
+from rapp.collision import _segment_clearances, collides, motion_bounds, segment_collision_free
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, NoPathFound
+from rapp.rrt import plan_rrt
 from rapp.scenario import Scenario, echo, load_scenario
+from rapp.trajectory import time_path
 from rapp.verify import Report, verify
 
 __all__ = [
@@ -111,7 +114,14 @@ class Plan:
     metrics: dict = dc_field(default_factory=dict)
 
     def to_dict(self) -> dict:
-        """A JSON-ready mapping of everything (see :func:`save_result`); :meth:`from_dict` inverts it."""
+        """A JSON-ready mapping of everything (see :func:`save_result`); :meth:`from_dict` inverts it.
+
+        Examples
+        --------
+        >>> d = plan("default").to_dict()
+        >>> d["format"], d["report"]["ok"], len(d["q"][0])
+        ('rapp-result', True, 2)
+        """
         occ = None
         if self.occupancy is not None:
             occ = {"shape": list(self.occupancy.shape),
@@ -135,7 +145,19 @@ class Plan:
 
     @classmethod
     def from_dict(cls, d) -> "Plan":
-        """Rebuild a plan from :meth:`to_dict`'s mapping; raises InvalidFormat when it is not one."""
+        """Rebuild a plan from :meth:`to_dict`'s mapping; raises InvalidFormat when it is not one.
+
+        Examples
+        --------
+        >>> p = plan("default")
+        >>> back = Plan.from_dict(p.to_dict())
+        >>> bool(np.array_equal(back.q, p.q)), bool((back.occupancy == p.occupancy).all())
+        (True, True)
+        >>> Plan.from_dict({"format": "other"})
+        Traceback (most recent call last):
+        ...
+        rapp.errors.InvalidFormat: format: not a rapp result (format 'other')
+        """
         try:
             if d.get("format") != RESULT_FORMAT:
                 raise InvalidFormat(f"not a rapp result (format {d.get('format')!r})", field="format")
@@ -467,9 +489,6 @@ def certified_free(arm: Arm, obstacles, grid, *, chunk: int = 200_000) -> np.nda
     >>> bool(np.all(~safe | ~occupancy(arm, obs, grid))), int(safe.sum()) < int((~occupancy(arm, obs, grid)).sum())
     (True, True)
     """
-    from rapp.collision import motion_bounds, segment_circle_distance, segment_polygon_distance
-    from rapp.obstacles import Circle
-
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
     axes = grid.axes
@@ -482,13 +501,7 @@ def certified_free(arm: Arm, obstacles, grid, *, chunk: int = 200_000) -> np.nda
         ok = np.empty(q.shape[0], bool)
         for lo in range(0, q.shape[0], chunk):  # chunks bound the memory, not a loop over cells
             pts = arm.joint_positions(q[lo:lo + chunk])
-            a, b = pts[:, j, :], pts[:, j + 1, :]
-            d = np.full(a.shape[0], np.inf)
-            for ob in obstacles:
-                if isinstance(ob, Circle):
-                    d = np.minimum(d, segment_circle_distance(a, b, ob.center, ob.radius))
-                else:
-                    d = np.minimum(d, segment_polygon_distance(a, b, ob))
+            d = _segment_clearances(pts[:, j, :], pts[:, j + 1, :], obstacles)
             ok[lo:lo + chunk] = d > need[j]
         out &= ok.reshape(grid.shape[: j + 1] + (1,) * (n - j - 1))
     return out
@@ -615,10 +628,7 @@ def _plan_astar(scenario: Scenario, goal_qs: np.ndarray) -> _Route:
 
 
 def _plan_rrt(scenario: Scenario, goal_qs: np.ndarray) -> _Route:
-    try:
-        from rapp.rrt import plan_rrt
-    except ImportError:
-        raise InvalidValue("rrt is not available", field="planner.algorithm") from None
+    """RRT from the exact start to the goal configurations; its path is certified edge by edge."""
     p = scenario.planner
     t0 = time.perf_counter()
     settings = {"step": p.step, "goal_bias": p.goal_bias, "goal_threshold": p.goal_threshold,
@@ -634,35 +644,29 @@ def _plan_rrt(scenario: Scenario, goal_qs: np.ndarray) -> _Route:
 
 
 #: Planner name -> function(scenario, goal configurations (g, n)) -> _Route.
-PLANNERS: dict[str, Callable] = {"astar": _plan_astar, "rrt": _plan_rrt}
+#: Read-only: a new planner is added here, in code, not registered at run time.
+PLANNERS: Mapping[str, Callable] = MappingProxyType({"astar": _plan_astar, "rrt": _plan_rrt})
 
 
 # --------------------------------------------------------------------------- the pipeline
 
 
-def _time_smooth(arm, obs, path, settings):
-    """The requested smooth profile if it stays free and within limits, else ``time_polyline``."""
-    tr = settings
+def _time_smooth(arm, obs, path, tr):
+    """The requested smooth profile of ``tr`` (TrajectorySettings) if it stays free and within
+    limits, else ``time_polyline``."""
     if len(path) >= 2:
-        try:
-            from rapp.trajectory import time_path
-        except ImportError:
-            time_path = None
-        if time_path is not None:
-            t = np.linspace(0.0, tr.duration, tr.samples)
-            pp = time_path(path, tr.duration, profile=tr.profile)
-            q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
-            good = (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
-                    and np.abs(q[0] - path[0]).max() <= 1e-9
-                    and np.abs(q[-1] - path[-1]).max() <= 1e-9
-                    and arm.within_limits(q, 1e-9).all()
-                    and segment_collision_free(arm, q[:-1], q[1:], obs).all())
-            if good:
-                q[0], q[-1] = path[0], path[-1]
-                return t, q, qd, qdd, tr.profile
-            fallback = f"rest-to-rest per segment (the {tr.profile} curve left the free polyline)"
-        else:
-            fallback = "rest-to-rest per segment (rapp.trajectory is not available)"
+        t = np.linspace(0.0, tr.duration, tr.samples)
+        pp = time_path(path, tr.duration, profile=tr.profile)
+        q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
+        good = (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
+                and np.abs(q[0] - path[0]).max() <= 1e-9
+                and np.abs(q[-1] - path[-1]).max() <= 1e-9
+                and arm.within_limits(q, 1e-9).all()
+                and segment_collision_free(arm, q[:-1], q[1:], obs).all())
+        if good:
+            q[0], q[-1] = path[0], path[-1]
+            return t, q, qd, qdd, tr.profile
+        fallback = f"rest-to-rest per segment (the {tr.profile} curve left the free polyline)"
     else:
         fallback = "rest (start is the goal)"
     t, q, qd, qdd = time_polyline(path, tr.duration, tr.samples)

@@ -15,6 +15,7 @@ deficiencies.
 from __future__ import annotations
 
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 import matplotlib
@@ -41,8 +42,8 @@ __all__ = [
     "animation_html",
 ]
 
-# Okabe & Ito (2008), "Color Universal Design".
-COLORS = {
+# Okabe & Ito (2008), "Color Universal Design". Read-only, so no caller can recolour the book.
+COLORS = MappingProxyType({
     "black": "#000000",
     "orange": "#E69F00",
     "sky": "#56B4E9",
@@ -52,7 +53,7 @@ COLORS = {
     "vermillion": "#D55E00",
     "purple": "#CC79A7",
     "grey": "#999999",
-}
+})
 TEXT = "#222222"
 ARM = COLORS["blue"]
 EFFECTOR = COLORS["vermillion"]
@@ -61,9 +62,10 @@ GOAL = COLORS["vermillion"]
 PATH = COLORS["orange"]
 OBSTACLE = "#8c8c8c"
 OCCUPIED = "#5a5a5a"
-JOINT_COLORS = [COLORS[k] for k in ("blue", "orange", "green", "purple", "sky", "vermillion", "black")]
+JOINT_COLORS = tuple(COLORS[k] for k in ("blue", "orange", "green", "purple", "sky", "vermillion",
+                                          "black"))
 
-_LIGHT = {
+_LIGHT = MappingProxyType({
     "figure.facecolor": "white",
     "axes.facecolor": "white",
     "savefig.facecolor": "white",
@@ -75,7 +77,7 @@ _LIGHT = {
     "legend.facecolor": "white",
     "legend.edgecolor": "#bbbbbb",
     "legend.labelcolor": TEXT,
-}
+})
 
 
 def style_axes(ax):
@@ -419,6 +421,15 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m"):
     Returns
     -------
     Figure
+
+    Examples
+    --------
+    >>> from rapp import load_scenario, plan
+    >>> s = load_scenario("default")
+    >>> fig = plot_plan(plan(s), s)
+    >>> [ax.get_title() for ax in fig.axes]
+    ['C-space: grey = collision', 'workspace']
+    >>> plt.close(fig)
     """
     fig = _figure(fig, (10.5, 5.0))
     fig.clear()
@@ -470,6 +481,16 @@ def plot_profiles(plan, *, fig=None, unit="m"):
     Returns
     -------
     Figure
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> t = np.linspace(0.0, 1.0, 5)
+    >>> z = np.zeros((5, 2))
+    >>> fig = plot_profiles(SimpleNamespace(t=t, q=z, qd=z, qdd=z, xy=z))
+    >>> [len(ax.lines) for ax in fig.axes]
+    [2, 2, 2, 2]
+    >>> plt.close(fig)
     """
     fig = _figure(fig, (7.5, 8.0))
     fig.clear()
@@ -744,6 +765,14 @@ def animation_html(anim, *, default_mode="loop"):
     The figure is closed first: otherwise a notebook's inline backend shows
     its last frame as a still image below the player as well. Wrap the result
     in ``IPython.display.HTML`` to show it.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> anim = animate(Arm([1.0, 1.0]), np.linspace([0, 0], [1, 1], 3))
+    >>> html = animation_html(anim)
+    >>> "<script" in html, plt.fignum_exists(anim._fig.number)
+    (True, False)
     """
     plt.close(anim._fig)
     return anim.to_jshtml(default_mode=default_mode)

@@ -55,6 +55,7 @@ from typing import Mapping
 
 import numpy as np
 
+from rapp.arm import wrap_angle
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound
 from rapp.ik import jacobian
@@ -93,10 +94,14 @@ class RRTResult:
     cost: float
 
 
+def _wrap_free(q, free):
+    """``q`` with the free joints wrapped into ``[-pi, pi)``; limited joints untouched."""
+    return np.where(free, wrap_angle(q), q)
+
+
 def _delta(a, b, free):
     """``b - a`` with free joints wrapped into ``[-pi, pi)``."""
-    d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
-    return np.where(free, (d + np.pi) % (2 * np.pi) - np.pi, d)
+    return _wrap_free(np.asarray(b, dtype=float) - np.asarray(a, dtype=float), free)
 
 
 def path_cost(path) -> float:
@@ -205,7 +210,7 @@ def rrt(
             raise NoPathFound(msg)
         return RRTResult(np.empty((0, n)), nodes, parent, it, False, float("inf"))
 
-    root = np.where(free, (start + np.pi) % (2 * np.pi) - np.pi, start)
+    root = _wrap_free(start, free)
     if collides(arm, start, obstacles):
         return fail("the start configuration collides", root[None], np.array([-1]), 0)
     if gxy is not None and np.linalg.norm(gxy) > arm.reach[1] + goal_threshold:
@@ -286,7 +291,7 @@ def rrt(
                 nodes = np.concatenate((nodes, np.empty_like(nodes)))
                 parent = np.concatenate((parent, np.empty_like(parent)))
                 xy = np.concatenate((xy, np.empty_like(xy)))
-            nodes[m] = np.where(free, (q_new + np.pi) % (2 * np.pi) - np.pi, q_new)
+            nodes[m] = _wrap_free(q_new, free)
             parent[m], xy[m] = i, arm.end_effector(q_new)
             m += 1
             if reached(nodes[m - 1], xy[m - 1]):

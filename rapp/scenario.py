@@ -128,11 +128,25 @@ class Scenario:
 
     @property
     def start_array(self) -> np.ndarray:
-        """``start`` as a float array of shape ``(n,)``."""
+        """``start`` as a float array of shape ``(n,)``.
+
+        Examples
+        --------
+        >>> load_scenario("default").start_array.shape
+        (2,)
+        """
         return np.array(self.start, dtype=float)
 
     def to_dict(self) -> dict:
-        """The canonical JSON mapping (radians), accepted again by :func:`load_scenario`."""
+        """The canonical JSON mapping (radians), accepted again by :func:`load_scenario`.
+
+        Examples
+        --------
+        >>> d = load_scenario({"arm": {"link_lengths": [1, 1]}, "start": [0, 0],
+        ...                    "goal": {"joints": [90, 0]}, "units": {"angle": "deg"}}).to_dict()
+        >>> d["units"], round(d["goal"]["joints"][0], 6)
+        ({'angle': 'rad', 'length': 'm'}, 1.570796)
+        """
         obs = []
         for ob in self.obstacles:
             if isinstance(ob, Circle):

@@ -227,7 +227,14 @@ class PiecewisePolynomial:
 
     @classmethod
     def from_local(cls, breakpoints, local) -> "PiecewisePolynomial":
-        """Build from local-time coefficients (m, deg + 1, d)."""
+        """Build from local-time coefficients (m, deg + 1, d); the absolute form is derived.
+
+        Examples
+        --------
+        >>> pp = PiecewisePolynomial.from_local([2.0, 3.0], [[[1.0], [1.0]]])   # 1 + (t - 2)
+        >>> pp.coefficients.ravel().tolist(), pp.evaluate(2.5).tolist()
+        ([-1.0, 1.0], [1.5])
+        """
         bp = np.asarray(breakpoints, dtype=float)
         loc = np.asarray(local, dtype=float)
         if loc.ndim == 2:
@@ -238,26 +245,40 @@ class PiecewisePolynomial:
 
     @property
     def t0(self) -> float:
+        """Start time, the first breakpoint."""
         return float(self.breakpoints[0])
 
     @property
     def tf(self) -> float:
+        """End time, the last breakpoint."""
         return float(self.breakpoints[-1])
 
     @property
     def duration(self) -> float:
+        """``tf - t0``."""
         return self.tf - self.t0
 
     @property
     def degree(self) -> int:
+        """Polynomial degree of every segment."""
         return self.coefficients.shape[1] - 1
 
     @property
     def dim(self) -> int:
+        """Number of coordinates ``d`` (joints)."""
         return self.coefficients.shape[2]
 
     def evaluate(self, t, derivative: int = 0) -> np.ndarray:
-        """Position (0), velocity (1) or acceleration (2) at times ``t``, shape ``t.shape + (d,)``."""
+        """Position (0), velocity (1) or acceleration (2) at times ``t``, shape ``t.shape + (d,)``.
+
+        Outside ``[t0, tf]`` the end position is held and the derivatives are 0.
+
+        Examples
+        --------
+        >>> pp = via_points([0.0, 2.0], [0.0, 1.0])
+        >>> pp.evaluate([1.0, 3.0]).ravel().tolist(), pp.evaluate([1.0, 3.0], 1).ravel().tolist()
+        ([0.5, 1.0], [0.75, 0.0])
+        """
         if derivative not in (0, 1, 2):
             raise ValueError("derivative must be 0, 1 or 2")
         t = np.asarray(t, dtype=float)
@@ -275,7 +296,14 @@ class PiecewisePolynomial:
         return out
 
     def sample(self, t):
-        """``(q, qd, qdd)`` at times ``t``, each of shape ``t.shape + (d,)``."""
+        """``(q, qd, qdd)`` at times ``t``, each of shape ``t.shape + (d,)``.
+
+        Examples
+        --------
+        >>> q, qd, qdd = via_points([0.0, 2.0], [0.0, 1.0]).sample([0.0, 1.0])
+        >>> qdd.ravel().tolist()
+        [1.5, 0.0]
+        """
         return self.evaluate(t, 0), self.evaluate(t, 1), self.evaluate(t, 2)
 
 

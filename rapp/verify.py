@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rapp.collision import clearance, segment_collision_free
+from rapp.arm import wrap_angle
+from rapp.collision import clearance, collides, segment_collision_free
 
 __all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL"]
 
@@ -56,11 +57,26 @@ class Check:
     detail: str = ""
 
     def to_dict(self) -> dict:
+        """A JSON-ready mapping; non-finite numbers become ``None``.
+
+        Examples
+        --------
+        >>> Check("time", True, float("nan"), 1e-9, "s").to_dict()["value"] is None
+        True
+        """
         return {"name": self.name, "ok": bool(self.ok), "value": _num(self.value),
                 "limit": _num(self.limit), "unit": self.unit, "detail": self.detail}
 
     @classmethod
     def from_dict(cls, d) -> "Check":
+        """Inverse of :meth:`to_dict`.
+
+        Examples
+        --------
+        >>> c = Check("joint limits", True, 0.0, 1e-9, "rad", "no limited joint")
+        >>> Check.from_dict(c.to_dict()) == c
+        True
+        """
         return cls(str(d["name"]), bool(d["ok"]), d.get("value"), d.get("limit"),
                    str(d.get("unit", "")), str(d.get("detail", "")))
 
@@ -83,6 +99,13 @@ class Report:
 
     @classmethod
     def from_checks(cls, checks) -> "Report":
+        """A report whose ``ok`` is the conjunction of the checks.
+
+        Examples
+        --------
+        >>> Report.from_checks([Check("a", True, 0, 1, ""), Check("b", False, 2, 1, "")]).ok
+        False
+        """
         checks = tuple(checks)
         return cls(all(c.ok for c in checks), checks)
 
@@ -94,14 +117,29 @@ class Report:
 
     @property
     def failed(self) -> tuple:
-        """The checks that did not pass."""
+        """The checks that did not pass.
+
+        Examples
+        --------
+        >>> r = Report.from_checks([Check("a", True, 0, 1, ""), Check("b", False, 2, 1, "")])
+        >>> [c.name for c in r.failed]
+        ['b']
+        """
         return tuple(c for c in self.checks if not c.ok)
 
     def to_dict(self) -> dict:
+        """A JSON-ready mapping: ``ok`` and one entry per check (see :meth:`Check.to_dict`).
+
+        Examples
+        --------
+        >>> Report.from_checks([Check("a", True, 0.5, 1.0, "m")]).to_dict()["checks"][0]["value"]
+        0.5
+        """
         return {"ok": bool(self.ok), "checks": [c.to_dict() for c in self.checks]}
 
     @classmethod
     def from_dict(cls, d) -> "Report":
+        """Inverse of :meth:`to_dict` (see the class example)."""
         return cls(bool(d["ok"]), tuple(Check.from_dict(c) for c in d["checks"]))
 
     def __str__(self) -> str:
@@ -121,8 +159,7 @@ class Report:
 def _joint_error(arm, q, target) -> np.ndarray:
     """|q - target| per joint, measured the short way round on a free joint."""
     d = np.asarray(q, float) - np.asarray(target, float)
-    wrapped = (d + np.pi) % (2 * np.pi) - np.pi
-    return np.abs(np.where(arm.limited, d, wrapped))
+    return np.abs(np.where(arm.limited, d, wrap_angle(d)))
 
 
 def verify(plan, scenario) -> Report:
@@ -165,14 +202,12 @@ def verify(plan, scenario) -> Report:
             "finite", False, None, None, "", "t, q, q', q'' or xy holds NaN or infinity")])
     checks = [shape_check]
 
-    # Collision: a certified continuous check of each chord between samples.
+    # Collision: a certified continuous check of each chord between samples; a single
+    # sample has no chord, so it is tested as a point.
     if k >= 2:
-        free = segment_collision_free(arm, q[:-1], q[1:], obs)
+        n_bad = int((~segment_collision_free(arm, q[:-1], q[1:], obs)).sum())
     else:
-        free = np.ones(0, bool)
-    from rapp.collision import collides
-    point_hits = collides(arm, q, obs) if obs else np.zeros(k, bool)
-    n_bad = int((~free).sum() + (k == 1 and point_hits.any()))
+        n_bad = int(bool(obs) and bool(collides(arm, q, obs).any()))
     checks.append(Check("collision-free", n_bad == 0, n_bad, 0, "segments",
                         f"{max(k - 1, 1)} segments between samples, each certified over its whole length"))
     if obs:

@@ -43,8 +43,10 @@ __all__ = [
     "sliders_of",
 ]
 
-_LAYOUT = widgets.Layout(width="420px")
-_STYLE = {"description_width": "110px"}
+# Plain values, not widgets: a Layout made here would be one shared, mutable model
+# created at import time.
+_SLIDER_WIDTH = "420px"
+_DESCRIPTION_WIDTH = "110px"
 
 
 def _figure(w, h):
@@ -90,7 +92,8 @@ def _live(controls, render, *, title=""):
 def _slider(description, value, lo, hi, step=0.01, *, integer=False):
     cls = widgets.IntSlider if integer else widgets.FloatSlider
     return cls(value=value, min=lo, max=hi, step=step, description=description,
-               continuous_update=False, layout=_LAYOUT, style=_STYLE)
+               continuous_update=False, layout=widgets.Layout(width=_SLIDER_WIDTH),
+               style={"description_width": _DESCRIPTION_WIDTH})
 
 
 def _badge(ok, yes, no):
@@ -148,6 +151,13 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90):
     -------
     ipywidgets.VBox
         The status line says ``collision`` or ``free`` with the clearance.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> w = arm_explorer(Arm([1.0, 1.0]), [Circle((1.5, 0.0), 0.3)], cells=16)
+    >>> list(sliders_of(w)), "collision" in w.children[2].value
+    (['q1 (rad)', 'q2 (rad)'], True)
     """
     from rapp.collision import clearance, collides
 
@@ -203,6 +213,12 @@ def collision_explorer(a=(0.0, 0.0), b=(1.0, 0.0), center=(1.6, 0.1), radius=0.3
     Returns
     -------
     ipywidgets.VBox
+
+    Examples
+    --------
+    >>> w = collision_explorer()
+    >>> "false collision" in w.children[2].value
+    True
     """
     from rapp.collision import line_distance_mis, segment_circle_distance
 
@@ -258,6 +274,13 @@ def planner_playground(scenario):
     Returns
     -------
     ipywidgets.VBox
+
+    Examples
+    --------
+    >>> from rapp import load_scenario
+    >>> w = planner_playground(load_scenario("default"))
+    >>> list(sliders_of(w)), "planned" in w.children[2].value
+    (['cells / joint', 'heuristic w', 'goal x (m)', 'goal y (m)'], True)
     """
     from rapp.errors import RappError
     from rapp.planner import plan as run_plan
@@ -313,6 +336,12 @@ def trajectory_explorer(t0=0.0, tf=2.0, p0=0.0, pf=1.0, v0=0.0, vf=0.0, a0=0.0, 
     Returns
     -------
     ipywidgets.VBox
+
+    Examples
+    --------
+    >>> w = trajectory_explorer(a0=1.0)
+    >>> "quintic 1.000, 0.000 (set: 1.000, 0.000)" in w.children[2].value
+    True
     """
     from rapp.trajectory import cubic, quintic
 
