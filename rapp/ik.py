@@ -514,6 +514,10 @@ def ik(
     (True, True)
     """
     target = _target(target)
+    if q0 is not None:
+        q0 = np.asarray(q0, dtype=float)
+        if q0.shape != (arm.n,) or not np.all(np.isfinite(q0)):
+            raise ValueError(f"q0 must be {arm.n} finite joint angles, got shape {q0.shape}")
     r = float(np.hypot(*target))
     r_in, r_out = arm.reach
     if arm.n == 2:
@@ -539,7 +543,7 @@ def ik(
         rng = np.random.default_rng(seed)
         starts_q = rng.uniform(arm.lower, arm.upper, size=(starts, arm.n))
         if q0 is not None:
-            starts_q = np.concatenate([np.asarray(q0, float).reshape(1, arm.n), starts_q])
+            starts_q = np.concatenate([q0[None, :], starts_q])
         tt = np.broadcast_to(target, (starts_q.shape[0], 2))
         q, ok = ik_numeric(arm, tt, starts_q, tol=tol, restarts=2, seed=seed)
         if not np.any(ok):
@@ -552,7 +556,6 @@ def ik(
                                reason="did not converge")
         sols = _dedupe(arm, q[ok], 1e-6)
     if q0 is not None:
-        q0 = np.asarray(q0, dtype=float)
         dist = np.linalg.norm(_joint_delta(arm, sols, q0), axis=-1)
         sols = sols[np.argsort(dist, kind="stable")]
     return sols

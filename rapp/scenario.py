@@ -32,6 +32,7 @@ import numpy as np
 
 from rapp.arm import Arm
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
+from rapp.collision import segment_point_distance
 from rapp.obstacles import Circle, Polygon
 
 __all__ = [
@@ -320,6 +321,25 @@ def _numbers(v, field: str, length: int | None = None, what: str = "numbers") ->
     return [_number(x, f"{field}[{i}]") for i, x in enumerate(items)]
 
 
+def _distance_from_base(poly: Polygon) -> float:
+    """Distance from the arm's base (the origin) to a convex polygon; 0 when it holds the base.
+
+    The nearest point of a polygon can lie on an edge, far from every vertex,
+    so the vertices alone would call a long wall that passes near the base
+    unreachable.
+
+    Examples
+    --------
+    >>> wall = Polygon.rectangle((-5.0, 1.5), 10.0, 0.2)
+    >>> round(_distance_from_base(wall), 12)
+    1.5
+    """
+    if poly.contains((0.0, 0.0)):
+        return 0.0
+    v = poly.array
+    return float(segment_point_distance(v, np.roll(v, -1, axis=0), np.zeros(2)).min())
+
+
 def _object(v, field: str, required=(), optional=()) -> dict:
     where = field or "scenario"
     if not isinstance(v, Mapping):
@@ -423,7 +443,7 @@ def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
             a = angle(d.get("angle", 0.0), f"{f}.angle")
             poly = Polygon.rectangle(c, w, h, a)
             obstacles.append(poly)
-            far = float(np.min(np.hypot(*poly.array.T)))
+            far = _distance_from_base(poly)
         else:
             d = _object(ob, f, required=("type", "vertices"))
             verts = _list(d["vertices"], f"{f}.vertices")
@@ -436,7 +456,7 @@ def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
             except ValueError as e:
                 raise InvalidValue(str(e), field=f"{f}.vertices") from None
             obstacles.append(poly)
-            far = float(np.min(np.hypot(*poly.array.T)))
+            far = _distance_from_base(poly)
         if far > r_out:
             warnings.append(f"{f} lies beyond the arm's reach ({r_out:g} m); it cannot collide")
 

@@ -251,7 +251,8 @@ def verify(plan, scenario) -> Report:
         dt_ok, tspan = True, 0.0
     dur = scenario.trajectory.duration
     terr = abs(float(t[0])) + abs(tspan - dur) if k >= 2 else 0.0
-    checks.append(Check("time", dt_ok and terr <= 1e-9 * max(dur, 1.0), terr, 1e-9, "s",
+    tlim = 1e-9 * max(dur, 1.0)  # relative to the duration: times are sums of float steps
+    checks.append(Check("time", dt_ok and terr <= tlim, terr, tlim, "s",
                         f"times increase from 0 to the duration {dur:g} s"))
 
     fk = float(np.abs(arm.end_effector(q) - xy).max())

@@ -289,7 +289,7 @@ def planner_playground(scenario):
     cells0 = int(np.max(scenario.planner.cells))
     controls = {
         "cells": _slider("cells / joint", cells0, 8, max(200, cells0), 1, integer=True),
-        "weight": _slider("heuristic w", float(scenario.planner.heuristic_weight), 0.0,
+        "weight": _slider("heuristic w", float(scenario.planner.heuristic_weight), 1.0,
                           max(5.0, float(scenario.planner.heuristic_weight)), 0.1),
     }
     if scenario.goal_xy is not None:

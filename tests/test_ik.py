@@ -259,3 +259,9 @@ def test_jacobian_matches_central_differences_and_sympy(n, seed):
         JAC_REF[n] = jacobian_function(n)
     Js = JAC_REF[n](q, arm.lengths)
     assert np.abs(J - Js).max() < 1e-12
+
+
+def test_ik_names_a_wrongly_shaped_q0():
+    arm = Arm([1.0, 0.8, 0.5])
+    with pytest.raises(ValueError, match=r"q0 must be 3 finite joint angles, got shape \(2,\)"):
+        ik(arm, [1.0, 0.5], q0=[0.0, 0.5])

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-from rapp import Circle, Polygon
+from rapp import Circle, Polygon, collides
 from rapp.errors import (FileNotFound, InvalidFormat, InvalidValue, MissingParameter,
                          ScenarioError)
 from rapp.scenario import MAX_CELLS, echo, list_scenarios, load_scenario
@@ -312,3 +312,14 @@ def test_any_json_value_anywhere_loads_or_raises_a_scenario_error(path, value):
         assert e.field and "\n" not in str(e)
     else:
         assert load_scenario(s.to_dict()) == s
+
+
+def test_a_long_wall_near_the_base_is_not_called_unreachable():
+    # Every vertex of this wall is beyond the 2 m reach, but its edge passes 1.5 m from the base.
+    wall = {"type": "rectangle", "corner": [-5, 1.5], "width": 10, "height": 0.2}
+    far = {"type": "rectangle", "corner": [5, 5], "width": 1, "height": 1}
+    s = load_scenario({"arm": {"link_lengths": [1, 1]}, "obstacles": [wall, far],
+                       "start": [0, 0], "goal": {"joints": [0.1, 0]}})
+    assert [w for w in s.warnings if "cannot collide" in w] == [
+        "obstacles[1] lies beyond the arm's reach (2 m); it cannot collide"]
+    assert collides(s.arm, [np.pi / 2, 0.0], s.obstacles[:1])

@@ -125,6 +125,8 @@ def test_planner_playground_default_is_the_given_plan():
     assert f"path_cells {ref.metrics['path_cells']}" in status_of(w)
     sliders = W.sliders_of(w)
     assert sliders["cells / joint"].value == max(s.planner.cells)
+    # Weighted A* needs w >= 1; the slider offers nothing it would refuse.
+    assert sliders["heuristic w"].min == 1.0
     # A coarser grid re-plans: another figure, another path.
     sliders["cells / joint"].value = 40
     assert shown_png(w)[0] != raw
