@@ -147,7 +147,15 @@ def _legend(ax, **kwargs):
 
 
 def _workspace_frame(ax, arm, unit="m"):
+    """Square, equal-aspect limits around the reach, grown to hold every patch drawn so far.
+
+    Obstacles often stand at the edge of the reach; a frame of the reach alone
+    would cut them off, and they are what the reader is looking at.
+    """
     r = arm.reach[1] * 1.1
+    for patch in ax.patches:
+        pts = patch.get_patch_transform().transform(patch.get_path().vertices)
+        r = max(r, 1.05 * float(np.abs(pts).max(initial=0.0)))
     ax.set_xlim(-r, r)
     ax.set_ylim(-r, r)
     ax.set_aspect("equal")

@@ -374,3 +374,13 @@ def test_animation_html_has_controls_and_closes_the_figure():
     assert not plt.fignum_exists(fig.number)
     assert 'class="anim-controls"' in html and 'class="anim-slider"' in html
     assert html.count("data:image/png;base64") == 4
+
+
+def test_workspace_frame_holds_obstacles_beyond_the_reach():
+    arm = Arm([1.0, 1.0])
+    far = [Circle((1.75, 0.75), 0.6), Polygon.rectangle((-3.0, -0.2), 0.4, 0.4)]
+    ax = P.plot_obstacles(far, plt.subplots()[1])
+    P.plot_arm(arm, [0.0, 0.0], ax)
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert x1 >= 1.75 + 0.6 and x0 <= -3.0 and (x0, x1) == (y0, y1) == (-x1, x1)
+    plt.close(ax.figure)
