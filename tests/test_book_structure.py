@@ -33,22 +33,6 @@ TIMING_MAGIC = re.compile(r"^\s*%{1,2}(time|timeit|prun)\b", re.MULTILINE)
 BASE64_DATA = re.compile(r"data:[\w/+.-]+;base64,[A-Za-z0-9+/=\\\s]+")
 
 
-def toc_files(node) -> list[str]:
-    """Every `file:` (and the root) of a jb-book toc, in order."""
-    found = []
-    if isinstance(node, dict):
-        for key in ("root", "file"):
-            if key in node:
-                found.append(node[key])
-        for value in node.values():
-            if isinstance(value, (list, dict)):
-                found += toc_files(value)
-    elif isinstance(node, list):
-        for item in node:
-            found += toc_files(item)
-    return found
-
-
 def resolve(entry: str) -> Path | None:
     for suffix in ("", ".md", ".ipynb"):
         path = ROOT / (entry + suffix)
@@ -56,6 +40,8 @@ def resolve(entry: str) -> Path | None:
             return path
     return None
 
+
+from test_traceability import toc_files  # noqa: E402  one reader of _toc.yml for both checks
 
 TOC = toc_files(yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8")))
 
