@@ -1,5 +1,12 @@
 """rapp: 2D robot-arm path planning, the package behind the rapp book.
 
+The names below are the contract (see the book's pages and ``DESIGN.md``).
+Everything else is reachable by module path: teaching counterexamples such as
+``rapp.search.greedy_best_first`` and ``rapp.collision.line_distance_mis``,
+helpers such as ``rapp.cspace.grid_q``, plotting (``rapp.plotting``), widgets
+(``rapp.widgets``), derivations (``rapp.symbolic``, imported on demand: sympy
+takes about 2 s to load) and the case studies (``rapp.cases``).
+
 Examples
 --------
 >>> import rapp
@@ -10,6 +17,7 @@ Examples
 
 from rapp.errors import (
     FileNotFound,
+    GridTooCoarse,
     InvalidFormat,
     InvalidValue,
     MissingParameter,
@@ -20,71 +28,34 @@ from rapp.errors import (
 )
 from rapp.arm import Arm, wrap_angle
 from rapp.obstacles import Circle, Polygon
-
-# Each module adds its public names below its own marker line; keep one import block per module.
-# -- collision --
-from rapp.collision import (
-    clearance,
-    closest_point_on_segment,
-    collides,
-    line_distance_mis,
-    path_collision_free,
-    segment_circle_distance,
-    segment_collision_free,
-    segment_hits_circle,
-    segment_hits_polygon,
-    segment_polygon_distance,
-)
-# -- cspace --
-from rapp.cspace import JointGrid, grid_q, occupancy
-# -- search --
-from rapp.search import (
-    HeuristicCheck,
-    SearchResult,
-    astar,
-    astar_search,
-    bfs,
-    bfs_distances,
-    check_heuristic,
-    greedy_best_first,
-    toroidal_manhattan,
-)
-# -- ik --
+from rapp.collision import clearance, collides, path_collision_free, segment_collision_free
+from rapp.cspace import JointGrid, occupancy
+from rapp.search import astar, bfs_distances
 from rapp.ik import ik, ik_2link, ik_numeric, jacobian
-# -- symbolic --
-# rapp.symbolic is imported on demand (`from rapp import symbolic`): sympy takes ~2 s to load.
-# -- trajectory --
-from rapp.trajectory import (
-    PiecewisePolynomial,
-    cubic,
-    polyval,
-    quintic,
-    time_path,
-    via_points,
-)
-# -- scenario --
+from rapp.trajectory import PiecewisePolynomial, cubic, quintic, time_path, via_points
 from rapp.scenario import Scenario, echo, list_scenarios, load_scenario
-# -- planner --
-from rapp.planner import PLANNERS, GridTooCoarse, Plan, load_result, plan, save_result
-# -- verify --
-from rapp.verify import Check, Report, verify
-# -- rrt --
-from rapp.rrt import RRTResult, alpha_beta_experiment, plan_rrt, rrt
-# -- viapoint --
-from rapp.viapoint import (
-    ViaPoint,
-    first_arm_collision,
-    path_clearance,
-    search_via_point,
-    spline_vs_cubic,
-    tangent_via_point,
-)
-# -- workspace --
-from rapp.workspace import (
-    elbow_solutions,
-    motion_through_solutions,
-    reachable,
-    workspace_radii,
-)
+from rapp.verify import Report, verify
+from rapp.results import Plan, load_result, save_result
+from rapp.rrt import RRTResult, rrt
+from rapp.planner import plan
+
+__all__ = [
+    # errors
+    "RappError", "ScenarioError", "FileNotFound", "InvalidFormat", "MissingParameter",
+    "InvalidValue", "NoPathFound", "GridTooCoarse", "NoIKSolution",
+    # the arm and its world
+    "Arm", "wrap_angle", "Circle", "Polygon",
+    "collides", "clearance", "segment_collision_free", "path_collision_free",
+    # configuration space and search
+    "JointGrid", "occupancy", "astar", "bfs_distances",
+    # kinematics
+    "ik", "ik_2link", "ik_numeric", "jacobian",
+    # trajectories
+    "cubic", "quintic", "via_points", "time_path", "PiecewisePolynomial",
+    # the application
+    "Scenario", "load_scenario", "list_scenarios", "echo",
+    "plan", "Plan", "verify", "Report", "save_result", "load_result",
+    "rrt", "RRTResult",
+]
 
 __version__ = "0.1.0"

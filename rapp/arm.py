@@ -129,6 +129,60 @@ class Arm:
         total = float(lengths.sum())
         return (max(0.0, 2.0 * float(lengths.max()) - total), total)
 
+    def check_q(self, q, name: str = "q") -> np.ndarray:
+        """``q`` as a float array of configurations ``(..., n)``, or a ValueError naming ``name``.
+
+        Every function that takes configurations calls this first, so a wrong
+        shape or a NaN/infinite angle is refused with the argument's name
+        instead of turning into a wrong answer further down.
+
+        Examples
+        --------
+        >>> Arm([1.0, 1.0]).check_q([[0.0, 1.0]]).shape
+        (1, 2)
+        >>> Arm([1.0, 1.0]).check_q([0.0, float("nan")], "start")
+        Traceback (most recent call last):
+        ...
+        ValueError: start must be finite joint angles, got [0.0, nan]
+        """
+        try:
+            q = np.asarray(q, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be an array of joint angles of shape (..., {self.n})") from None
+        if q.ndim == 0 or q.shape[-1] != self.n:
+            raise ValueError(f"{name} must have shape (..., {self.n}), got {q.shape}")
+        if not np.isfinite(q).all():
+            shown = q.tolist() if q.size <= 8 else "an array with non-finite entries"
+            raise ValueError(f"{name} must be finite joint angles, got {shown}")
+        return q
+
+    def joint_delta(self, q_from, q_to) -> np.ndarray:
+        """``q_to - q_from``, taken the short way round on every free joint.
+
+        A free joint lives on a circle, so its difference is wrapped into
+        ``[-pi, pi)``; a limited joint lives on an interval and keeps the plain
+        difference. Broadcasts over leading axes.
+
+        Examples
+        --------
+        >>> arm = Arm([1.0, 1.0], [None, (-3.0, 3.0)])
+        >>> arm.joint_delta([3.0, -2.9], [-3.0, 2.9]).round(4).tolist()
+        [0.2832, 5.8]
+        """
+        d = np.asarray(q_to, dtype=float) - np.asarray(q_from, dtype=float)
+        return np.where(self.limited, d, wrap_angle(d))
+
+    def wrap(self, q) -> np.ndarray:
+        """``q`` with every free joint wrapped into ``[-pi, pi)``; limited joints untouched.
+
+        Examples
+        --------
+        >>> Arm([1.0, 1.0], [None, (-4.0, 4.0)]).wrap([3.5, 3.5]).round(4).tolist()
+        [-2.7832, 3.5]
+        """
+        q = np.asarray(q, dtype=float)
+        return np.where(self.limited, q, wrap_angle(q))
+
     def absolute_angles(self, q) -> np.ndarray:
         """Angle of every link measured from +x: the running sum of ``q``.
 
@@ -137,7 +191,7 @@ class Arm:
         >>> Arm([1.0, 1.0]).absolute_angles([0.5, 0.25]).tolist()
         [0.5, 0.75]
         """
-        q = self._check_q(q)
+        q = self.check_q(q)
         return np.cumsum(q, axis=-1)
 
     def joint_positions(self, q) -> np.ndarray:
@@ -181,13 +235,7 @@ class Arm:
         >>> Arm([1.0, 1.0], [None, (-1.0, 1.0)]).within_limits([[3.0, 0.5], [0.0, 1.5]]).tolist()
         [True, False]
         """
-        q = self._check_q(q)
+        q = self.check_q(q)
         lim = self.limited
         ok = (q >= self.lower - tol) & (q <= self.upper + tol)
         return np.all(ok | ~lim, axis=-1)
-
-    def _check_q(self, q) -> np.ndarray:
-        q = np.asarray(q, dtype=float)
-        if q.ndim == 0 or q.shape[-1] != self.n:
-            raise ValueError(f"configurations must have shape (..., {self.n}), got {q.shape}")
-        return q

@@ -100,7 +100,8 @@ def _cmd_check(args, out) -> int:
 
 
 def _cmd_plan(args, out, err) -> int:
-    from rapp.planner import plan, save_result
+    from rapp.planner import plan
+    from rapp.results import save_result
     from rapp.scenario import echo, load_scenario
 
     for path, option in ((args.out, "--out"), (args.plot, "--plot"), (args.animate, "--animate")):
@@ -113,7 +114,7 @@ def _cmd_plan(args, out, err) -> int:
     p = plan(s)
     if not args.quiet:
         print(p.report, file=out)
-        times = p.metrics.get("stage_times", {})
+        times = p.timings
         print("time per stage: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in times.items()),
               file=out)
     if args.out:

@@ -31,7 +31,9 @@ __all__ = [
     "line_distance_mis",
     "segment_hits_polygon",
     "segment_polygon_distance",
+    "check_obstacle",
     "link_clearances",
+    "segment_clearances",
     "collides",
     "clearance",
     "motion_bounds",
@@ -217,7 +219,16 @@ def segment_polygon_distance(a, b, vertices) -> np.ndarray:
     return np.where(segment_hits_polygon(a, b, v), 0.0, d)
 
 
-def _check_obstacle(ob):
+def check_obstacle(ob):
+    """``ob`` itself when it is a Circle or a Polygon, else a ValueError.
+
+    Examples
+    --------
+    >>> check_obstacle((1.0, 2.0))
+    Traceback (most recent call last):
+    ...
+    ValueError: obstacles must be rapp.Circle or rapp.Polygon, got tuple
+    """
     if not isinstance(ob, (Circle, Polygon)):
         raise ValueError(f"obstacles must be rapp.Circle or rapp.Polygon, got {type(ob).__name__}")
     return ob
@@ -237,14 +248,24 @@ def link_clearances(arm, q, obstacles) -> np.ndarray:
     [0.6180339887498949, 0.5]
     """
     pts = arm.joint_positions(q)
-    return _segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
+    return segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
 
 
-def _segment_clearances(a, b, obstacles) -> np.ndarray:
-    """Clearance of segments ``ab`` (..., 2) from the nearest obstacle, shape ``(...)``."""
+def segment_clearances(a, b, obstacles) -> np.ndarray:
+    """Clearance of segments ``ab`` (..., 2) from the nearest obstacle, shape ``(...)``.
+
+    The link-level work of :func:`link_clearances`, for callers that already
+    hold the segment end points (e.g. one link on a whole grid).
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> float(segment_clearances(np.array([0.0, 0.0]), np.array([2.0, 0.0]), [Circle((1.0, 1.0), 0.5)]))
+    0.5
+    """
     out = np.full(np.broadcast_shapes(a.shape, b.shape)[:-1], np.inf)
     for ob in obstacles:
-        if isinstance(_check_obstacle(ob), Circle):
+        if isinstance(check_obstacle(ob), Circle):
             d = segment_circle_distance(a, b, ob.center, ob.radius)
         else:
             d = segment_polygon_distance(a, b, ob)
@@ -277,7 +298,7 @@ def collides(arm, q, obstacles) -> np.ndarray:
     a, b = pts[..., :-1, :], pts[..., 1:, :]
     hit = np.zeros(a.shape[:-1], dtype=bool)
     for ob in obstacles:
-        if isinstance(_check_obstacle(ob), Circle):
+        if isinstance(check_obstacle(ob), Circle):
             hit |= segment_hits_circle(a, b, ob.center, ob.radius)
         else:
             hit |= segment_hits_polygon(a, b, ob)
@@ -369,10 +390,8 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     >>> segment_collision_free(arm, [[0.0, 0.0], [0.0, 0.0]], [[0.5, 0.0], [3.0, 0.0]], obs).tolist()
     [True, False]
     """
-    obstacles = [_check_obstacle(ob) for ob in obstacles]
-    q0 = np.asarray(q0, dtype=float)
-    q1 = np.asarray(q1, dtype=float)
-    q0, q1 = np.broadcast_arrays(arm._check_q(q0), arm._check_q(q1))
+    obstacles = [check_obstacle(ob) for ob in obstacles]
+    q0, q1 = np.broadcast_arrays(arm.check_q(q0, "q0"), arm.check_q(q1, "q1"))
     shape = q0.shape[:-1]
     q0 = q0.reshape(-1, arm.n)
     dq = q1.reshape(-1, arm.n) - q0
@@ -419,7 +438,7 @@ def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9) -
     >>> bool(path_collision_free(arm, [[0.0, 0.0], [0.5, 0.0], [0.5, -1.0]], obs))
     True
     """
-    p = arm._check_q(path_q)
+    p = arm.check_q(path_q, "path_q")
     if p.ndim < 2 or p.shape[-2] < 1:
         raise ValueError(f"path must have shape (..., k, {arm.n}) with k >= 1, got {p.shape}")
     if p.shape[-2] == 1:

@@ -55,6 +55,14 @@ class NoPathFound(RappError):
     """The search space holds no collision-free path from start to goal."""
 
 
+class GridTooCoarse(NoPathFound):
+    """The occupancy grid has a path, but its moves could not be certified collision-free.
+
+    The grid marks cell *centres*; a move between two free centres can still
+    sweep an obstacle. A finer grid (``planner.cells``) usually finds a path.
+    """
+
+
 class NoIKSolution(RappError):
     """No joint configuration places the end effector at the target.
 

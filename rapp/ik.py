@@ -31,9 +31,10 @@ from __future__ import annotations
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.errors import NoIKSolution
+from rapp.collision import collides
+from rapp.errors import NoIKSolution, NoPathFound
 
-__all__ = ["ik", "ik_2link", "ik_numeric", "jacobian"]
+__all__ = ["ik", "ik_2link", "ik_numeric", "jacobian", "free_ik_solutions"]
 
 TWO_PI = 2.0 * np.pi
 
@@ -101,89 +102,71 @@ def _equivalents_within(arm: Arm, q: np.ndarray, tol: float) -> np.ndarray:
     return np.concatenate(out, axis=0)
 
 
-def ik_2link(arm_or_lengths, target, *, tol: float = 1e-10) -> np.ndarray:
-    """Every joint solution of a 2-link arm for one target (seed 004), shape ``(k, 2)``.
+def ik_2link(arm_or_lengths, targets, *, tol: float = 1e-10) -> np.ndarray:
+    """Both analytic solutions of a 2-link arm for a batch of targets, shape ``(..., 2, 2)``.
 
     Law of cosines: ``|target|^2 = L1^2 + L2^2 + 2 L1 L2 cos q2``, then
     ``q1 = atan2(y, x) - atan2(L2 sin q2, L1 + L2 cos q2)``. ``sin q2`` is
     computed from the factored form ``(L1+L2-r)(L1+L2+r)(r-|L1-L2|)(r+|L1-L2|)``
-    so that it stays accurate next to the workspace boundary, where
-    ``arccos`` loses half the digits.
+    so that it stays accurate next to the workspace boundary, where plain
+    ``arccos`` loses half the digits. This is the one home of the 2-link IK;
+    :func:`ik` applies joint limits to it, and the case studies call it.
 
     Parameters
     ----------
     arm_or_lengths : Arm or (L1, L2)
-    target : (2,) array_like
+        Joint limits of an Arm are ignored here (see :func:`ik`).
+    targets : array_like, shape (..., 2)
     tol : float
         A length. A target whose distance from the base is within ``tol`` of a
         boundary circle of the annulus ``|L1-L2| <= r <= L1+L2`` gets the
-        single boundary solution (straight arm ``q2 = 0`` or folded
-        ``q2 = -pi``), which then places the tip within ``tol`` of it.
+        boundary solution (straight arm ``q2 = 0`` or folded ``q2 = -pi``) in
+        both rows, which places the tip within ``tol`` of it.
 
     Returns
     -------
-    ndarray, shape (k, 2)
-        Inside the annulus: row 0 elbow-down (``q2 > 0``), row 1 elbow-up
-        (``q2 < 0``), see the module notes for the names; on a boundary
-        circle: one row. Solutions outside the joint limits are dropped; a
-        limited joint takes the ``+-2 pi`` equivalent that fits its limits,
-        a free joint is wrapped to ``[-pi, pi)``. With ``L1 == L2`` and the
-        target at the base every ``q1`` works; one representative is returned.
-
-    Raises
-    ------
-    NoIKSolution
-        ``reason="out of reach"`` outside the annulus, ``reason="joint limits"``
-        when solutions exist but none lies within the limits.
+    ndarray, shape (..., 2, 2)
+        ``[..., 0, :]`` elbow-down (``q2 >= 0``), ``[..., 1, :]`` elbow-up
+        (``q2 <= 0``), see the module notes for the names; angles wrapped to
+        ``[-pi, pi)``; ``nan`` where the target is out of reach. With
+        ``L1 == L2`` and the target at the base every ``q1`` works; one
+        representative is returned.
 
     Examples
     --------
-    >>> q = ik_2link([1.0, 1.0], [1.0, 1.0])
-    >>> q.round(6).tolist()
+    >>> ik_2link([1.0, 1.0], [1.0, 1.0]).round(6).tolist()
     [[0.0, 1.570796], [1.570796, -1.570796]]
-    >>> ik_2link([1.0, 1.0], [2.0, 0.0]).tolist()
-    [[0.0, 0.0]]
-    >>> ik_2link([1.0, 1.0], [3.0, 0.0])
-    Traceback (most recent call last):
-    ...
-    rapp.errors.NoIKSolution: target (3, 0) is out of reach: r = 3 is outside [0, 2]
+    >>> ik_2link([1.0, 1.0], [[2.0, 0.0], [3.0, 0.0]]).tolist()
+    [[[0.0, 0.0], [0.0, 0.0]], [[nan, nan], [nan, nan]]]
     """
     arm = _as_arm(arm_or_lengths)
     if arm.n != 2:
         raise ValueError(f"ik_2link needs a 2-link arm, got {arm.n} links")
-    x, y = _target(target)
+    p = np.asarray(targets, dtype=float)
+    if p.ndim == 0 or p.shape[-1] != 2:
+        raise ValueError(f"targets must have shape (..., 2), got {p.shape}")
+    if not np.isfinite(p).all():
+        raise ValueError("targets must be finite points (x, y)")
+    x, y = p[..., 0], p[..., 1]
     l1, l2 = arm.link_lengths
-    r = float(np.hypot(x, y))
+    r = np.hypot(x, y)
     r_out, r_in = l1 + l2, abs(l1 - l2)
-    band = tol
-    if r > r_out + band or r < r_in - band:
-        raise NoIKSolution(
-            f"target ({x:g}, {y:g}) is out of reach: r = {r:g} is outside [{r_in:g}, {r_out:g}]",
-            reason="out of reach",
-        )
+    reach = (r <= r_out + tol) & (r >= r_in - tol)
+    outer, inner = np.abs(r - r_out) <= tol, np.abs(r - r_in) <= tol
     # Factored forms of 1 -+ cos q2 keep sin q2 accurate near both circles.
-    one_minus = max(0.0, (r_out - r) * (r_out + r)) / (2 * l1 * l2)
-    one_plus = max(0.0, (r - r_in) * (r + r_in)) / (2 * l1 * l2)
-    c2 = float(np.clip((r * r - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0))
-    if abs(r - r_out) <= band or abs(r - r_in) <= band:
-        s2s = [0.0]
-        c2 = 1.0 if abs(r - r_out) <= band else -1.0
-    else:
-        s2 = float(np.sqrt(one_minus * one_plus))
-        s2s = [s2, -s2]
-    rows = []
-    for s2 in s2s:
-        q2 = np.arctan2(s2, c2)
-        q1 = np.arctan2(y, x) - np.arctan2(l2 * s2, l1 + l2 * c2)
-        rows.append((q1, q2))
-    q = wrap_angle(np.array(rows))
-    inside = _equivalents_within(arm, q, tol=1e-12)
-    if inside.shape[0] == 0:
-        raise NoIKSolution(
-            f"target ({x:g}, {y:g}) is reachable but no solution lies within the joint limits",
-            reason="joint limits",
-        )
-    return inside
+    one_minus = np.maximum(0.0, (r_out - r) * (r_out + r)) / (2 * l1 * l2)
+    one_plus = np.maximum(0.0, (r - r_in) * (r + r_in)) / (2 * l1 * l2)
+    c2 = np.clip((r * r - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0)
+    c2 = np.where(outer, 1.0, np.where(inner, -1.0, c2))
+    edge = outer | inner
+    s2 = np.where(edge, 0.0, np.sqrt(one_minus * one_plus))
+    # (..., 2): elbow-down, elbow-up; on a circle both are +0.0, so the rows are identical.
+    s2 = np.stack((s2, np.where(edge, 0.0, -s2)), axis=-1)
+    c2 = c2[..., None]
+    q2 = np.arctan2(s2, c2)
+    q1 = np.arctan2(y, x)[..., None] - np.arctan2(l2 * s2, l1 + l2 * c2)
+    q = wrap_angle(np.stack((q1, q2), axis=-1))
+    return np.where(reach[..., None, None], q, np.nan)
 
 
 # --------------------------------------------------------------------------- numeric
@@ -453,12 +436,6 @@ def ik_numeric(
 # --------------------------------------------------------------------------- contract
 
 
-def _joint_delta(arm: Arm, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Joint differences, the short way round on free joints."""
-    d = a - b
-    return np.where(arm.limited, d, wrap_angle(d))
-
-
 def _dedupe(arm: Arm, q: np.ndarray, eps: float) -> np.ndarray:
     """Keep each row that has no earlier row within ``eps`` (wrap-aware).
 
@@ -467,9 +444,27 @@ def _dedupe(arm: Arm, q: np.ndarray, eps: float) -> np.ndarray:
     """
     if q.shape[0] <= 1:
         return q
-    d = np.linalg.norm(_joint_delta(arm, q[:, None, :], q[None, :, :]), axis=-1)
+    d = np.linalg.norm(arm.joint_delta(q[None, :, :], q[:, None, :]), axis=-1)
     near_earlier = np.tril(d <= eps, k=-1).any(axis=1)
     return q[~near_earlier]
+
+
+def _ik_2link_within_limits(arm: Arm, target: np.ndarray, tol: float) -> np.ndarray:
+    """The distinct solutions of :func:`ik_2link` for one target that fit the joint limits."""
+    both = ik_2link(arm, target, tol=tol)
+    if np.isnan(both).any():
+        r_in, r_out = abs(arm.link_lengths[0] - arm.link_lengths[1]), sum(arm.link_lengths)
+        raise NoIKSolution(
+            f"target ({target[0]:g}, {target[1]:g}) is out of reach: "
+            f"r = {float(np.hypot(*target)):g} is outside [{r_in:g}, {r_out:g}]",
+            reason="out of reach")
+    rows = both[:1] if np.array_equal(both[0], both[1]) else both  # one on a boundary circle
+    inside = _equivalents_within(arm, rows, tol=1e-12)
+    if inside.shape[0] == 0:
+        raise NoIKSolution(
+            f"target ({target[0]:g}, {target[1]:g}) is reachable but no solution lies within "
+            "the joint limits", reason="joint limits")
+    return inside
 
 
 def ik(
@@ -484,7 +479,9 @@ def ik(
     """Distinct joint solutions for one target (MIS ``solveIK``), shape ``(k, n)``.
 
     * ``n == 1``: at most one solution, on the circle of radius ``L1``.
-    * ``n == 2``: the complete analytic set of :func:`ik_2link`.
+    * ``n == 2``: the complete analytic set of :func:`ik_2link` (one row on
+      a boundary circle), each within the joint limits: a limited joint takes
+      the ``+-2 pi`` equivalent that fits, a free joint is wrapped.
     * ``n >= 3``: the solutions form a continuum (the self-motion manifold:
       the arm can move its joints while the tip stays put), so no finite list
       is "all" of them. This returns the distinct solutions that
@@ -521,7 +518,7 @@ def ik(
     r = float(np.hypot(*target))
     r_in, r_out = arm.reach
     if arm.n == 2:
-        sols = ik_2link(arm, target)
+        sols = _ik_2link_within_limits(arm, target, tol)
     elif arm.n == 1:
         if abs(r - r_out) > 1e-9 * r_out:
             raise NoIKSolution(
@@ -556,6 +553,42 @@ def ik(
                                reason="did not converge")
         sols = _dedupe(arm, q[ok], 1e-6)
     if q0 is not None:
-        dist = np.linalg.norm(_joint_delta(arm, sols, q0), axis=-1)
+        dist = np.linalg.norm(arm.joint_delta(q0, sols), axis=-1)
         sols = sols[np.argsort(dist, kind="stable")]
     return sols
+
+
+def free_ik_solutions(arm: Arm, target, obstacles, *, q0=None) -> tuple[np.ndarray, int]:
+    """The IK solutions of ``target`` that respect the limits and touch no obstacle.
+
+    Returns
+    -------
+    free : ndarray, shape (g, n)
+        Collision-free solutions, nearest to ``q0`` first when it is given.
+    count : int
+        How many solutions :func:`ik` found before the obstacles were applied.
+
+    Raises
+    ------
+    NoIKSolution
+        From :func:`ik`.
+    NoPathFound
+        Every solution found collides with an obstacle.
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> free, count = free_ik_solutions(Arm([1.0, 1.0]), [1.0, 1.0], [Circle((0.0, 1.0), 0.2)])
+    >>> count, free.round(4).tolist()
+    (2, [[0.0, 1.5708]])
+    """
+    sols = np.atleast_2d(ik(arm, target, q0=q0))
+    sols = sols[arm.within_limits(sols, 1e-12)]
+    obstacles = list(obstacles)
+    free = sols[~collides(arm, sols, obstacles)] if len(sols) and obstacles else sols
+    if len(free) == 0:
+        x, y = np.asarray(target, float)
+        raise NoPathFound(
+            f"every one of the {len(sols)} IK solutions for the goal ({x:g}, {y:g}) "
+            "collides with an obstacle")
+    return free, len(sols)

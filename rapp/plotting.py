@@ -24,6 +24,8 @@ from matplotlib import animation, patches
 from matplotlib.collections import LineCollection
 from matplotlib.colors import ListedColormap, to_rgba
 
+from rapp.collision import closest_point_on_segment
+
 __all__ = [
     "COLORS",
     "style_axes",
@@ -134,7 +136,15 @@ def _figure(fig, figsize):
     return fig
 
 
-def _subplots(fig, *args, **kwargs):
+def subplots(fig, *args, **kwargs):
+    """``fig.subplots(...)`` in the book's light style (white axes, dark text).
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> len(subplots(Figure(), 1, 2))
+    2
+    """
     with plt.rc_context(_LIGHT):
         return fig.subplots(*args, **kwargs)
 
@@ -442,7 +452,7 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m"):
     fig = _figure(fig, (10.5, 5.0))
     fig.clear()
     fig.patch.set_facecolor("white")
-    ax_c, ax_w = _subplots(fig, 1, 2)
+    ax_c, ax_w = subplots(fig, 1, 2)
     q = np.asarray(plan.q, dtype=float)
     arm = scenario.arm
     grid = getattr(plan, "grid", None)
@@ -502,7 +512,7 @@ def plot_profiles(plan, *, fig=None, unit="m"):
     """
     fig = _figure(fig, (7.5, 8.0))
     fig.clear()
-    axs = _subplots(fig, 4, 1, sharex=True)
+    axs = subplots(fig, 4, 1, sharex=True)
     t = np.asarray(plan.t, dtype=float)
     rows = ((plan.q, "q (rad)", "q"), (plan.qd, "q' (rad/s)", "q'"),
             (plan.qdd, "q'' (rad/s²)", "q''"))
@@ -616,7 +626,7 @@ def plot_polynomials(coefficients, t0, tf, *, fig=None, samples=200):
     P = np.polynomial.polynomial
     fig = _figure(fig, (6.5, 6.0))
     fig.clear()
-    axs = _subplots(fig, 3, 1, sharex=True)
+    axs = subplots(fig, 3, 1, sharex=True)
     t = np.linspace(t0, tf, samples)
     styles = ["-", "--", ":", "-."]
     for i, (name, c) in enumerate(coefficients.items()):
@@ -654,7 +664,6 @@ def plot_segment_circle(a, b, center, radius, ax=None, *, unit="m"):
     [1.6, 0.0]
     >>> plt.close(ax.figure)
     """
-    from rapp.collision import closest_point_on_segment
 
     ax = _axes(ax)
     a, b, c = (np.asarray(v, dtype=float) for v in (a, b, center))

@@ -55,12 +55,12 @@ from typing import Mapping
 
 import numpy as np
 
-from rapp.arm import wrap_angle
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound
 from rapp.ik import jacobian
+from rapp.paths import path_length
 
-__all__ = ["RRTResult", "rrt", "plan_rrt", "path_cost", "alpha_beta_experiment"]
+__all__ = ["RRTResult", "rrt", "plan_rrt"]
 
 _BATCH = 32  # random targets drawn, and edges certified together, per batch
 
@@ -92,35 +92,6 @@ class RRTResult:
     iterations: int
     success: bool
     cost: float
-
-
-def _wrap_free(q, free):
-    """``q`` with the free joints wrapped into ``[-pi, pi)``; limited joints untouched."""
-    return np.where(free, wrap_angle(q), q)
-
-
-def _delta(a, b, free):
-    """``b - a`` with free joints wrapped into ``[-pi, pi)``."""
-    return _wrap_free(np.asarray(b, dtype=float) - np.asarray(a, dtype=float), free)
-
-
-def path_cost(path) -> float:
-    """Joint-space length of a polyline: the sum of its edges' Euclidean lengths.
-
-    Parameters
-    ----------
-    path : array_like, shape (k, n)
-        Unwrapped waypoints.
-
-    Examples
-    --------
-    >>> path_cost([[0.0, 0.0], [0.3, 0.4], [0.3, 1.4]])
-    1.5
-    """
-    p = np.asarray(path, dtype=float)
-    if p.shape[0] < 2:
-        return 0.0
-    return float(np.linalg.norm(np.diff(p, axis=0), axis=-1).sum())
 
 
 def rrt(
@@ -187,138 +158,193 @@ def rrt(
     (-1, True)
     """
     obstacles = list(obstacles)
-    n = arm.n
-    start = arm._check_q(start).reshape(n)
-    free = ~arm.limited
-    lower, upper = arm.lower, arm.upper
-    if steer not in ("step", "fraction"):
-        raise ValueError(f"steer must be 'step' or 'fraction', got {steer!r}")
-    step = float(step)
-    if not step > 0 or (steer == "fraction" and step > 1):
-        raise ValueError(f"step must be > 0 (and <= 1 for steer='fraction'), got {step}")
-    if not 0.0 <= goal_bias <= 1.0:
-        raise ValueError(f"goal_bias must lie in [0, 1], got {goal_bias}")
-    if not goal_threshold > 0:
-        raise ValueError(f"goal_threshold must be > 0, got {goal_threshold}")
-    goals = None if goal is None else arm._check_q(goal).reshape(-1, n)
-    if goals is None and goal_xy is None:
-        raise ValueError("give a joint goal, a task-space goal_xy, or both")
-    gxy = None if goal_xy is None else np.asarray(goal_xy, dtype=float).reshape(2)
+    start, goals, gxy, step = _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias,
+                                                   goal_threshold, steer)
+    tree = _Tree(arm, arm.wrap(start))
 
-    def fail(msg, nodes, parent, it):
+    def fail(msg, it):
         if raise_on_failure:
             raise NoPathFound(msg)
-        return RRTResult(np.empty((0, n)), nodes, parent, it, False, float("inf"))
+        return RRTResult(np.empty((0, arm.n)), tree.nodes.copy(), tree.parent.copy(), it, False,
+                         float("inf"))
 
-    root = _wrap_free(start, free)
     if collides(arm, start, obstacles):
-        return fail("the start configuration collides", root[None], np.array([-1]), 0)
+        return fail("the start configuration collides", 0)
     if gxy is not None and np.linalg.norm(gxy) > arm.reach[1] + goal_threshold:
-        return fail("goal_xy is beyond the arm's reach", root[None], np.array([-1]), 0)
-
-    rng = np.random.default_rng(seed)
-    cap = 256
-    nodes = np.empty((cap, n))
-    parent = np.empty(cap, dtype=int)
-    xy = np.empty((cap, 2))  # end effector of every node, for task-space tests
-    nodes[0], parent[0], xy[0] = root, -1, arm.end_effector(root)
-    m = 1
+        return fail("goal_xy is beyond the arm's reach", 0)
 
     def reached(q, p):
         if gxy is not None:
             return np.linalg.norm(p - gxy) <= goal_threshold
-        return np.min(np.linalg.norm(_delta(q, goals, free), axis=-1)) <= goal_threshold
+        return np.min(np.linalg.norm(arm.joint_delta(q, goals), axis=-1)) <= goal_threshold
 
-    def steer_from(base, target):
+    rng = np.random.default_rng(seed)
+    grow = _Grower(arm, obstacles, tree, goals, gxy, step, steer, goal_bias)
+    hit = 0 if reached(tree.nodes[0], tree.xy[0]) else -1
+    it = 0
+    while hit < 0 and it < max_iterations:
+        batch = grow.draw(rng)
+        for k in range(_BATCH):
+            if hit >= 0 or it >= max_iterations:
+                break
+            it += 1
+            if grow.extend(batch, k) and reached(tree.nodes[-1], tree.xy[-1]):
+                hit = tree.m - 1
+    if hit < 0:
+        return fail(f"RRT reached no goal in {max_iterations} iterations", it)
+    if goals is not None and gxy is None:
+        hit = _join_goal(arm, obstacles, tree, hit, goals)
+    path = _unwrapped_path(arm, tree, hit, start)
+    return RRTResult(path, tree.nodes.copy(), tree.parent.copy(), it, True, path_length(path))
+
+
+def _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias, goal_threshold, steer):
+    """Validated ``start`` (n,), ``goals`` (g, n) or None, ``goal_xy`` (2,) or None, ``step``."""
+    n = arm.n
+    start = arm.check_q(start, "start").reshape(n)
+    if steer not in ("step", "fraction"):
+        raise ValueError(f"steer must be 'step' or 'fraction', got {steer!r}")
+    step = float(step)
+    if not (np.isfinite(step) and step > 0) or (steer == "fraction" and step > 1):
+        raise ValueError(f"step must be > 0 (and <= 1 for steer='fraction'), got {step}")
+    if not 0.0 <= goal_bias <= 1.0:
+        raise ValueError(f"goal_bias must lie in [0, 1], got {goal_bias}")
+    if not (np.isfinite(goal_threshold) and goal_threshold > 0):
+        raise ValueError(f"goal_threshold must be finite and > 0, got {goal_threshold}")
+    goals = None if goal is None else arm.check_q(goal, "goal").reshape(-1, n)
+    if goals is None and goal_xy is None:
+        raise ValueError("give a joint goal, a task-space goal_xy, or both")
+    gxy = None
+    if goal_xy is not None:
+        gxy = np.asarray(goal_xy, dtype=float).reshape(2)
+        if not np.isfinite(gxy).all():
+            raise ValueError(f"goal_xy must be a finite point (x, y), got {gxy.tolist()}")
+    return start, goals, gxy, step
+
+
+class _Tree:
+    """The tree as growable arrays: wrapped nodes, parent map, end-effector positions."""
+
+    def __init__(self, arm, root):
+        self.arm = arm
+        self._nodes = np.empty((256, arm.n))
+        self._parent = np.empty(256, dtype=int)
+        self._xy = np.empty((256, 2))
+        self._nodes[0], self._parent[0], self._xy[0] = root, -1, arm.end_effector(root)
+        self.m = 1
+
+    nodes = property(lambda self: self._nodes[: self.m])
+    parent = property(lambda self: self._parent[: self.m])
+    xy = property(lambda self: self._xy[: self.m])
+
+    def add(self, q, parent_index, xy=None):
+        if self.m == len(self._nodes):
+            self._nodes = np.concatenate((self._nodes, np.empty_like(self._nodes)))
+            self._parent = np.concatenate((self._parent, np.empty_like(self._parent)))
+            self._xy = np.concatenate((self._xy, np.empty_like(self._xy)))
+        self._nodes[self.m] = self.arm.wrap(q)
+        self._parent[self.m] = parent_index
+        self._xy[self.m] = self.arm.end_effector(q) if xy is None else xy
+        self.m += 1
+
+
+class _Grower:
+    """One iteration of RRT at a time, on targets drawn in fixed batches.
+
+    Random numbers come in batches of ``_BATCH``, so a run is a prefix of any
+    longer run. Speculation: the edges each target of a batch would add to the
+    tree as it stands are certified in one vectorized call; a target whose
+    nearest node turns out to be one added later in the batch (or a Newton
+    target, known only then) gets its own check. The tree is the one grown
+    edge by edge.
+    """
+
+    def __init__(self, arm, obstacles, tree, goals, gxy, step, steer, goal_bias):
+        self.arm, self.obstacles, self.tree = arm, obstacles, tree
+        self.goals, self.gxy, self.step, self.steer, self.goal_bias = goals, gxy, step, steer, goal_bias
+        self.newton_goal = goals is None
+
+    def steer_from(self, base, target):
         """Nearest node(s) among ``base`` to each target and the steered new configuration."""
-        diff = _delta(base[None, :, :], target[:, None, :], free)  # (t, m, n)
+        diff = self.arm.joint_delta(base[None, :, :], target[:, None, :])  # (t, m, n)
         d2 = np.einsum("tmi,tmi->tm", diff, diff)
         i = np.argmin(d2, axis=1)
         rows = np.arange(target.shape[0])
         dq, dist = diff[rows, i], np.sqrt(d2[rows, i])
         with np.errstate(divide="ignore", invalid="ignore"):
-            scale = np.minimum(1.0, step / dist) if steer == "step" else np.full_like(dist, step)
+            scale = (np.minimum(1.0, self.step / dist) if self.steer == "step"
+                     else np.full_like(dist, self.step))
         # Unwrapped: the edge certified is the short way round.
         return i, base[i] + scale[:, None] * dq, dist
 
-    hit = 0 if reached(root, xy[0]) else -1
-    it = 0
-    newton_goal = goals is None
-    while hit < 0 and it < max_iterations:
-        # Random numbers come in fixed batches, so a run is a prefix of any longer run.
+    def draw(self, rng):
+        """A batch of targets, which of them aim at the goal, and their speculative edges."""
+        arm = self.arm
         u = rng.random(_BATCH)
-        targets = rng.uniform(lower, upper, (_BATCH, n))
-        to_goal = u < goal_bias
-        if goals is not None:
-            pick = rng.integers(goals.shape[0], size=_BATCH)
-            targets[to_goal] = goals[pick[to_goal]]
-        # Speculation: the edges each target would add to the tree as it is now, certified in
-        # one batched call. A target whose nearest node turns out to be one added later in this
-        # batch (or a Newton target, known only then) gets its own check; the tree is the same
-        # as one grown edge by edge.
-        m0 = m
-        spec = ~to_goal if newton_goal else np.ones(_BATCH, dtype=bool)
+        targets = rng.uniform(arm.lower, arm.upper, (_BATCH, arm.n))
+        to_goal = u < self.goal_bias
+        if self.goals is not None:
+            pick = rng.integers(self.goals.shape[0], size=_BATCH)
+            targets[to_goal] = self.goals[pick[to_goal]]
+        m0 = self.tree.m
+        spec = ~to_goal if self.newton_goal else np.ones(_BATCH, dtype=bool)
         spec_i = np.full(_BATCH, -1)
         spec_free = np.zeros(_BATCH, dtype=bool)
         if spec.any():
-            i_s, q_s, d_s = steer_from(nodes[:m0], targets[spec])
+            nodes = self.tree.nodes
+            i_s, q_s, d_s = self.steer_from(nodes, targets[spec])
             ok = d_s > 0
             spec_free_s = np.zeros(i_s.shape, dtype=bool)
             if ok.any():
-                spec_free_s[ok] = segment_collision_free(arm, nodes[i_s[ok]], q_s[ok], obstacles)
+                spec_free_s[ok] = segment_collision_free(arm, nodes[i_s[ok]], q_s[ok], self.obstacles)
             spec_i[spec], spec_free[spec] = i_s, spec_free_s
-        for k in range(_BATCH):
-            if hit >= 0 or it >= max_iterations:
-                break
-            it += 1
-            target = targets[k]
-            if newton_goal and to_goal[k]:
-                j = np.argmin(np.einsum("ij,ij->i", xy[:m] - gxy, xy[:m] - gxy))
-                newton = np.linalg.pinv(jacobian(arm, nodes[j])) @ (gxy - xy[j])
-                target = np.clip(nodes[j] + newton, lower, upper)
-            i, q_new, dist = steer_from(nodes[:m], target[None])
-            i, q_new, dist = int(i[0]), q_new[0], dist[0]
-            if dist == 0.0:
-                continue
-            if i == spec_i[k] and i < m0:
-                edge_free = spec_free[k]
-            else:
-                edge_free = bool(segment_collision_free(arm, nodes[i], q_new, obstacles))
-            if not edge_free:
-                continue
-            if m == cap:
-                cap *= 2
-                nodes = np.concatenate((nodes, np.empty_like(nodes)))
-                parent = np.concatenate((parent, np.empty_like(parent)))
-                xy = np.concatenate((xy, np.empty_like(xy)))
-            nodes[m] = _wrap_free(q_new, free)
-            parent[m], xy[m] = i, arm.end_effector(q_new)
-            m += 1
-            if reached(nodes[m - 1], xy[m - 1]):
-                hit = m - 1
+        return targets, to_goal, spec_i, spec_free, m0
 
-    if hit < 0:
-        return fail(
-            f"RRT reached no goal in {max_iterations} iterations", nodes[:m].copy(), parent[:m].copy(), it
-        )
-    if goals is not None and gxy is None:
-        # End exactly at the nearest goal when that last edge is free too.
-        gd = _delta(nodes[hit], goals, free)
-        g = int(np.argmin(np.einsum("ij,ij->i", gd, gd)))
-        if np.any(gd[g] != 0) and segment_collision_free(arm, nodes[hit], nodes[hit] + gd[g], obstacles):
-            if m == cap:
-                nodes = np.concatenate((nodes, nodes[:1]))
-                parent = np.concatenate((parent, parent[:1]))
-            nodes[m] = goals[g]
-            parent[m] = hit
-            hit, m = m, m + 1
+    def extend(self, batch, k) -> bool:
+        """Try target ``k`` of ``batch``; True when a node was added."""
+        targets, to_goal, spec_i, spec_free, m0 = batch
+        tree, arm = self.tree, self.arm
+        target = targets[k]
+        if self.newton_goal and to_goal[k]:
+            # The report's Algorithm 1: a Gauss-Newton step toward goal_xy from the node
+            # whose end effector is nearest to it.
+            xy = tree.xy
+            j = np.argmin(np.einsum("ij,ij->i", xy - self.gxy, xy - self.gxy))
+            newton = np.linalg.pinv(jacobian(arm, tree.nodes[j])) @ (self.gxy - xy[j])
+            target = np.clip(tree.nodes[j] + newton, arm.lower, arm.upper)
+        i, q_new, dist = self.steer_from(tree.nodes, target[None])
+        i, q_new, dist = int(i[0]), q_new[0], dist[0]
+        if dist == 0.0:
+            return False
+        if i == spec_i[k] and i < m0:
+            edge_free = spec_free[k]
+        else:
+            edge_free = bool(segment_collision_free(arm, tree.nodes[i], q_new, self.obstacles))
+        if not edge_free:
+            return False
+        tree.add(q_new, i)
+        return True
+
+
+def _join_goal(arm, obstacles, tree, hit, goals) -> int:
+    """End exactly at the nearest goal when that last edge is free too; the new last node."""
+    gd = arm.joint_delta(tree.nodes[hit], goals)
+    g = int(np.argmin(np.einsum("ij,ij->i", gd, gd)))
+    if np.any(gd[g] != 0) and segment_collision_free(arm, tree.nodes[hit], tree.nodes[hit] + gd[g],
+                                                     obstacles):
+        tree.add(goals[g], hit)
+        return tree.m - 1
+    return hit
+
+
+def _unwrapped_path(arm, tree, hit, start) -> np.ndarray:
+    """Root-to-``hit`` chain, unwrapped from the exact start: each step is the certified edge."""
     chain = [hit]
-    while parent[chain[-1]] >= 0:
-        chain.append(int(parent[chain[-1]]))
-    walk = nodes[chain[::-1]]
-    steps = _delta(walk[:-1], walk[1:], free)
-    path = np.concatenate((start[None], start + np.cumsum(steps, axis=0)))
-    return RRTResult(path, nodes[:m].copy(), parent[:m].copy(), it, True, path_cost(path))
+    while tree.parent[chain[-1]] >= 0:
+        chain.append(int(tree.parent[chain[-1]]))
+    walk = tree.nodes[chain[::-1]]
+    steps = arm.joint_delta(walk[:-1], walk[1:])
+    return np.concatenate((start[None], start + np.cumsum(steps, axis=0)))
 
 
 _SETTINGS = ("step", "goal_bias", "goal_threshold", "max_iterations", "seed", "steer")
@@ -355,76 +381,3 @@ def plan_rrt(arm, obstacles, start, goal_qs=None, *, goal_xy=None, settings: Map
     """
     kw = {k: settings[k] for k in _SETTINGS if settings and k in settings}
     return rrt(arm, start, goal_qs, obstacles, goal_xy=goal_xy, **kw).path
-
-
-def alpha_beta_experiment(
-    arm,
-    start,
-    goal_xy,
-    obstacles,
-    alphas,
-    betas,
-    trials: int,
-    seed=0,
-    *,
-    goal=None,
-    steer: str = "fraction",
-    goal_threshold: float = 0.05,
-    max_iterations: int = 2000,
-) -> dict:
-    """Seed 003's experiment: success rate, path cost and iterations over a grid of alpha and beta.
-
-    Every ``(alpha, beta)`` cell runs the same ``trials`` seeds (common random
-    numbers, so that cells differ by the parameters and not by luck).
-
-    Parameters
-    ----------
-    alphas, betas : array_like, shape (A,), (B,)
-    trials : int
-    goal : array_like, optional
-        A goal configuration for goal-biased samples (the report's ``qGoal``).
-    steer : {"fraction", "step"}
-        ``"fraction"`` is the report's rule.
-
-    Returns
-    -------
-    dict of ndarray
-        ``alpha`` (A,), ``beta`` (B,), and of shape (A, B): ``success_rate``,
-        ``mean_cost`` (over successful trials, ``nan`` if none),
-        ``mean_iterations`` (over all trials; a failure counts
-        ``max_iterations``).
-
-    Examples
-    --------
-    >>> from rapp import Arm
-    >>> out = alpha_beta_experiment(Arm([1.0, 1.0]), [0.0, 0.0], [0.0, 2.0], [], [0.5], [1.0], 2)
-    >>> out["success_rate"].tolist(), out["mean_iterations"].tolist()
-    ([[1.0]], [[9.0]])
-    """
-    alphas = np.asarray(alphas, dtype=float).reshape(-1)
-    betas = np.asarray(betas, dtype=float).reshape(-1)
-    seeds = np.random.SeedSequence(seed).spawn(int(trials))
-    shape = (alphas.size, betas.size, int(trials))
-    ok = np.zeros(shape, dtype=bool)
-    cost = np.full(shape, np.nan)
-    iters = np.zeros(shape)
-    for a, alpha in enumerate(alphas):
-        for b, beta in enumerate(betas):
-            for t, s in enumerate(seeds):
-                r = rrt(
-                    arm, start, goal, obstacles, goal_xy=goal_xy, step=alpha, goal_bias=beta,
-                    goal_threshold=goal_threshold, max_iterations=max_iterations, seed=s,
-                    steer=steer, raise_on_failure=False,
-                )
-                ok[a, b, t], iters[a, b, t] = r.success, r.iterations
-                if r.success:
-                    cost[a, b, t] = r.cost
-    with np.errstate(invalid="ignore"):
-        with_cost = np.where(ok, cost, 0.0).sum(-1) / ok.sum(-1)
-    return {
-        "alpha": alphas,
-        "beta": betas,
-        "success_rate": ok.mean(-1),
-        "mean_cost": np.where(ok.any(-1), with_cost, np.nan),
-        "mean_iterations": iters.mean(-1),
-    }

@@ -32,7 +32,7 @@ import numpy as np
 
 from rapp.arm import Arm
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
-from rapp.collision import segment_point_distance
+from rapp.collision import clearance, collides, segment_point_distance
 from rapp.obstacles import Circle, Polygon
 
 __all__ = [
@@ -574,7 +574,6 @@ def preflight(scenario: Scenario) -> None:
     >>> preflight(s) is None
     True
     """
-    from rapp.collision import clearance, collides
 
     obs = scenario.obstacles
     if not obs:

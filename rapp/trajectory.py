@@ -41,14 +41,23 @@ __all__ = [
     "heuristic_velocities",
     "spline_velocities",
     "time_path",
+    "time_polyline",
+    "cubic_local",
+    "quintic_local",
+    "shift_to_absolute",
 ]
 
 
-def _shift_to_absolute(b: np.ndarray, t0) -> np.ndarray:
+def shift_to_absolute(b: np.ndarray, t0) -> np.ndarray:
     """Coefficients of ``sum_k b_k (t - t0)^k`` in powers of ``t``.
 
     ``a_j = sum_{k >= j} C(k, j) (-t0)^(k - j) b_k`` (binomial theorem).
     ``b`` has the degree on axis 0; ``t0`` broadcasts against ``b[0]``.
+
+    Examples
+    --------
+    >>> shift_to_absolute(np.array([0.0, 1.0, 0.0, 0.0]), 2.0).tolist()   # t - 2
+    [-2.0, 1.0, 0.0, 0.0]
     """
     return _shift(b, -np.asarray(t0, dtype=float))
 
@@ -89,11 +98,20 @@ def cubic(t0, tf, p0, pf, v0=0.0, vf=0.0) -> np.ndarray:
     [16.688, -9.248, 2.186, -0.134]
     """
     t0, h = _durations(t0, tf)
-    return _shift_to_absolute(_cubic_local(h, p0, pf, v0, vf), t0)
+    return shift_to_absolute(cubic_local(h, p0, pf, v0, vf), t0)
 
 
-def _cubic_local(h, p0, pf, v0, vf) -> np.ndarray:
-    """Cubic coefficients in ``tau = t - t0`` over a segment of length ``h``."""
+def cubic_local(h, p0, pf, v0, vf) -> np.ndarray:
+    """Cubic coefficients in local time ``tau = t - t0`` over a segment of length ``h``.
+
+    The closed-form solution of the boundary-value problem (the one home of
+    this formula); arguments broadcast and the coefficient index is axis 0.
+
+    Examples
+    --------
+    >>> cubic_local(3.0, 0.0, 3.0, 0.0, 0.25).round(4).tolist()
+    [0.0, 0.0, 0.9167, -0.1944]
+    """
     p0, pf, v0, vf = (np.asarray(v, dtype=float) for v in (p0, pf, v0, vf))
     d = pf - p0
     b = [
@@ -119,11 +137,17 @@ def quintic(t0, tf, p0, pf, v0=0.0, vf=0.0, a0=0.0, af=0.0) -> np.ndarray:
     [0.0, 0.0, 0.0, 10.0, -15.0, 6.0]
     """
     t0, h = _durations(t0, tf)
-    return _shift_to_absolute(_quintic_local(h, p0, pf, v0, vf, a0, af), t0)
+    return shift_to_absolute(quintic_local(h, p0, pf, v0, vf, a0, af), t0)
 
 
-def _quintic_local(h, p0, pf, v0, vf, a0, af) -> np.ndarray:
-    """Quintic coefficients in ``tau = t - t0`` over a segment of length ``h``."""
+def quintic_local(h, p0, pf, v0, vf, a0, af) -> np.ndarray:
+    """Quintic coefficients in local time ``tau = t - t0`` over a segment of length ``h``.
+
+    Examples
+    --------
+    >>> quintic_local(1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0).tolist()
+    [0.0, 0.0, 0.0, 10.0, -15.0, 6.0]
+    """
     p0, pf, v0, vf, a0, af = (np.asarray(v, dtype=float) for v in (p0, pf, v0, vf, a0, af))
     d = pf - p0
     b = [
@@ -240,7 +264,7 @@ class PiecewisePolynomial:
         if loc.ndim == 2:
             loc = loc[:, :, None]
         absolute = np.moveaxis(
-            _shift_to_absolute(np.moveaxis(loc, 1, 0), bp[:-1, None]), 0, 1)
+            shift_to_absolute(np.moveaxis(loc, 1, 0), bp[:-1, None]), 0, 1)
         return cls(bp, absolute, loc)
 
     @property
@@ -455,9 +479,9 @@ def via_points(times, positions, velocities=None, profile: str = "cubic",
             raise ValueError(f"unknown accelerations {accelerations!r}")
         else:
             acc = np.asarray(accelerations, dtype=float).reshape(k, d)
-        c = _quintic_local(tf - t0, p[:-1], p[1:], v[:-1], v[1:], acc[:-1], acc[1:])
+        c = quintic_local(tf - t0, p[:-1], p[1:], v[:-1], v[1:], acc[:-1], acc[1:])
     else:
-        c = _cubic_local(tf - t0, p[:-1], p[1:], v[:-1], v[1:])
+        c = cubic_local(tf - t0, p[:-1], p[1:], v[:-1], v[1:])
     return PiecewisePolynomial.from_local(times, np.moveaxis(c, 0, 1))
 
 
@@ -509,3 +533,58 @@ def time_path(waypoints, duration: float, profile: str = "cubic", *, wraps=None,
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=-1))])
     times = t0 + duration * s / s[-1]
     return via_points(times, w, profile=profile)
+
+
+_SMOOTHSTEP = (lambda s: s**3 * (10 - 15 * s + 6 * s**2),
+               lambda s: 30 * s**2 * (1 - s) ** 2,
+               lambda s: 60 * s - 180 * s**2 + 120 * s**3)
+
+
+def time_polyline(waypoints, duration: float, samples: int):
+    """Rest-to-rest timing of a polyline: follows its straight segments exactly.
+
+    Segment ``j`` gets a time share proportional to its joint-space length and
+    is traversed with the quintic smoothstep ``s = 10 u^3 - 15 u^4 + 6 u^5``,
+    so velocity and acceleration are zero at every waypoint and continuous
+    everywhere. The sample times are ``samples`` even times, every waypoint
+    time, and three times inside each segment (so each segment is sampled).
+
+    Returns
+    -------
+    t (k,), q (k, n), qd (k, n), qdd (k, n)
+
+    Examples
+    --------
+    >>> t, q, qd, qdd = time_polyline([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], 2.0, 5)
+    >>> t.tolist()
+    [0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0]
+    >>> q[4].tolist(), qd[4].tolist()
+    ([1.0, 0.0], [0.0, 0.0])
+    """
+    w = np.asarray(waypoints, float)
+    if w.ndim != 2 or len(w) < 1:
+        raise ValueError(f"waypoints must have shape (m, n), got {w.shape}")
+    T = float(duration)
+    t = np.linspace(0.0, T, samples)
+    n = w.shape[1]
+    seg = np.linalg.norm(np.diff(w, axis=0), axis=1) if len(w) > 1 else np.zeros(0)
+    total = float(seg.sum())
+    if total <= 0.0:
+        z = np.zeros((len(t), n))
+        return t, np.broadcast_to(w[0], (len(t), n)).copy(), z, z.copy()
+    dur = T * seg / total
+    bp = np.concatenate(([0.0], np.cumsum(dur)))
+    bp[-1] = T
+    inner = (bp[:-1, None] + dur[:, None] * np.array([0.25, 0.5, 0.75])).ravel()
+    t = np.unique(np.concatenate((t, bp, inner)))
+    j = np.clip(np.searchsorted(bp, t, side="right") - 1, 0, len(dur) - 1)
+    live = dur[j] > 0
+    T_j = np.where(live, dur[j], 1.0)
+    u = np.clip((t - bp[j]) / T_j, 0.0, 1.0)
+    d = w[j + 1] - w[j]
+    s, sd, sdd = (f(u)[:, None] for f in _SMOOTHSTEP)
+    q = w[j] + np.where(live[:, None], s, 1.0) * d
+    qd = np.where(live[:, None], sd * d / T_j[:, None], 0.0)
+    qdd = np.where(live[:, None], sdd * d / T_j[:, None] ** 2, 0.0)
+    q[-1] = w[-1]
+    return t, q, qd, qdd

@@ -32,7 +32,12 @@ import ipywidgets as widgets
 from matplotlib.figure import Figure
 
 from rapp import plotting
-from rapp.plotting import _subplots
+from rapp.collision import clearance, collides, line_distance_mis, segment_circle_distance
+from rapp.cspace import JointGrid, occupancy
+from rapp.errors import RappError
+from rapp.planner import plan as run_plan
+from rapp.plotting import subplots
+from rapp.trajectory import cubic, quintic
 
 __all__ = [
     "arm_explorer",
@@ -159,14 +164,12 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90):
     >>> list(sliders_of(w)), "collision" in w.children[2].value
     (['q1 (rad)', 'q2 (rad)'], True)
     """
-    from rapp.collision import clearance, collides
 
     obstacles = tuple(obstacles)
     q0 = np.clip(np.zeros(arm.n) if q is None else np.asarray(q, dtype=float), arm.lower,
                  arm.upper)
     occ = None
     if arm.n == 2:
-        from rapp.cspace import JointGrid, occupancy
 
         grid = JointGrid(arm, cells) if grid is None else grid
         occ = occupancy(arm, obstacles, grid)
@@ -179,7 +182,7 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90):
     def render(**values):
         q = np.array([values[f"q{i}"] for i in range(arm.n)])
         fig = _figure(10.0 if occ is not None else 5.0, 5.0)
-        axs = _subplots(fig, 1, 2 if occ is not None else 1)
+        axs = subplots(fig, 1, 2 if occ is not None else 1)
         ax_w = axs[-1] if occ is not None else axs
         if occ is not None:
             plotting.plot_cspace(occ, grid, axs[0], start=q)
@@ -220,7 +223,6 @@ def collision_explorer(a=(0.0, 0.0), b=(1.0, 0.0), center=(1.6, 0.1), radius=0.3
     >>> "false collision" in w.children[2].value
     True
     """
-    from rapp.collision import line_distance_mis, segment_circle_distance
 
     controls = {
         "ax": _slider("A x (m)", float(a[0]), -extent, extent),
@@ -237,7 +239,7 @@ def collision_explorer(a=(0.0, 0.0), b=(1.0, 0.0), center=(1.6, 0.1), radius=0.3
         seg = float(segment_circle_distance(A, B, C, r))
         line = float(line_distance_mis(A, B, C)) - r
         fig = _figure(5.5, 5.5)
-        axes = _subplots(fig)
+        axes = subplots(fig)
         plotting.plot_segment_circle(A, B, C, r, axes)
         hit, mis_hit = seg <= 0, line <= 0
         false = mis_hit and not hit
@@ -282,8 +284,6 @@ def planner_playground(scenario):
     >>> list(sliders_of(w)), "planned" in w.children[2].value
     (['cells / joint', 'heuristic w', 'goal x (m)', 'goal y (m)'], True)
     """
-    from rapp.errors import RappError
-    from rapp.planner import plan as run_plan
 
     arm = scenario.arm
     cells0 = int(np.max(scenario.planner.cells))
@@ -308,7 +308,7 @@ def planner_playground(scenario):
         try:
             p = run_plan(s)
         except RappError as exc:
-            ax = _subplots(fig)
+            ax = subplots(fig)
             plotting.plot_workspace(arm, ax)
             plotting.plot_obstacles(s.obstacles, ax)
             plotting.plot_arm(arm, np.asarray(s.start, dtype=float), ax, color=plotting.START)
@@ -343,7 +343,6 @@ def trajectory_explorer(t0=0.0, tf=2.0, p0=0.0, pf=1.0, v0=0.0, vf=0.0, a0=0.0, 
     >>> "quintic 1.000, 0.000 (set: 1.000, 0.000)" in w.children[2].value
     True
     """
-    from rapp.trajectory import cubic, quintic
 
     controls = {
         "tf": _slider("tf (s)", float(tf), t0 + 0.2, t0 + 10.0, 0.1),

@@ -2,13 +2,20 @@
 
 Under CI (``CI`` set in the environment, as ``.ci/run`` does) hypothesis runs
 derandomized: the same examples every run, so a landing never depends on luck.
-Locally it explores fresh examples each run, which is how it finds new bugs.
+Locally it explores fresh examples each run, which is how it finds new bugs, and
+remembers failing ones in a database kept in the user's cache folder, never in
+the working tree (a test run leaves the checkout exactly as it found it).
 """
 
 import os
+from pathlib import Path
 
 from hypothesis import settings
+from hypothesis.configuration import set_hypothesis_home_dir
+from hypothesis.database import DirectoryBasedExampleDatabase
 
-settings.register_profile("ci", derandomize=True, print_blob=True)
-if os.environ.get("CI"):
-    settings.load_profile("ci")
+_cache = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rapp" / "hypothesis"
+set_hypothesis_home_dir(str(_cache))  # its constants cache too, not ./.hypothesis
+settings.register_profile("local", database=DirectoryBasedExampleDatabase(str(_cache / "examples")))
+settings.register_profile("ci", derandomize=True, print_blob=True, database=None)
+settings.load_profile("ci" if os.environ.get("CI") else "local")

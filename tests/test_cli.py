@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from rapp.cli import main
-from rapp.planner import load_result
+from rapp.results import load_result
 from rapp.scenario import list_scenarios
 
 GOOD = {"arm": {"link_lengths": [1.0, 1.0]},
@@ -154,7 +154,7 @@ def test_out_round_trips_and_keeps_the_old_result_on_a_crash(capsys, tmp_path, m
     def crash(*a, **k):
         raise RuntimeError("simulated crash while writing")
 
-    monkeypatch.setattr("rapp.planner.json.dumps", crash)
+    monkeypatch.setattr("rapp.results.json.dumps", crash)
     code, out, err = run(capsys, "plan", "default", "--out", str(out_path), "-q")
     assert code == 3 and "internal error" in one_line(err)
     assert out_path.read_bytes() == before

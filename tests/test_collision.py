@@ -7,12 +7,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rapp import (
-    Arm, Circle, Polygon, clearance, closest_point_on_segment, collides, line_distance_mis,
-    path_collision_free, segment_circle_distance, segment_collision_free, segment_hits_circle,
-    segment_hits_polygon, segment_polygon_distance,
+from rapp import Arm, Circle, Polygon, clearance, collides, path_collision_free, segment_collision_free
+from rapp.collision import (
+    closest_point_on_segment, line_distance_mis, link_clearances, motion_bounds,
+    segment_circle_distance, segment_hits_circle, segment_hits_polygon, segment_polygon_distance,
 )
-from rapp.collision import link_clearances, motion_bounds
 
 coord = st.floats(-3, 3)
 point = st.tuples(coord, coord)

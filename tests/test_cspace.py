@@ -8,7 +8,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, grid_q, occupancy
+from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, occupancy
+from rapp.cspace import grid_q
 
 
 def tm_hits_circle(a, b, c, r):

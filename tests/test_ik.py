@@ -36,7 +36,7 @@ def wrap_close(a, b, atol=1e-7):
 def test_2link_fk_of_ik_is_target_and_counts(l1, l2, frac, angle):
     target, r = annulus_point(l1, l2, frac, angle)
     arm = Arm([l1, l2])
-    q = ik_2link(arm, target)
+    q = ik(arm, target)
     assert np.abs(arm.end_effector(q) - target).max() <= ACC
     assert np.all((q >= -np.pi) & (q < np.pi))
     on_edge = min(abs(r - (l1 + l2)), abs(r - abs(l1 - l2))) <= 1e-10
@@ -63,7 +63,7 @@ def test_boundary_circles_give_exactly_one_solution(l1, l2):
     for r, q2 in ((l1 + l2, 0.0), (abs(l1 - l2), -np.pi)):
         for ang in np.linspace(-3, 3, 7):
             target = r * np.array([np.cos(ang), np.sin(ang)])
-            q = ik_2link(arm, target)
+            q = ik(arm, target)
             assert q.shape == (1, 2)
             assert abs(wrap_angle(q[0, 1] - q2)) < 1e-12
             assert np.abs(arm.end_effector(q) - target).max() <= ACC
@@ -72,18 +72,18 @@ def test_boundary_circles_give_exactly_one_solution(l1, l2):
 @pytest.mark.parametrize("target", [[2.0 + 1e-6, 0.0], [0.0, 3.0], [0.2, 0.2]])
 def test_out_of_reach(target):
     with pytest.raises(NoIKSolution) as err:
-        ik_2link([1.0, 0.6] if target == [0.2, 0.2] else [1.0, 1.0], target)
+        ik(Arm([1.0, 0.6] if target == [0.2, 0.2] else [1.0, 1.0]), target)
     assert err.value.reason == "out of reach"
 
 
 def test_limits_drop_solutions_and_name_the_reason():
     target = [1.0, 1.0]
     down_only = Arm([1.0, 1.0], [None, (0.0, np.pi)])
-    q = ik_2link(down_only, target)
+    q = ik(down_only, target)
     assert q.shape == (1, 2) and q[0, 1] > 0
     neither = Arm([1.0, 1.0], [(-0.5, -0.1), None])
     with pytest.raises(NoIKSolution) as err:
-        ik_2link(neither, target)
+        ik(neither, target)
     assert err.value.reason == "joint limits"
 
 
@@ -94,7 +94,7 @@ def test_limits_respected_with_2pi_equivalents(l1, l2, frac, angle, lo1, w1, lo2
     arm = Arm([l1, l2], [(lo1, lo1 + w1), (lo2, lo2 + w2)])
     free = Arm([l1, l2])
     target, _ = annulus_point(l1, l2, frac, angle)
-    free_q = ik_2link(free, target)
+    free_q = ik(free, target)
     # Oracle: a free solution survives iff some 2 pi shift of each joint fits.
     k = np.arange(-3, 4) * 2 * np.pi
     fits = [np.any((row[:, None] + k >= arm.lower[:, None] - 1e-12)
@@ -102,16 +102,38 @@ def test_limits_respected_with_2pi_equivalents(l1, l2, frac, angle, lo1, w1, lo2
             for row in free_q]
     if not any(fits):
         with pytest.raises(NoIKSolution) as err:
-            ik_2link(arm, target)
+            ik(arm, target)
         assert err.value.reason == "joint limits"
         return
-    q = ik_2link(arm, target)
+    q = ik(arm, target)
     assert np.all(arm.within_limits(q))
     assert np.abs(arm.end_effector(q) - target).max() <= ACC
     # every returned row is one of the free solutions, modulo 2 pi
     for row in q:
         assert any(wrap_close(row, f) for f in free_q)
     assert q.shape[0] >= sum(fits)
+
+
+@settings(max_examples=100, deadline=None)
+@given(lengths_st, lengths_st, st.integers(0, 2**32 - 1))
+def test_batched_2link_matches_one_target_at_a_time(l1, l2, seed):
+    # The batch is the per-target contract of ik() row by row: NaN exactly where ik()
+    # says "out of reach", both elbows (or the boundary solution twice) elsewhere.
+    rng = np.random.default_rng(seed)
+    arm = Arm([l1, l2])
+    pts = rng.uniform(-1.2, 1.2, (40, 2)) * (l1 + l2)
+    both = ik_2link(arm, pts.reshape(4, 10, 2))
+    assert both.shape == (4, 10, 2, 2)
+    both = both.reshape(40, 2, 2)
+    for p, qs in zip(pts, both):
+        try:
+            ref = ik(arm, p)
+        except NoIKSolution:
+            assert np.isnan(qs).all()
+            continue
+        assert np.isfinite(qs).all()
+        assert np.abs(arm.end_effector(qs) - p).max() <= ACC
+        assert all(any(wrap_close(row, r) for row in qs) for r in ref)
 
 
 def test_elbow_down_is_below_the_line_for_a_target_on_x():
@@ -135,7 +157,7 @@ def test_seed002_shoulder_formula_fails_where_atan2_does_not():
     q1_seed = np.arctan(target[1] / target[0]) - np.arcsin(l2 * np.sin(q2) / r)
     seed_err = np.linalg.norm(arm.end_effector([q1_seed, q2]) - target)
     assert seed_err > 0.1
-    ours = ik_2link(arm, target)
+    ours = ik(arm, target)
     assert np.abs(arm.end_effector(ours) - target).max() <= ACC
 
 

@@ -11,9 +11,14 @@ from hypothesis import HealthCheck, assume, event, given, settings, strategies a
 from rapp import Arm, Circle, InvalidValue, NoPathFound, load_scenario, plan, wrap_angle
 from rapp.collision import collides, segment_collision_free
 from rapp.cspace import JointGrid, occupancy
-from rapp.planner import (PLANNERS, GridTooCoarse, Plan, certified_free, load_result,
-                          save_result, shortcut, time_polyline)
+from rapp.cspace import certified_free
+from rapp.errors import GridTooCoarse
+from rapp.paths import shortcut
+from rapp.planner import PLANNERS, STAGES
+from rapp.results import Plan, load_result, save_result
+from rapp.trajectory import time_polyline
 from rapp.scenario import list_scenarios
+from rapp.grid_route import _route_on
 from rapp.verify import verify
 
 SOLVABLE = [n for n in list_scenarios() if n != "no_solution"]
@@ -60,7 +65,7 @@ def test_every_embedded_scenario_plans_and_verifies(plans, name):
     # The timed polyline is certified free segment by segment, and shortcutting only shortens.
     assert segment_collision_free(s.arm, p.shortcut[:-1], p.shortcut[1:], s.obstacles).all()
     assert p.metrics["shortcut_length_rad"] <= p.metrics["waypoint_length_rad"] + 1e-12
-    assert set(p.metrics["stage_times"]) == {"ik", "cspace", "search", "smoothing",
+    assert set(p.timings) == set(STAGES) == {"ik", "cspace", "search", "smoothing",
                                              "trajectory", "verify", "total"}
     if s.goal_xy is not None:
         assert np.hypot(*(p.xy[-1] - s.goal_xy)) <= 1e-3
@@ -105,7 +110,7 @@ def test_save_result_is_atomic(plans, tmp_path, monkeypatch):
     def boom(*a, **k):
         raise OSError("disk full")
 
-    monkeypatch.setattr("rapp.planner.os.replace", boom)
+    monkeypatch.setattr("rapp.files.os.replace", boom)
     with pytest.raises(OSError):
         save_result(plans["default"], path)
     assert path.read_bytes() == before
@@ -224,14 +229,12 @@ def test_random_scenarios_verify_or_bfs_agrees_there_is_no_path(seed, cells, n_o
 def test_search_on_the_plain_occupancy_repairs_uncertified_moves():
     # On the plain occupancy (cell centres only) a coarse grid offers moves that sweep an
     # obstacle; the fallback search must find them, block them and still end certified.
-    from rapp.planner import _goal_configurations, _route_on
-
     s = load_scenario("rectangles")
     grid = JointGrid(s.arm, 40)
     occ = occupancy(s.arm, s.obstacles, grid)
-    goals, _ = _goal_configurations(s)
-    full, metrics = _route_on(s.arm, s.obstacles, grid, occ, s.start_array, goals, s.planner,
-                              certified=False)
+    goals = np.array([s.goal_q])
+    full, metrics = _route_on(s.arm, s.obstacles, grid, occ, s.start_array, goals,
+                              certified=False, heuristic_weight=1.0, max_expansions=None)
     assert metrics["certification_repairs"] > 0
     assert segment_collision_free(s.arm, full[:-1], full[1:], s.obstacles).all()
     assert np.array_equal(full[0], s.start_array)

@@ -20,7 +20,7 @@ def test_readme_python_blocks_run_and_plan_verifies(capsys):
     assert ns["plan"].report.ok
     path = ns["path"]
     assert path[0] == (50, 50) and path[-1] == (10, 80)
-    assert len(path) - 1 == len(rapp.bfs(ns["occupied"], (50, 50), (10, 80))) - 1
+    assert len(path) - 1 == len(rapp.search.bfs(ns["occupied"], (50, 50), (10, 80))) - 1
     assert not any(ns["occupied"][cell] for cell in path)
     solutions = rapp.ik(ns["arm"], (1.2, 0.7))
     assert solutions.shape == (2, 2)

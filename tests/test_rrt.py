@@ -8,7 +8,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rapp import Arm, Circle, NoPathFound, Polygon, collides, segment_collision_free
-from rapp.rrt import alpha_beta_experiment, path_cost, plan_rrt, rrt
+from rapp.cases.rrt_report import alpha_beta_experiment
+from rapp.paths import path_length as path_cost
+from rapp.rrt import plan_rrt, rrt
 
 
 def wrapped(d):

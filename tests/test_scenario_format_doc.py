@@ -23,7 +23,7 @@ import pytest
 import rapp.errors
 from rapp import cli
 from rapp import scenario as sc
-from rapp.planner import plan
+from rapp import plan
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = (ROOT / "book" / "scenario_format.md").read_text(encoding="utf-8")

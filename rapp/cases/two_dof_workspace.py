@@ -1,51 +1,56 @@
-"""Workspace of the 2-link arm and a motion through every IK solution (seed 004).
+"""Case study: the workspace of a 2-link arm and a motion through every IK solution.
 
-Seed 004 states the workspace annulus ``|L1 - L2| <= r <= L1 + L2``, the
-analytic IK ``cos q2 = (x^2 + y^2 - L1^2 - L2^2) / (2 L1 L2)``,
-``q1 = atan2(y, x) - atan2(L2 sin q2, L1 + L2 cos q2)``, and a motion that
-visits every solution of a list of targets, skipping unreachable ones.
+Seed 004 (a 2-DOF arm project) states the workspace annulus
+``|L1 - L2| <= r <= L1 + L2``, the analytic IK (:func:`rapp.ik.ik_2link`
+here), and a motion that visits every solution of a list of targets,
+skipping unreachable ones.
 
-Naming. rapp (like seed 002 and :func:`rapp.ik.ik_2link`) calls ``q2 > 0``
-*elbow-down*: the elbow lies clockwise of the base-to-target line (below it
-for a target on the +x axis). Seed 004 calls ``q2 = +arccos`` "elbow-up";
-with its own shoulder formula that label is swapped (the check is in
-``tests/test_seed004.py``: FK of ``q2 > 0`` puts the elbow below the line).
+Naming. rapp calls ``q2 > 0`` *elbow-down*: the elbow lies clockwise of the
+base-to-target line (below it for a target on the +x axis). Seed 004 calls
+``q2 = +arccos`` "elbow-up"; with its own shoulder formula that label is
+swapped (the check is in ``tests/cases/test_two_dof_workspace.py``: FK of
+``q2 > 0`` puts the elbow below the line).
 
 Everything here is vectorized over targets; no loop runs over targets.
+
+References
+----------
+Seed 004, the 2-DOF arm project (workspace, analytic IK, motion through solutions).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from rapp.arm import wrap_angle
+from rapp.arm import Arm, wrap_angle
+from rapp.ik import ik_2link
+from rapp.paths import unwrap_path
+from rapp.trajectory import cubic_local, polyval
 
 __all__ = [
     "workspace_radii",
     "reachable",
-    "elbow_solutions",
     "interpolate_joints",
     "motion_through_solutions",
 ]
 
 
-def _lengths(lengths):
-    lengths = np.asarray(getattr(lengths, "lengths", lengths), dtype=float)
-    if lengths.shape != (2,) or not np.all(np.isfinite(lengths)) or np.any(lengths <= 0):
-        raise ValueError(f"need two finite positive link lengths, got {lengths.tolist()}")
-    return lengths
+def _arm(lengths) -> Arm:
+    arm = lengths if isinstance(lengths, Arm) else Arm(lengths)
+    if arm.n != 2:
+        raise ValueError(f"need two link lengths, got {arm.n}")
+    return arm
 
 
 def workspace_radii(lengths) -> tuple[float, float]:
-    """Inner and outer circle of the 2-link workspace: ``(|L1 - L2|, L1 + L2)``.
+    """Inner and outer circle of the 2-link workspace: ``(|L1 - L2|, L1 + L2)`` (``Arm.reach``).
 
     Examples
     --------
     >>> workspace_radii([2.0, 1.5])
     (0.5, 3.5)
     """
-    l1, l2 = _lengths(lengths)
-    return (float(abs(l1 - l2)), float(l1 + l2))
+    return _arm(lengths).reach
 
 
 def reachable(lengths, targets, *, tol: float = 1e-12) -> np.ndarray:
@@ -62,31 +67,6 @@ def reachable(lengths, targets, *, tol: float = 1e-12) -> np.ndarray:
     r = np.linalg.norm(np.asarray(targets, dtype=float), axis=-1)
     eps = tol * r_out
     return (r >= r_in - eps) & (r <= r_out + eps)
-
-
-def elbow_solutions(lengths, targets) -> np.ndarray:
-    """Both analytic solutions of every target, shape ``(..., 2, 2)``.
-
-    Index ``[..., 0, :]`` is elbow-down (``q2 >= 0``), ``[..., 1, :]``
-    elbow-up (``q2 <= 0``); on a boundary circle the two coincide (one
-    distinct solution); unreachable targets give ``nan``. ``cos q2`` is
-    clipped to ``[-1, 1]`` only inside the rounding tolerance of
-    :func:`reachable`.
-
-    Examples
-    --------
-    >>> elbow_solutions([1.0, 1.0], [1.0, 1.0]).round(6).tolist()
-    [[0.0, 1.570796], [1.570796, -1.570796]]
-    """
-    l1, l2 = _lengths(lengths)
-    p = np.asarray(targets, dtype=float)
-    x, y = p[..., 0], p[..., 1]
-    ok = reachable((l1, l2), p)
-    c2 = np.clip((x * x + y * y - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0)
-    q2 = np.stack((np.arccos(c2), -np.arccos(c2)), axis=-1)
-    q1 = np.arctan2(y, x)[..., None] - np.arctan2(l2 * np.sin(q2), l1 + l2 * np.cos(q2))
-    q = np.stack((wrap_angle(q1), q2), axis=-1)
-    return np.where(ok[..., None, None], q, np.nan)
 
 
 def interpolate_joints(q0, q1, steps: int, *, wrap: bool = True) -> np.ndarray:
@@ -109,8 +89,8 @@ def interpolate_joints(q0, q1, steps: int, *, wrap: bool = True) -> np.ndarray:
     dq = np.asarray(q1, dtype=float) - q0
     if wrap:
         dq = wrap_angle(dq)
-    u = np.linspace(0.0, 1.0, steps)
-    s = 3 * u**2 - 2 * u**3
+    # The rest-to-rest cubic on normalized time: s(u) = 3 u^2 - 2 u^3.
+    s = polyval(cubic_local(1.0, 0.0, 1.0, 0.0, 0.0), np.linspace(0.0, 1.0, steps))
     return q0[..., None, :] + s[:, None] * dq[..., None, :]
 
 
@@ -144,9 +124,10 @@ def motion_through_solutions(lengths, targets, *, steps: int = 30, q_start=None)
     >>> ok.tolist(), q.shape
     ([True, False], (3, 2))
     """
+    arm = _arm(lengths)
     targets = np.asarray(targets, dtype=float).reshape(-1, 2)
-    flags = reachable(lengths, targets)
-    sols = elbow_solutions(lengths, targets[flags]).reshape(-1, 2)
+    flags = reachable(arm, targets)
+    sols = ik_2link(arm, targets[flags], tol=1e-12 * arm.reach[1]).reshape(-1, 2)
     # On a boundary circle both rows coincide: keep one.
     distinct = np.ones(len(sols), dtype=bool)
     distinct[1::2] = np.any(np.abs(wrap_angle(sols[1::2] - sols[0::2])) > 1e-12, axis=-1)
@@ -158,7 +139,7 @@ def motion_through_solutions(lengths, targets, *, steps: int = 30, q_start=None)
     if len(way) == 1:
         return way.copy(), flags
     # Unwrap the waypoints so each leg takes the short way and the motion is continuous.
-    way = way[0] + np.concatenate(([[0.0, 0.0]], np.cumsum(wrap_angle(np.diff(way, axis=0)), axis=0)))
+    way = unwrap_path(arm, way)
     legs = interpolate_joints(way[:-1], way[1:], steps, wrap=False)  # (w-1, steps, 2)
     q = np.vstack((legs[:, :-1, :].reshape(-1, 2), way[-1:]))
     return q, flags

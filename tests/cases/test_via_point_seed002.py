@@ -2,7 +2,7 @@
 
 Each table is recomputed three ways that must agree: numpy.linalg.solve of the
 seed's own matrix equation (eq. 5-6), rapp.trajectory.cubic, and
-rapp.viapoint.cubic_segment shifted to absolute time. Printed numbers are
+rapp.cases.via_point_detour.cubic_segment shifted to absolute time. Printed numbers are
 compared at their printed precision (half a unit of the last printed digit).
 
 Numbers the seed prints wrong (the tests assert the correct value):
@@ -27,7 +27,7 @@ import pytest
 
 from rapp import Circle
 from rapp.trajectory import cubic, via_points
-from rapp.viapoint import (
+from rapp.cases.via_point_detour import (
     arm_link_distance,
     cubic_segment,
     first_arm_collision,

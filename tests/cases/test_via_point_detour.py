@@ -1,4 +1,4 @@
-"""Properties of rapp.viapoint: exact curve distance, tangent optimality, search constraints."""
+"""Properties of rapp.cases.via_point_detour: exact curve distance, tangent optimality, search constraints."""
 
 import numpy as np
 import pytest
@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 from rapp import Arm, Circle
 from rapp.collision import link_clearances, segment_point_distance
 from rapp.trajectory import cubic
-from rapp.viapoint import (
+from rapp.cases.via_point_detour import (
     _sample_path,
     arm_link_distance,
     cubic_segment,
@@ -97,7 +97,7 @@ def test_arm_distances_agree_with_rapp_collision():
     t, pts = _sample_path(np.array(D), B, C, (0.25, 0.25), (3.0, 5.5, 8.0), 51)
     q = np.array([ik_2link((9, 9), p)[0] for p in pts[::10]])  # slow per-point oracle
     ref = link_clearances(Arm([9, 9]), q, [obs]).min() + obs.radius
-    from rapp.viapoint import _link_distances
+    from rapp.cases.via_point_detour import _link_distances
 
     d1, d2 = _link_distances((9.0, 9.0), pts[::10], obs.center, "down")
     assert np.minimum(d1, d2).min() == pytest.approx(ref, abs=1e-9)

@@ -23,10 +23,9 @@ from hypothesis import strategies as st
 
 from rapp import Arm
 from rapp.arm import wrap_angle
-from rapp.ik import ik_2link
+from rapp.ik import ik, ik_2link
 from rapp.errors import NoIKSolution
-from rapp.workspace import (
-    elbow_solutions,
+from rapp.cases.two_dof_workspace import (
     interpolate_joints,
     motion_through_solutions,
     reachable,
@@ -48,7 +47,7 @@ def test_reachable_matches_a_loop_oracle_and_ik(l1, l2, pts):
         if abs(r - abs(l1 - l2)) > 1e-9 and abs(r - (l1 + l2)) > 1e-9:
             assert f == inside
         try:
-            ik_2link([l1, l2], p)
+            ik(Arm([l1, l2]), p)
             assert f or not inside
         except NoIKSolution:
             assert not f or abs(r - (l1 + l2)) < 1e-9 or abs(r - abs(l1 - l2)) < 1e-9
@@ -60,10 +59,10 @@ def test_both_solutions_reach_the_target_and_agree_with_ik(l1, l2, u, phi):
     r_in, r_out = workspace_radii([l1, l2])
     r = r_in + (0.02 + 0.96 * u) * (r_out - r_in)
     target = r * np.array([np.cos(phi), np.sin(phi)])
-    sols = elbow_solutions([l1, l2], target)
+    sols = ik_2link([l1, l2], target)
     np.testing.assert_allclose(Arm([l1, l2]).end_effector(sols), [target, target], atol=1e-9)
     assert sols[0, 1] > 0 > sols[1, 1]
-    ref = ik_2link([l1, l2], target)
+    ref = ik(Arm([l1, l2]), target)
     if len(ref) == 2:
         assert np.abs(wrap_angle(sols - ref)).max() < 1e-7
 
@@ -73,7 +72,7 @@ def test_both_solutions_reach_the_target_and_agree_with_ik(l1, l2, u, phi):
 def test_seed004_elbow_labels_are_swapped(l1, l2, u, phi):
     r_in, r_out = workspace_radii([l1, l2])
     target = (r_in + u * (r_out - r_in)) * np.array([np.cos(phi), np.sin(phi)])
-    plus = elbow_solutions([l1, l2], target)[0]  # seed 004's "elbow-up (+)"
+    plus = ik_2link([l1, l2], target)[0]  # seed 004's "elbow-up (+)"
     elbow = Arm([l1, l2]).joint_positions(plus)[1]
     cross = target[0] * elbow[1] - target[1] * elbow[0]
     assert cross < 0  # elbow clockwise of the base->target line: elbow DOWN
@@ -82,9 +81,9 @@ def test_seed004_elbow_labels_are_swapped(l1, l2, u, phi):
 def test_solution_counts_0_1_2_and_the_infinite_case():
     L = [2.0, 1.5]
     pts = np.array([[2.5, 0.0], [3.5, 0.0], [0.0, 0.5], [4.0, 0.0], [0.1, 0.0]])
-    counts = [len(ik_2link(L, p)) if f else 0 for p, f in zip(pts, reachable(L, pts))]
+    counts = [len(ik(Arm(L), p)) if f else 0 for p, f in zip(pts, reachable(L, pts))]
     assert counts == [2, 1, 1, 0, 0]
-    sols = elbow_solutions(L, pts)
+    sols = ik_2link(L, pts)
     assert np.isnan(sols[3:]).all() and not np.isnan(sols[:3]).any()
     np.testing.assert_allclose(sols[1, 0], sols[1, 1], atol=1e-7)  # on the outer circle they coincide
     # L1 == L2: the base is reachable with q2 = pi and ANY q1.
@@ -108,7 +107,7 @@ def test_motion_visits_every_solution_and_skips_unreachable(l1, l2, pts, steps):
     q, flags = motion_through_solutions([l1, l2], pts, steps=steps)
     assert flags.tolist() == reachable([l1, l2], pts).tolist()
     assert not np.isnan(q).any()
-    sols = elbow_solutions([l1, l2], pts[flags]).reshape(-1, 2)
+    sols = ik_2link([l1, l2], pts[flags]).reshape(-1, 2)
     arm = Arm([l1, l2])
     ee = arm.end_effector(q)
     for s in sols:  # every solution is a row of the motion (up to 2 pi)

@@ -1,6 +1,7 @@
-"""Obstacle-avoiding via point for cubic via-point trajectories (seed 002, Tasks 2-3).
+"""Case study: an obstacle-avoiding via point for cubic via-point trajectories.
 
-The trajectory is ``start -> via -> goal`` made of two cubic segments in time
+Seed 002 (a cubic-trajectory assignment) steers the tip of a 2-link arm from
+B through a via point D to C around a disc. The trajectory is ``start -> via -> goal`` made of two cubic segments in time
 (seed 002: B at ``t = 3`` with velocity ``v_start``, D at ``t = 5.5`` at rest,
 C at ``t = 8`` at rest). Two answers for the via point D:
 
@@ -27,11 +28,12 @@ longer the length of the path the arm travels.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from math import comb
 
 import numpy as np
 
 from rapp.collision import segment_point_distance
+from rapp.ik import ik_2link
+from rapp.trajectory import cubic_local, polyval, shift_to_absolute, via_points
 
 __all__ = [
     "ViaPoint",
@@ -63,39 +65,32 @@ class ViaPoint:
 def cubic_segment(p0, p1, v0, v1, duration) -> np.ndarray:
     """Cubic from ``(p0, v0)`` to ``(p1, v1)`` in ``duration``: coefficients ``(..., 4, d)``.
 
-    Ascending powers of the local time ``s = t - t0``. Broadcasts over
-    leading axes so that many candidate via points are handled at once.
+    Ascending powers of the local time ``s = t - t0``
+    (:func:`rapp.trajectory.cubic_local`, with the coefficient index moved next
+    to the coordinates). Broadcasts over leading axes so that many candidate
+    via points are handled at once.
 
     Examples
     --------
     >>> cubic_segment([0.0], [3.0], [0.0], [0.25], 3.0).ravel().round(4).tolist()
     [0.0, 0.0, 0.9167, -0.1944]
     """
-    p0, p1, v0, v1 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (p0, p1, v0, v1)))
-    T = float(duration)
-    d = p1 - p0
-    a2 = 3 * d / T**2 - (2 * v0 + v1) / T
-    a3 = -2 * d / T**3 + (v0 + v1) / T**2
-    return np.stack((p0, v0, a2, a3), axis=-2)
+    return np.moveaxis(cubic_local(float(duration), p0, p1, v0, v1), 0, -2)
 
 
 def to_absolute_time(coef, t0) -> np.ndarray:
-    """Rewrite local coefficients (powers of ``t - t0``) in powers of absolute ``t``.
+    """Rewrite local coefficients ``(..., k, d)`` (powers of ``t - t0``) in powers of absolute ``t``.
 
-    Seed 002 prints its tables in absolute time. Works on ``(..., 4, d)``.
+    Seed 002 prints its tables in absolute time
+    (:func:`rapp.trajectory.shift_to_absolute` on the coefficient axis).
 
     Examples
     --------
     >>> to_absolute_time(np.array([[0.0], [1.0], [0.0], [0.0]]), 2.0).ravel().tolist()
     [-2.0, 1.0, 0.0, 0.0]
     """
-    coef = np.asarray(coef, dtype=float)
-    m = coef.shape[-2]
-    # (t - t0)^k = sum_j C(k, j) t^j (-t0)^(k-j)
-    k = np.arange(m)
-    binom = np.array([[comb(int(a), int(b)) for b in k] for a in k], dtype=float)
-    shift = binom * (-float(t0)) ** np.clip(k[:, None] - k[None, :], 0, None)
-    return np.einsum("kj,...kd->...jd", shift, coef)
+    coef = np.moveaxis(np.asarray(coef, dtype=float), -2, 0)
+    return np.moveaxis(shift_to_absolute(coef, float(t0)), 0, -2)
 
 
 def curve_point_distance(coef, duration, point):
@@ -199,12 +194,9 @@ def _sample_path(via, start, goal, v_start, times, samples):
 
 
 def _ik(lengths, p, elbow):
-    l1, l2 = lengths
-    x, y = p[..., 0], p[..., 1]
-    c2 = np.clip((x * x + y * y - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0)
-    q2 = np.arccos(c2) * (1.0 if elbow == "down" else -1.0)
-    q1 = np.arctan2(y, x) - np.arctan2(l2 * np.sin(q2), l1 + l2 * np.cos(q2))
-    return q1, q2
+    """Joint angles of the tip positions ``p`` (..., 2) on one elbow branch (``"down"``/``"up"``)."""
+    q = ik_2link(lengths, p)[..., 0 if elbow == "down" else 1, :]
+    return q[..., 0], q[..., 1]
 
 
 def _link_distances(lengths, p, center, elbow):
@@ -405,15 +397,11 @@ def peak_rates(traj, samples: int = 2001):
     >>> [round(v, 6) for v in peak_rates(pp)]      # rest-to-rest cubic: 1.5 d/T and 6 d/T^2
     [3.75, 7.5]
     """
-    bp = np.asarray(traj.breakpoints, dtype=float)
-    c = np.asarray(traj.coefficients, dtype=float)  # (m, k, d) ascending absolute time
-    u = np.linspace(0.0, 1.0, samples)
-    t = bp[:-1, None] + u * np.diff(bp)[:, None]  # (m, samples)
-    k = np.arange(c.shape[1])
-    d1 = (c * k[:, None])[:, 1:, :]
-    d2 = (d1 * k[:-1, None])[:, 1:, :]
-    v = np.einsum("msk,mkd->msd", t[..., None] ** k[:-1], d1)
-    a = np.einsum("msk,mkd->msd", t[..., None] ** k[:-2], d2)
+    h = np.diff(np.asarray(traj.breakpoints, dtype=float))
+    tau = np.linspace(0.0, 1.0, samples)[:, None] * h  # (samples, m): local times of each segment
+    local = np.moveaxis(np.asarray(traj.local, dtype=float), 0, -2)  # (k, m, d)
+    v = polyval(local[:, None], tau[..., None], 1)  # (samples, m, d)
+    a = polyval(local[:, None], tau[..., None], 2)
     return float(np.linalg.norm(v, axis=-1).max()), float(np.linalg.norm(a, axis=-1).max())
 
 
@@ -437,8 +425,6 @@ def spline_vs_cubic(times, positions, velocities, samples: int = 2001):
     >>> out["spline"][1] < out["cubic"][1]
     True
     """
-    from rapp.trajectory import via_points
-
     vel = np.asarray(velocities, dtype=float)
     cub = via_points(times, positions, velocities=vel, profile="cubic")
     spl = via_points(times, positions, velocities=vel[[0, -1]], profile="spline")

@@ -1,4 +1,4 @@
-"""Seed 003 (the 3-link RRT report): its conventions, its numbers, and its experiment set-up.
+"""Case study: the 3-link RRT report (seed 003), its conventions, its numbers and its experiment.
 
 The report measures angles from the +y axis, clockwise positive:
 ``x = sum l_i sin(Theta_i)``, ``y = sum l_i cos(Theta_i)`` with
@@ -25,8 +25,12 @@ import numpy as np
 import sympy as sp
 
 from rapp.arm import Arm
+from rapp.collision import path_collision_free
+from rapp.cspace import JointGrid, occupancy
 from rapp.obstacles import Polygon
-from rapp.rrt import path_cost, rrt
+from rapp.paths import path_length
+from rapp.rrt import rrt
+from rapp.search import astar
 
 __all__ = [
     "THETA_LIMIT",
@@ -43,6 +47,7 @@ __all__ = [
     "seed_arm",
     "seed_square",
     "compare_with_astar",
+    "alpha_beta_experiment",
 ]
 
 THETA_LIMIT = 1.5
@@ -191,10 +196,6 @@ def compare_with_astar(arm, start, goal, obstacles, *, cells=32, rrt_settings=No
     >>> round(out["astar_cost"], 6), out["straight_distance"]
     (1.0, 1.0)
     """
-    from rapp.collision import path_collision_free
-    from rapp.cspace import JointGrid, occupancy
-    from rapp.search import astar
-
     start = np.asarray(start, dtype=float)
     goal = np.asarray(goal, dtype=float)
     t0 = time.perf_counter()
@@ -211,9 +212,81 @@ def compare_with_astar(arm, start, goal, obstacles, *, cells=32, rrt_settings=No
         "rrt_seconds": t1 - t0,
         "rrt_iterations": res.iterations,
         "rrt_nodes": int(res.nodes.shape[0]),
-        "astar_cost": path_cost(q),
+        "astar_cost": path_length(q),
         "astar_seconds": t2 - t1,
         "astar_cells": len(cells_path),
         "astar_certified": bool(path_collision_free(arm, q, obstacles)),
         "straight_distance": float(np.linalg.norm(goal - start)),
+    }
+
+
+def alpha_beta_experiment(
+    arm,
+    start,
+    goal_xy,
+    obstacles,
+    alphas,
+    betas,
+    trials: int,
+    seed=0,
+    *,
+    goal=None,
+    steer: str = "fraction",
+    goal_threshold: float = 0.05,
+    max_iterations: int = 2000,
+) -> dict:
+    """Seed 003's experiment: success rate, path cost and iterations over a grid of alpha and beta.
+
+    Every ``(alpha, beta)`` cell runs the same ``trials`` seeds (common random
+    numbers, so that cells differ by the parameters and not by luck).
+
+    Parameters
+    ----------
+    alphas, betas : array_like, shape (A,), (B,)
+    trials : int
+    goal : array_like, optional
+        A goal configuration for goal-biased samples (the report's ``qGoal``).
+    steer : {"fraction", "step"}
+        ``"fraction"`` is the report's rule.
+
+    Returns
+    -------
+    dict of ndarray
+        ``alpha`` (A,), ``beta`` (B,), and of shape (A, B): ``success_rate``,
+        ``mean_cost`` (over successful trials, ``nan`` if none),
+        ``mean_iterations`` (over all trials; a failure counts
+        ``max_iterations``).
+
+    Examples
+    --------
+    >>> out = alpha_beta_experiment(Arm([1.0, 1.0]), [0.0, 0.0], [0.0, 2.0], [], [0.5], [1.0], 2)
+    >>> out["success_rate"].tolist(), out["mean_iterations"].tolist()
+    ([[1.0]], [[9.0]])
+    """
+    alphas = np.asarray(alphas, dtype=float).reshape(-1)
+    betas = np.asarray(betas, dtype=float).reshape(-1)
+    seeds = np.random.SeedSequence(seed).spawn(int(trials))
+    shape = (alphas.size, betas.size, int(trials))
+    ok = np.zeros(shape, dtype=bool)
+    cost = np.full(shape, np.nan)
+    iters = np.zeros(shape)
+    for a, alpha in enumerate(alphas):
+        for b, beta in enumerate(betas):
+            for t, s in enumerate(seeds):
+                r = rrt(
+                    arm, start, goal, obstacles, goal_xy=goal_xy, step=alpha, goal_bias=beta,
+                    goal_threshold=goal_threshold, max_iterations=max_iterations, seed=s,
+                    steer=steer, raise_on_failure=False,
+                )
+                ok[a, b, t], iters[a, b, t] = r.success, r.iterations
+                if r.success:
+                    cost[a, b, t] = r.cost
+    with np.errstate(invalid="ignore"):
+        with_cost = np.where(ok, cost, 0.0).sum(-1) / ok.sum(-1)
+    return {
+        "alpha": alphas,
+        "beta": betas,
+        "success_rate": ok.mean(-1),
+        "mean_cost": np.where(ok.any(-1), with_cost, np.nan),
+        "mean_iterations": iters.mean(-1),
     }

@@ -7,13 +7,14 @@ it with an independent derivation (sympy, finite differences, dense sampling).
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from rapp import Arm, NoPathFound, Polygon, collides, jacobian, segment_collision_free
 from rapp.collision import segment_hits_polygon
-from rapp.rrt import alpha_beta_experiment, rrt
-from rapp.seed003 import (
+from rapp.rrt import rrt
+from rapp.cases.rrt_report import (
+    alpha_beta_experiment,
     GOAL_THETA,
     SQUARE_SIDE,
     START_THETA,
@@ -137,7 +138,9 @@ def _dense_hits(a, b, poly, k=3000):
     e = np.roll(v, -1, axis=0) - v
     rel = pts[:, None, :] - v
     cross = (e[:, 0] * rel[..., 1] - e[:, 1] * rel[..., 0]) / np.linalg.norm(e, axis=-1)
-    margin = np.linalg.norm(b - a) / (k - 1)
+    # One sample spacing, and never less than rounding: a zero-length segment on a corner
+    # would otherwise be held to a tolerance of exactly zero.
+    margin = max(np.linalg.norm(b - a) / (k - 1), 1e-12 * (1.0 + np.abs(v).max()))
     # Inside by more than rounding (an exact touch is decided by the last bit: see the lead's
     # notes), or within one sample spacing of the polygon.
     assert np.array_equal(poly.contains(pts), (cross >= 0).all(-1))  # same test as contains
@@ -150,6 +153,10 @@ point = st.tuples(st.floats(-2, 2), st.floats(-2, 2)).map(np.array)
 @settings(max_examples=200, deadline=None)
 @given(a=point, b=point, c=point, w=st.floats(0.1, 1.5), h=st.floats(0.1, 1.5),
        ang=st.floats(-np.pi, np.pi))
+@example(a=np.array([-8.970470336602435e-308, 0.0]), b=np.array([-8.970470336602435e-308, 0.0]),
+         c=np.array([0.0, 0.0]), w=1.0, h=1.0, ang=-2.0)   # a point on a corner, found once
+@example(a=np.array([1e-133, 0.0]), b=np.array([1e-133, 0.0]), c=np.array([0.0, 0.0]),
+         w=0.5, h=0.5, ang=0.3)
 def test_separating_axes_agree_with_dense_sampling(a, b, c, w, h, ang):
     rect = Polygon.rectangle(c, w, h, ang)
     sat = bool(segment_hits_polygon(a, b, rect))

@@ -1,0 +1,132 @@
+"""Joint-space polylines: unwrapping, repeats, length, shortcutting, and the route a planner returns.
+
+A path is an array ``(k, n)`` of configurations joined by straight joint-space
+segments. On a free joint the angle is *unwrapped* along a path (it may leave
+``[-pi, pi)``) so that the straight segment between two waypoints is the short
+way round, the motion the collision check certified.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from rapp.arm import Arm
+from rapp.collision import segment_collision_free
+
+__all__ = ["Route", "unwrap_near", "unwrap_path", "drop_repeats", "path_length", "shortcut"]
+
+
+@dataclass(frozen=True)
+class Route:
+    """What a planner hands the pipeline: a certified unwrapped polyline from the start to a goal.
+
+    Attributes
+    ----------
+    waypoints : ndarray (m, n)
+        Every straight segment between consecutive rows is certified free.
+    goal_q : ndarray (n,)
+        The goal configuration reached (the last waypoint).
+    grid, occupancy
+        The joint grid and its occupancy, for a grid planner (else None).
+    metrics : dict
+        Planner-specific counts (expansions, tree nodes, ...): deterministic.
+    times : dict
+        Wall-clock seconds of the planner's stages (``cspace``, ``search``).
+    """
+
+    waypoints: np.ndarray
+    goal_q: np.ndarray
+    grid: Any = None
+    occupancy: np.ndarray | None = None
+    metrics: dict = field(default_factory=dict)
+    times: dict = field(default_factory=dict)
+
+
+def unwrap_near(arm: Arm, q, ref) -> np.ndarray:
+    """``q`` moved by whole turns on free joints to lie within pi of ``ref``.
+
+    Examples
+    --------
+    >>> unwrap_near(Arm([1.0, 1.0]), [-3.0, 0.0], [3.0, 0.0]).round(4).tolist()
+    [3.2832, 0.0]
+    """
+    q = np.asarray(q, float)
+    return np.where(arm.limited, q, np.asarray(ref, float) + arm.joint_delta(ref, q))
+
+
+def unwrap_path(arm: Arm, path) -> np.ndarray:
+    """Unwrap free-joint columns so consecutive configurations differ by the short way.
+
+    Examples
+    --------
+    >>> unwrap_path(Arm([1.0]), [[3.0], [-3.0]]).round(4).tolist()
+    [[3.0], [3.2832]]
+    """
+    path = np.asarray(path, float).copy()
+    free = ~arm.limited
+    if free.any() and len(path) > 1:
+        path[:, free] = np.unwrap(path[:, free], axis=0)
+    return path
+
+
+def drop_repeats(path, eps: float = 1e-12) -> np.ndarray:
+    """Drop consecutive repeats (zero-length segments); the last waypoint is always kept.
+
+    Examples
+    --------
+    >>> drop_repeats([[0.0], [0.0], [1.0], [1.0]]).tolist()
+    [[0.0], [1.0]]
+    """
+    path = np.asarray(path, float)
+    if len(path) < 2:
+        return path
+    keep = np.concatenate(([True], np.linalg.norm(np.diff(path, axis=0), axis=1) > eps))
+    keep[-1] = True
+    out = path[keep]
+    if len(out) >= 2 and np.linalg.norm(out[-1] - out[-2]) <= eps:
+        out = np.delete(out, -2, axis=0)
+    return out
+
+
+def path_length(path) -> float:
+    """Joint-space length of a polyline: the sum of its segments' Euclidean lengths (rad).
+
+    Examples
+    --------
+    >>> path_length([[0.0, 0.0], [0.3, 0.4], [0.3, 1.4]])
+    1.5
+    """
+    p = np.asarray(path, dtype=float)
+    if p.shape[0] < 2:
+        return 0.0
+    return float(np.linalg.norm(np.diff(p, axis=0), axis=-1).sum())
+
+
+def shortcut(arm: Arm, path, obstacles) -> np.ndarray:
+    """Greedy shortcutting: from each kept waypoint, jump to the farthest certified-free one.
+
+    ``path`` (m, n) must be unwrapped with every consecutive segment certified
+    free; the result keeps the first and last waypoints and every segment of it
+    is certified free too. Each step tests all later waypoints in one batch.
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> arm = Arm([1.0, 1.0])
+    >>> shortcut(arm, [[0, 0], [0.1, 0], [0.2, 0], [0.3, 0]], [Circle((0, 1.5), 0.3)]).tolist()
+    [[0.0, 0.0], [0.3, 0.0]]
+    """
+    path = np.asarray(path, float)
+    if len(path) <= 2:
+        return path.copy()
+    keep = [0]
+    i = 0
+    while i < len(path) - 1:
+        free = segment_collision_free(arm, path[i], path[i + 1:], obstacles)
+        ahead = np.flatnonzero(free)
+        i = i + 1 + (int(ahead[-1]) if ahead.size else 0)
+        keep.append(i)
+    return path[keep]
