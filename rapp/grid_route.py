@@ -22,13 +22,14 @@ from itertools import product
 import numpy as np
 
 from rapp.arm import Arm
-from rapp.collision import segment_collision_free
+from rapp.collision import motion_bounds, segment_collision_free
 from rapp.cspace import JointGrid, certified_free, occupancy
 from rapp.errors import GridTooCoarse, NoPathFound
+from rapp.obstacles import Circle
 from rapp.paths import Route, unwrap_near, unwrap_path
 from rapp.search import astar_search, bfs_distances
 
-__all__ = ["anchor_cell", "grid_route"]
+__all__ = ["anchor_cell", "grid_route", "grid_step_motion", "obstacle_size"]
 
 
 def anchor_cell(arm: Arm, obstacles, grid: JointGrid, blocked, q) -> np.ndarray | None:
@@ -86,7 +87,36 @@ def _anchors(arm, obstacles, grid, blocked, start, goal_qs):
     return s_cell, np.array([a for a, _ in anchors]), np.array([g for _, g in anchors], float)
 
 
-def _nearest_reachable_goal(grid, blocked, s_cell, g_cells, coarse: bool):
+def obstacle_size(obstacle) -> float:
+    """Half the thickness of an obstacle: its radius, or half a convex polygon's smallest width.
+
+    Examples
+    --------
+    >>> from rapp import Circle, Polygon
+    >>> obstacle_size(Circle((0, 0), 0.3)), obstacle_size(Polygon.rectangle((0, 0), 2.0, 0.5))
+    (0.3, 0.25)
+    """
+    if isinstance(obstacle, Circle):
+        return float(obstacle.radius)
+    v = obstacle.array
+    e = np.roll(v, -1, axis=0) - v
+    normals = np.stack((e[:, 1], -e[:, 0]), axis=-1) / np.linalg.norm(e, axis=1)[:, None]
+    proj = v @ normals.T
+    return 0.5 * float((proj.max(axis=0) - proj.min(axis=0)).min())
+
+
+def grid_step_motion(arm: Arm, grid: JointGrid) -> float:
+    """How far one step of ``grid`` along any axis can move a point of the arm (m).
+
+    Examples
+    --------
+    >>> round(grid_step_motion(Arm([1.0, 1.0]), JointGrid(Arm([1.0, 1.0]), 4)), 4)
+    3.1416
+    """
+    return float(motion_bounds(arm, np.diag(grid.step)).max())
+
+
+def _nearest_reachable_goal(grid, blocked, s_cell, g_cells, coarse: bool, why: str = ""):
     """Index of the goal cell nearest the start in grid steps, and that number of steps.
 
     Raises NoPathFound (GridTooCoarse when ``coarse``) with the proof attached
@@ -99,7 +129,7 @@ def _nearest_reachable_goal(grid, blocked, s_cell, g_cells, coarse: bool):
         msg = (f"no collision-free path: the {shape_txt} grid holds no path from the "
                f"start to any of the {len(g_cells)} goal configuration(s) "
                f"({int((dist >= 0).sum())} cells are reachable)")
-        err = GridTooCoarse(msg) if coarse else NoPathFound(msg)
+        err = GridTooCoarse(msg + why) if coarse else NoPathFound(msg)
         # What was searched, so that a test can re-check the proof independently.
         err.start_cell, err.goal_cells = tuple(int(i) for i in s_cell), g_cells.copy()
         raise err
@@ -133,14 +163,24 @@ def _route_on(arm, obstacles, grid, blocked, start, goal_qs, *, certified: bool,
     move is checked and a failing one blocks its cell and the search repeats.
     """
     s_cell, g_cells, g_qs = _anchors(arm, obstacles, grid, blocked, start, goal_qs)
+    # The grid tests cell centres only, so its "no path" is a proof about the scene only when
+    # one step moves the arm less than the thinnest obstacle is thick: then no obstacle can
+    # lie between the centres of two neighbouring cells unseen.
+    motion = grid_step_motion(arm, grid)
+    thinnest = min((obstacle_size(ob) for ob in obstacles), default=np.inf)
+    resolves = motion <= thinnest
+    why = "" if resolves else (
+        f"; one step of this grid moves the arm up to {motion:.3g} m, more than the thinnest "
+        f"obstacle's half-thickness {thinnest:.3g} m, so a finer grid (planner.cells) may find one")
     work = blocked.copy()
     repairs = expansions = 0
     certified_keys = np.zeros(0, np.int64)
     best = None
     while True:
         if best is None:
-            best, bfs_optimum = _nearest_reachable_goal(grid, work, s_cell, g_cells,
-                                                        coarse=bool(repairs or certified))
+            best, bfs_optimum = _nearest_reachable_goal(
+                grid, work, s_cell, g_cells, coarse=bool(repairs or certified or not resolves),
+                why=why)
         try:
             res = astar_search(work, tuple(s_cell), tuple(g_cells[best]), wraps=grid.wraps,
                                heuristic_weight=heuristic_weight, max_expansions=max_expansions)

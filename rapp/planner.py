@@ -88,12 +88,32 @@ STAGES = ("ik", "cspace", "search", "smoothing", "trajectory", "verify", "total"
 PLANNERS: Mapping[str, Callable] = MappingProxyType({"astar": _plan_astar, "rrt": _plan_rrt})
 
 
+def _sample_times(duration: float, samples: int, breakpoints) -> np.ndarray:
+    """``samples`` even times, plus each breakpoint and three inner times of every piece that
+    the even times leave with fewer than three samples inside.
+
+    The verification bounds the motion between consecutive samples by their velocities and
+    accelerations; a polynomial piece seen only at its two ends (a rest-to-rest quintic has
+    zero velocity and acceleration there) would look like a jump.
+    """
+    t = np.linspace(0.0, duration, samples)
+    bp = np.asarray(breakpoints, float)
+    inside = np.searchsorted(t, bp[1:], side="left") - np.searchsorted(t, bp[:-1], side="right")
+    sparse = np.flatnonzero(inside < 3)
+    if sparse.size:
+        h = np.diff(bp)[sparse, None]
+        extra = bp[sparse, None] + h * np.array([0.0, 0.25, 0.5, 0.75, 1.0])
+        t = np.unique(np.concatenate((t, extra.ravel())))
+    t[-1] = duration
+    return t
+
+
 def _time_smooth(arm, obs, path, tr):
     """The requested smooth profile of ``tr`` (TrajectorySettings) if it stays free and within
     limits, else ``time_polyline``."""
     if len(path) >= 2:
-        t = np.linspace(0.0, tr.duration, tr.samples)
         pp = time_path(path, tr.duration, profile=tr.profile)
+        t = _sample_times(tr.duration, tr.samples, pp.breakpoints)
         q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
         good = (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
                 and np.abs(q[0] - path[0]).max() <= 1e-9

@@ -178,9 +178,21 @@ def rrt(
             return np.linalg.norm(p - gxy) <= goal_threshold
         return np.min(np.linalg.norm(arm.joint_delta(q, goals), axis=-1)) <= goal_threshold
 
+    def arrive(i) -> int:
+        """The node that ends the path when node ``i`` reached the goal region, or -1.
+
+        With a joint goal the path must end exactly on a goal configuration: the last edge
+        to it is certified too, and when it is not free the tree keeps growing.
+        """
+        if not reached(tree.nodes[i], tree.xy[i]):
+            return -1
+        if goals is not None and gxy is None:
+            return _join_goal(arm, obstacles, tree, i, goals)
+        return i
+
     rng = np.random.default_rng(seed)
     grow = _Grower(arm, obstacles, tree, goals, gxy, step, steer, goal_bias)
-    hit = 0 if reached(tree.nodes[0], tree.xy[0]) else -1
+    hit = arrive(0)
     it = 0
     while hit < 0 and it < max_iterations:
         batch = grow.draw(rng)
@@ -188,12 +200,10 @@ def rrt(
             if hit >= 0 or it >= max_iterations:
                 break
             it += 1
-            if grow.extend(batch, k) and reached(tree.nodes[-1], tree.xy[-1]):
-                hit = tree.m - 1
+            if grow.extend(batch, k):
+                hit = arrive(tree.m - 1)
     if hit < 0:
         return fail(f"RRT reached no goal in {max_iterations} iterations", it)
-    if goals is not None and gxy is None:
-        hit = _join_goal(arm, obstacles, tree, hit, goals)
     path = _unwrapped_path(arm, tree, hit, start)
     return RRTResult(path, tree.nodes.copy(), tree.parent.copy(), it, True, path_length(path))
 
@@ -327,14 +337,15 @@ class _Grower:
 
 
 def _join_goal(arm, obstacles, tree, hit, goals) -> int:
-    """End exactly at the nearest goal when that last edge is free too; the new last node."""
+    """Join node ``hit`` to its nearest goal by a certified edge: the goal's node index, or -1."""
     gd = arm.joint_delta(tree.nodes[hit], goals)
     g = int(np.argmin(np.einsum("ij,ij->i", gd, gd)))
-    if np.any(gd[g] != 0) and segment_collision_free(arm, tree.nodes[hit], tree.nodes[hit] + gd[g],
-                                                     obstacles):
+    if not np.any(gd[g] != 0):
+        return hit
+    if segment_collision_free(arm, tree.nodes[hit], tree.nodes[hit] + gd[g], obstacles):
         tree.add(goals[g], hit)
         return tree.m - 1
-    return hit
+    return -1
 
 
 def _unwrapped_path(arm, tree, hit, start) -> np.ndarray:

@@ -46,19 +46,69 @@ __all__ = [
     "L_MIN",
     "L_MAX",
     "R_MAX",
-    "MAX_CELLS",
+    "max_cells",
+    "MEMORY_BUDGET",
+    "MIN_LENGTH",
+    "MAX_LENGTH",
+    "MAX_COORDINATE",
+    "MAX_ANGLE",
+    "MIN_DURATION",
+    "MAX_DURATION",
+    "MAX_LINKS",
 ]
 
 #: SRS Table 4 software ranges (warnings, not errors).
 L_MIN, L_MAX, R_MAX = 0.1, 2.0, 0.5
-#: Largest joint grid accepted. The search keeps about ``BYTES_PER_CELL`` bytes
-#: per cell (occupancy, distances, parents, closed set), so this caps memory
-#: near 0.5 GB.
-MAX_CELLS = 20_000_000
-BYTES_PER_CELL = 26
+#: Physical ranges (errors): every length (link, radius, width, height) in metres, every
+#: coordinate, every angle in radians, the duration in seconds. Wide enough for any arm a
+#: planar planner is used on (millimetres to kilometres), narrow enough that every number the
+#: pipeline derives from them stays far from overflow and rounding trouble.
+MIN_LENGTH, MAX_LENGTH = 1e-3, 1e3
+MAX_COORDINATE = 1e4
+MAX_ANGLE = 100.0
+MIN_DURATION, MAX_DURATION = 1e-3, 1e6
+MAX_LINKS = 16
+MAX_HEURISTIC_WEIGHT = 100.0
+MAX_GOAL_THRESHOLD = 1.0
+#: Peak resident memory the grid pipeline may use (bytes). Every accepted scenario stays
+#: under 2 GB: the budget leaves room for Python, numpy and the rest of the process.
+MEMORY_BUDGET = 1.5e9
+#: Peak bytes per grid cell of the whole pipeline (occupancy, certified cells, search,
+#: shortcut, timing, verification), measured by ``benchmarks/bench_memory.py`` and recorded
+#: in ``benchmarks/results/memory.json``; an arm with n joints needs about
+#: ``BYTES_PER_CELL_FIXED + BYTES_PER_CELL_PER_JOINT * n`` bytes per cell.
+BYTES_PER_CELL_FIXED = 60
+BYTES_PER_CELL_PER_JOINT = 80
+#: Joints up to which A* on a grid is the default planner; above it the default is RRT,
+#: because a grid fine enough to plan on would not fit in memory.
+GRID_DEFAULT_MAX_JOINTS = 6
 MAX_FILE_BYTES = 10_000_000
 MAX_SAMPLES = 1_000_000
 ALGORITHMS = ("astar", "rrt")
+
+
+def max_cells(n: int) -> int:
+    """The largest joint grid (total cells) accepted for an arm of ``n`` joints.
+
+    The memory budget divided by the measured peak bytes per cell.
+
+    Examples
+    --------
+    >>> max_cells(2), max_cells(3)
+    (6818181, 5000000)
+    """
+    return int(MEMORY_BUDGET // (BYTES_PER_CELL_FIXED + BYTES_PER_CELL_PER_JOINT * n))
+
+
+def default_cells(n: int) -> int:
+    """Default cells per joint: 100 for up to 2 joints, else about 2 million cells in all.
+
+    Examples
+    --------
+    >>> default_cells(2), default_cells(3), default_cells(6)
+    (100, 126, 11)
+    """
+    return 100 if n <= 2 else max(8, int(round(2e6 ** (1.0 / n))))
 PROFILES = ("cubic", "quintic", "spline")
 
 _TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
@@ -190,6 +240,21 @@ class _NonFinite:
         self.token = token
 
 
+class _HugeInteger(_NonFinite):
+    """Stands for an integer literal too long to be a number of any scenario field.
+
+    Python refuses to convert integers of more than 4300 digits, which would
+    otherwise surface as a parse error of the whole file instead of the field.
+    """
+
+    def __init__(self, digits: str):
+        super().__init__(f"an integer of {len(digits.lstrip('-'))} digits")
+
+
+def _parse_int(digits: str):
+    return int(digits) if len(digits) <= 400 else _HugeInteger(digits)
+
+
 def _pairs(pairs):
     out = {}
     for k, v in pairs:
@@ -225,7 +290,8 @@ def _parse_bytes(raw: bytes) -> Any:
     if not text.strip():
         raise InvalidFormat("the file is empty; expected a JSON object", field="scenario")
     try:
-        return json.loads(text, parse_constant=_NonFinite, object_pairs_hook=_pairs)
+        return json.loads(text, parse_constant=_NonFinite, parse_int=_parse_int,
+                          object_pairs_hook=_pairs)
     except json.JSONDecodeError as e:
         raise InvalidFormat(
             f"not valid JSON: {e.msg} at line {e.lineno} column {e.colno}", field="scenario"
@@ -272,6 +338,8 @@ def _type_name(v) -> str:
 
 
 def _number(v, field: str) -> float:
+    if isinstance(v, _HugeInteger):
+        raise InvalidValue(f"{v.token} is too large", field=field)
     if isinstance(v, _NonFinite):
         raise InvalidValue(f"{v.token} is not a finite number", field=field)
     if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer, np.floating)):
@@ -360,157 +428,192 @@ def _object(v, field: str, required=(), optional=()) -> dict:
 # --------------------------------------------------------------------------- validation
 
 
-def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
-    top = _object(data, "", required=("arm", "start", "goal"), optional=_TOP_KEYS)
-    warnings: list = []
+class _Reader:
+    """Reads the typed fields of one scenario mapping; collects the Table 4 warnings.
 
-    units = _object(top.get("units", {}), "units", optional=("angle", "length"))
-    angle_unit = _string(units.get("angle", "rad"), "units.angle", ("rad", "deg"))
-    _string(units.get("length", "m"), "units.length", ("m",))
-    k = math.pi / 180.0 if angle_unit == "deg" else 1.0
+    ``k`` converts the file's angle unit to radians.
+    """
 
-    def angle(v, f):
-        return _number(v, f) * k
+    def __init__(self, k: float):
+        self.k = k
+        self.warnings: list = []
 
-    def angle_warn(values, f):
+    def angle(self, v, field: str) -> float:
+        a = _number(v, field)
+        if not -MAX_ANGLE <= a * self.k <= MAX_ANGLE:
+            raise InvalidValue(f"|angle| must be at most {MAX_ANGLE:g} rad, got {a:.4g}", field=field)
+        return a * self.k
+
+    def angles(self, values, field: str) -> list:
+        return [self.angle(v, f"{field}[{i}]") for i, v in enumerate(values)]
+
+    def warn_outside_pi(self, values, field: str) -> None:
         for i, a in enumerate(values):
             if not -math.pi - 1e-12 <= a <= math.pi + 1e-12:
-                warnings.append(f"{f}[{i}] = {a:.4g} rad is outside the SRS range [-pi, pi]")
+                self.warnings.append(f"{field}[{i}] = {a:.4g} rad is outside the SRS range [-pi, pi]")
 
-    arm_d = _object(top["arm"], "arm", required=("link_lengths",), optional=("joint_limits",))
-    lengths = _numbers(arm_d["link_lengths"], "arm.link_lengths")
-    if not lengths:
+    def length(self, v, field: str, what: str = "length") -> float:
+        x = _number(v, field)
+        if x <= 0:
+            raise InvalidValue(f"{what} must be > 0 m, got {x:g}", field=field)
+        if not MIN_LENGTH <= x <= MAX_LENGTH:
+            raise InvalidValue(f"{what} must lie in [{MIN_LENGTH:g}, {MAX_LENGTH:g}] m, got {x:g}",
+                               field=field)
+        return x
+
+    def point(self, v, field: str) -> list:
+        xy = _numbers(v, field, 2)
+        for i, c in enumerate(xy):
+            if abs(c) > MAX_COORDINATE:
+                raise InvalidValue(f"coordinates must lie within +-{MAX_COORDINATE:g} m, got {c:g}",
+                                   field=f"{field}[{i}]")
+        return xy
+
+
+def _parse_arm(r: _Reader, v) -> Arm:
+    arm_d = _object(v, "arm", required=("link_lengths",), optional=("joint_limits",))
+    items = _list(arm_d["link_lengths"], "arm.link_lengths")
+    if not items:
         raise InvalidValue("the arm needs at least one link", field="arm.link_lengths")
-    if len(lengths) > 16:
-        raise InvalidValue(f"at most 16 links are supported, got {len(lengths)}",
+    if len(items) > MAX_LINKS:
+        raise InvalidValue(f"at most {MAX_LINKS} links are supported, got {len(items)}",
                            field="arm.link_lengths")
+    lengths = [r.length(x, f"arm.link_lengths[{i}]", "link length") for i, x in enumerate(items)]
     for i, L in enumerate(lengths):
-        if L <= 0:
-            raise InvalidValue(f"link length must be > 0 m, got {L:g}", field=f"arm.link_lengths[{i}]")
         if not L_MIN <= L <= L_MAX:
-            warnings.append(f"arm.link_lengths[{i}] = {L:g} m is outside the SRS range "
-                            f"[{L_MIN}, {L_MAX}] m")
+            r.warnings.append(f"arm.link_lengths[{i}] = {L:g} m is outside the SRS range "
+                              f"[{L_MIN}, {L_MAX}] m")
     n = len(lengths)
     limits_v = arm_d.get("joint_limits")
-    limits = None
-    if limits_v is not None:
-        items = _list(limits_v, "arm.joint_limits", n, f"entries (one per joint; the arm has {n})")
-        limits = []
-        for i, lim in enumerate(items):
-            f = f"arm.joint_limits[{i}]"
-            if lim is None:
-                limits.append(None)
-                continue
-            lo_hi = _list(lim, f, 2, "numbers [lo, hi]")
-            lo, hi = angle(lo_hi[0], f"{f}[0]"), angle(lo_hi[1], f"{f}[1]")
-            if not lo < hi:
-                raise InvalidValue(f"needs lo < hi, got [{lo:.4g}, {hi:.4g}] rad", field=f)
-            if hi - lo > 2 * math.pi + 1e-9:
-                raise InvalidValue(f"spans {hi - lo:.4g} rad > 2 pi; use null for a free joint",
-                                   field=f)
-            angle_warn([lo, hi], f)
-            limits.append((lo, hi))
-    arm = Arm(lengths, limits)
-    r_in, r_out = arm.reach
+    if limits_v is None:
+        return Arm(lengths)
+    items = _list(limits_v, "arm.joint_limits", n, f"entries (one per joint; the arm has {n})")
+    limits = []
+    for i, lim in enumerate(items):
+        f = f"arm.joint_limits[{i}]"
+        if lim is None:
+            limits.append(None)
+            continue
+        lo, hi = r.angles(_list(lim, f, 2, "numbers [lo, hi]"), f)
+        if not lo < hi:
+            raise InvalidValue(f"needs lo < hi, got [{lo:.4g}, {hi:.4g}] rad", field=f)
+        if hi - lo > 2 * math.pi + 1e-9:
+            raise InvalidValue(f"spans {hi - lo:.4g} rad > 2 pi; use null for a free joint", field=f)
+        r.warn_outside_pi([lo, hi], f)
+        limits.append((lo, hi))
+    return Arm(lengths, limits)
 
-    obstacles = []
-    for i, ob in enumerate(_list(top.get("obstacles", []), "obstacles")):
+
+def _parse_obstacle(r: _Reader, ob, f: str):
+    """One obstacle and its distance from the base (for the out-of-reach warning)."""
+    if not isinstance(ob, Mapping):
+        raise InvalidFormat(f"expected a JSON object, got {_type_name(ob)}", field=f)
+    if "type" not in ob:
+        raise MissingParameter("required key 'type' is missing "
+                               "('circle', 'rectangle' or 'polygon')", field=f"{f}.type")
+    kind = _string(ob["type"], f"{f}.type", ("circle", "rectangle", "polygon"))
+    if kind == "circle":
+        d = _object(ob, f, required=("type", "center", "radius"))
+        c = r.point(d["center"], f"{f}.center")
+        rad = r.length(d["radius"], f"{f}.radius", "radius")
+        if rad > R_MAX:
+            r.warnings.append(f"{f}.radius = {rad:g} m is above the SRS r_max = {R_MAX} m")
+        return Circle(c, rad), math.hypot(*c) - rad
+    if kind == "rectangle":
+        d = _object(ob, f, required=("type", "corner", "width", "height"), optional=("angle",))
+        c = r.point(d["corner"], f"{f}.corner")
+        w = r.length(d["width"], f"{f}.width", "width")
+        h = r.length(d["height"], f"{f}.height", "height")
+        poly = Polygon.rectangle(c, w, h, r.angle(d.get("angle", 0.0), f"{f}.angle"))
+        return poly, _distance_from_base(poly)
+    d = _object(ob, f, required=("type", "vertices"))
+    verts = _list(d["vertices"], f"{f}.vertices")
+    if len(verts) < 3:
+        raise InvalidValue(f"a polygon needs at least 3 vertices, got {len(verts)}",
+                           field=f"{f}.vertices")
+    pts = [r.point(v, f"{f}.vertices[{j}]") for j, v in enumerate(verts)]
+    try:
+        poly = Polygon(pts)
+    except ValueError as e:
+        raise InvalidValue(str(e), field=f"{f}.vertices") from None
+    return poly, _distance_from_base(poly)
+
+
+def _parse_obstacles(r: _Reader, v, arm: Arm) -> tuple:
+    out = []
+    for i, ob in enumerate(_list(v, "obstacles")):
         f = f"obstacles[{i}]"
-        if not isinstance(ob, Mapping):
-            raise InvalidFormat(f"expected a JSON object, got {_type_name(ob)}", field=f)
-        if "type" not in ob:
-            raise MissingParameter("required key 'type' is missing "
-                                   "('circle', 'rectangle' or 'polygon')", field=f"{f}.type")
-        kind = _string(ob["type"], f"{f}.type", ("circle", "rectangle", "polygon"))
-        if kind == "circle":
-            d = _object(ob, f, required=("type", "center", "radius"))
-            c = _numbers(d["center"], f"{f}.center", 2)
-            r = _number(d["radius"], f"{f}.radius")
-            if r <= 0:
-                raise InvalidValue(f"radius must be > 0 m, got {r:g}", field=f"{f}.radius")
-            if r > R_MAX:
-                warnings.append(f"{f}.radius = {r:g} m is above the SRS r_max = {R_MAX} m")
-            obstacles.append(Circle(c, r))
-            far = math.hypot(*c) - r
-        elif kind == "rectangle":
-            d = _object(ob, f, required=("type", "corner", "width", "height"), optional=("angle",))
-            c = _numbers(d["corner"], f"{f}.corner", 2)
-            w = _number(d["width"], f"{f}.width")
-            h = _number(d["height"], f"{f}.height")
-            for name, val in (("width", w), ("height", h)):
-                if val <= 0:
-                    raise InvalidValue(f"{name} must be > 0 m, got {val:g}", field=f"{f}.{name}")
-            a = angle(d.get("angle", 0.0), f"{f}.angle")
-            poly = Polygon.rectangle(c, w, h, a)
-            obstacles.append(poly)
-            far = _distance_from_base(poly)
-        else:
-            d = _object(ob, f, required=("type", "vertices"))
-            verts = _list(d["vertices"], f"{f}.vertices")
-            if len(verts) < 3:
-                raise InvalidValue(f"a polygon needs at least 3 vertices, got {len(verts)}",
-                                   field=f"{f}.vertices")
-            pts = [_numbers(v, f"{f}.vertices[{j}]", 2) for j, v in enumerate(verts)]
-            try:
-                poly = Polygon(pts)
-            except ValueError as e:
-                raise InvalidValue(str(e), field=f"{f}.vertices") from None
-            obstacles.append(poly)
-            far = _distance_from_base(poly)
-        if far > r_out:
-            warnings.append(f"{f} lies beyond the arm's reach ({r_out:g} m); it cannot collide")
+        obstacle, far = _parse_obstacle(r, ob, f)
+        if far > arm.reach[1]:
+            r.warnings.append(f"{f} lies beyond the arm's reach ({arm.reach[1]:g} m); it cannot collide")
+        out.append(obstacle)
+    return tuple(out)
 
-    start = [angle(v, f"start[{i}]") for i, v in enumerate(
-        _list(top["start"], "start", n, f"joint angles (the arm has {n} joints)"))]
-    _within_limits(arm, start, "start")
-    angle_warn(start, "start")
 
-    goal_d = _object(top["goal"], "goal", optional=("joints", "position"))
+def _parse_joints(r: _Reader, v, arm: Arm, field: str) -> tuple:
+    n = arm.n
+    q = r.angles(_list(v, field, n, f"joint angles (the arm has {n} joints)"), field)
+    _within_limits(arm, q, field)
+    r.warn_outside_pi(q, field)
+    return tuple(q)
+
+
+def _parse_goal(r: _Reader, v, arm: Arm):
+    """``(goal_q, goal_xy)``, exactly one of them set."""
+    goal_d = _object(v, "goal", optional=("joints", "position"))
     if ("joints" in goal_d) == ("position" in goal_d):
         raise (InvalidFormat if goal_d else MissingParameter)(
             "give exactly one of 'joints' or 'position'", field="goal")
-    goal_q = goal_xy = None
     if "joints" in goal_d:
-        goal_q = [angle(v, f"goal.joints[{i}]") for i, v in enumerate(
-            _list(goal_d["joints"], "goal.joints", n, f"joint angles (the arm has {n} joints)"))]
-        _within_limits(arm, goal_q, "goal.joints")
-        angle_warn(goal_q, "goal.joints")
-    else:
-        goal_xy = _numbers(goal_d["position"], "goal.position", 2)
-        r = math.hypot(*goal_xy)
-        if r > r_out * (1 + 1e-12) or r < r_in * (1 - 1e-12):
-            raise InvalidValue(
-                f"({goal_xy[0]:g}, {goal_xy[1]:g}) is out of reach: its distance {r:.4g} m from "
-                f"the base is outside the workspace annulus [{r_in:g}, {r_out:g}] m",
-                field="goal.position")
+        return _parse_joints(r, goal_d["joints"], arm, "goal.joints"), None
+    goal_xy = r.point(goal_d["position"], "goal.position")
+    dist = math.hypot(*goal_xy)
+    r_in, r_out = arm.reach
+    if dist > r_out * (1 + 1e-12) or dist < r_in * (1 - 1e-12):
+        raise InvalidValue(
+            f"({goal_xy[0]:g}, {goal_xy[1]:g}) is out of reach: its distance {dist:.4g} m from "
+            f"the base is outside the workspace annulus [{r_in:g}, {r_out:g}] m",
+            field="goal.position")
+    return None, tuple(goal_xy)
 
-    planner = _planner(top.get("planner", {}), n, warnings)
-    traj_d = _object(top.get("trajectory", {}), "trajectory",
-                     optional=("duration", "profile", "samples"))
-    duration = _number(traj_d.get("duration", 5.0), "trajectory.duration")
-    if duration <= 0:
-        raise InvalidValue(f"must be > 0 s, got {duration:g}", field="trajectory.duration")
-    trajectory = TrajectorySettings(
+
+def _parse_trajectory(v) -> TrajectorySettings:
+    d = _object(v, "trajectory", optional=("duration", "profile", "samples"))
+    duration = _number(d.get("duration", 5.0), "trajectory.duration")
+    if not MIN_DURATION <= duration <= MAX_DURATION:
+        raise InvalidValue(f"must lie in [{MIN_DURATION:g}, {MAX_DURATION:g}] s, got {duration:g}",
+                           field="trajectory.duration")
+    return TrajectorySettings(
         duration=duration,
-        profile=_string(traj_d.get("profile", "quintic"), "trajectory.profile", PROFILES),
-        samples=_integer(traj_d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES),
+        profile=_string(d.get("profile", "quintic"), "trajectory.profile", PROFILES),
+        samples=_integer(d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES),
     )
-    name = _string(top.get("name", ""), "name")
-    description = _string(top.get("description", ""), "description")
 
+
+def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
+    top = _object(data, "", required=("arm", "start", "goal"), optional=_TOP_KEYS)
+    units = _object(top.get("units", {}), "units", optional=("angle", "length"))
+    angle_unit = _string(units.get("angle", "rad"), "units.angle", ("rad", "deg"))
+    _string(units.get("length", "m"), "units.length", ("m",))
+    r = _Reader(math.pi / 180.0 if angle_unit == "deg" else 1.0)
+    arm = _parse_arm(r, top["arm"])
+    obstacles = _parse_obstacles(r, top.get("obstacles", []), arm)
+    start = _parse_joints(r, top["start"], arm, "start")
+    goal_q, goal_xy = _parse_goal(r, top["goal"], arm)
+    planner = _planner(top.get("planner", {}), arm.n, r.warnings)
+    trajectory = _parse_trajectory(top.get("trajectory", {}))
     scenario = Scenario(
-        arm=arm, obstacles=tuple(obstacles), start=tuple(start),
-        goal_q=None if goal_q is None else tuple(goal_q),
-        goal_xy=None if goal_xy is None else tuple(goal_xy),
-        planner=planner, trajectory=trajectory, name=name, description=description,
-        angle_unit=angle_unit, warnings=tuple(warnings), source=source,
+        arm=arm, obstacles=obstacles, start=start, goal_q=goal_q, goal_xy=goal_xy,
+        planner=planner, trajectory=trajectory, name=_string(top.get("name", ""), "name"),
+        description=_string(top.get("description", ""), "description"),
+        angle_unit=angle_unit, warnings=tuple(r.warnings), source=source,
     )
     if preflight_checks:
         preflight(scenario)
     return scenario
 
 
-def _within_limits(arm: Arm, q: list, field: str) -> None:
+def _within_limits(arm: Arm, q, field: str) -> None:
     for i, (a, lim) in enumerate(zip(q, arm.joint_limits)):
         if lim is not None and not lim[0] <= a <= lim[1]:
             raise InvalidValue(
@@ -518,45 +621,57 @@ def _within_limits(arm: Arm, q: list, field: str) -> None:
                 field=f"{field}[{i}]")
 
 
+def _grid_cells(d, n: int) -> tuple:
+    cells_v = d.get("cells", default_cells(n))
+    limit = max_cells(n)
+    if isinstance(cells_v, (list, tuple)):
+        return tuple(_integer(c, f"planner.cells[{i}]", 3, limit) for i, c in enumerate(
+            _list(cells_v, "planner.cells", n, f"entries (one per joint; the arm has {n})")))
+    return (_integer(cells_v, "planner.cells", 3, limit),) * n
+
+
 def _planner(v, n: int, warnings: list) -> PlannerSettings:
     d = _object(v, "planner", optional=_PLANNER_KEYS)
-    algorithm = _string(d.get("algorithm", "astar"), "planner.algorithm", ALGORITHMS)
-    default_cells = 100 if n <= 2 else max(8, int(round(2e6 ** (1.0 / n))))
-    cells_v = d.get("cells", default_cells)
-    if isinstance(cells_v, (list, tuple)):
-        cells = tuple(_integer(c, f"planner.cells[{i}]", 3, MAX_CELLS) for i, c in enumerate(
-            _list(cells_v, "planner.cells", n, f"entries (one per joint; the arm has {n})")))
-    else:
-        cells = (_integer(cells_v, "planner.cells", 3, MAX_CELLS),) * n
+    # A* by default; RRT for arms whose grid would not fit (said in the echo).
+    fallback = "astar" if n <= GRID_DEFAULT_MAX_JOINTS or "cells" in d else "rrt"
+    algorithm = _string(d.get("algorithm", fallback), "planner.algorithm", ALGORITHMS)
+    cells = _grid_cells(d, n)
     total = math.prod(cells)
-    if algorithm == "astar" and total > MAX_CELLS:
+    if algorithm == "astar" and total > max_cells(n):
+        per_cell = BYTES_PER_CELL_FIXED + BYTES_PER_CELL_PER_JOINT * n
         raise InvalidValue(
-            f"a grid of {total:.3g} cells would need about {total * BYTES_PER_CELL / 1e9:.3g} GB; "
-            f"the limit is {MAX_CELLS:.3g} cells", field="planner.cells")
+            f"a grid of {total:.3g} cells would need about {total * per_cell / 1e9:.3g} GB; "
+            f"the limit for {n} joints is {max_cells(n):.3g} cells "
+            f"({MEMORY_BUDGET / 1e9:g} GB)", field="planner.cells")
     weight = _number(d.get("heuristic_weight", 1.0), "planner.heuristic_weight")
-    if weight < 1:
-        raise InvalidValue(f"must be >= 1, got {weight:g}", field="planner.heuristic_weight")
+    if not 1 <= weight <= MAX_HEURISTIC_WEIGHT:
+        raise InvalidValue(f"must lie in [1, {MAX_HEURISTIC_WEIGHT:g}], got {weight:g}",
+                           field="planner.heuristic_weight")
     max_exp = d.get("max_expansions")
     if max_exp is not None:
         max_exp = _integer(max_exp, "planner.max_expansions", 1)
     seed = _integer(d.get("seed", 0), "planner.seed", 0, 2**63 - 1)
     defaults = PlannerSettings()
     step = _number(d.get("step", defaults.step), "planner.step")
-    if step <= 0:
-        raise InvalidValue(f"must be > 0 rad, got {step:g}", field="planner.step")
+    if not 0 < step <= math.pi:
+        raise InvalidValue(f"must lie in (0, pi] rad, got {step:g}", field="planner.step")
     bias = _number(d.get("goal_bias", defaults.goal_bias), "planner.goal_bias")
     if not 0 <= bias <= 1:
         raise InvalidValue(f"must be in [0, 1], got {bias:g}", field="planner.goal_bias")
     thr = _number(d.get("goal_threshold", defaults.goal_threshold), "planner.goal_threshold")
-    if thr <= 0:
-        raise InvalidValue(f"must be > 0 rad (joint-space distance to a goal configuration), got {thr:g}",
-                           field="planner.goal_threshold")
+    if not 0 < thr <= MAX_GOAL_THRESHOLD:
+        raise InvalidValue(f"must lie in (0, {MAX_GOAL_THRESHOLD:g}] rad (a joint-space distance to a "
+                           f"goal configuration), got {thr:g}", field="planner.goal_threshold")
     iters = _integer(d.get("max_iterations", defaults.max_iterations), "planner.max_iterations",
                      1, 10_000_000)
     if algorithm != "rrt":
         for key in _RRT_KEYS:
             if key in d:
                 warnings.append(f"planner.{key} is an RRT setting and is ignored by {algorithm}")
+    elif "algorithm" not in d:
+        warnings.append(f"planner.algorithm: rrt, the default for more than "
+                        f"{GRID_DEFAULT_MAX_JOINTS} joints (a grid fine enough to plan on would "
+                        "not fit in memory)")
     return PlannerSettings(algorithm=algorithm, cells=cells, heuristic_weight=weight,
                            max_expansions=max_exp, seed=seed, step=step, goal_bias=bias,
                            goal_threshold=thr, max_iterations=iters)

@@ -240,3 +240,63 @@ def test_search_on_the_plain_occupancy_repairs_uncertified_moves():
     assert np.array_equal(full[0], s.start_array)
     assert np.allclose(wrap_angle(full[-1] - s.goal_q), 0)  # unwrapped: whole turns apart
     assert metrics["path_cells"] >= metrics["bfs_optimum_cells"]
+
+
+# ------------------------------------------------------------ reliability: right answers
+
+def test_a_coarse_grid_says_the_grid_may_be_the_cause():
+    # Before: a 4x4 grid answered plain NoPathFound ("proved by exhausting the grid") where
+    # 100 cells plan. One step of a 4x4 grid moves the arm metres; the grid proves nothing.
+    d = load_scenario("rectangles").to_dict()
+    d["planner"]["cells"] = 4
+    with pytest.raises(GridTooCoarse) as e:
+        plan(d)
+    assert "planner.cells" in str(e.value)
+    d["planner"]["cells"] = 100
+    assert plan(d).report.ok
+    # A grid fine enough for its obstacles still proves "no path".
+    with pytest.raises(NoPathFound) as e:
+        plan("no_solution")
+    assert not isinstance(e.value, GridTooCoarse)
+
+
+@pytest.mark.parametrize("name", SOLVABLE)
+@pytest.mark.parametrize("profile", ["cubic", "quintic", "spline"])
+@pytest.mark.parametrize("samples", [2, 3])
+def test_few_samples_still_verify(name, profile, samples):
+    # Before: samples = 2 failed the continuity check (a rest-to-rest piece seen only at its
+    # ends looks like a jump); each piece is now seen inside as well.
+    d = load_scenario(name).to_dict()
+    d["trajectory"].update(samples=samples, profile=profile)
+    p = plan(d)
+    assert p.report.ok, str(p.report)
+    assert len(p.t) >= samples
+
+
+@pytest.mark.parametrize("name", ["default", "three_link"])
+def test_results_are_identical_run_after_run(name, tmp_path):
+    a, b = plan(name), plan(name)
+    save_result(a, tmp_path / "a.json")
+    save_result(b, tmp_path / "b.json")
+    assert (tmp_path / "a.json").read_bytes() == (tmp_path / "b.json").read_bytes()
+    assert "timings" not in a.to_dict() and set(a.to_dict(timings=True)["timings"]) == set(STAGES)
+
+
+def test_rrt_with_a_wide_goal_region_ends_exactly_on_the_goal():
+    # Before: goal_threshold >= 2 let the tree stop short of the goal when the last edge to it
+    # was blocked; the plan then failed verification (exit 3).
+    d = load_scenario("default").to_dict()
+    d["planner"] = {"algorithm": "rrt", "goal_threshold": 1.0, "seed": 3}
+    for seed in range(4):
+        d["planner"]["seed"] = seed
+        p = plan(d)
+        assert p.report.ok and p.report["goal reached"].value <= 1e-9
+
+
+def test_defaults_plan_a_nine_link_arm():
+    n = 9
+    d = {"arm": {"link_lengths": [2.0 / n] * n}, "start": [0.0] * n,
+         "goal": {"position": [-1.0, 0.8]},
+         "obstacles": [{"type": "circle", "center": [0.9, 1.0], "radius": 0.25}]}
+    p = plan(d)
+    assert p.report.ok and p.scenario.planner.algorithm == "rrt"

@@ -4,6 +4,7 @@ every bad input is refused with the right error class and a field naming the cul
 import copy
 import json
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -12,7 +13,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 from rapp import Circle, Polygon, collides
 from rapp.errors import (FileNotFound, InvalidFormat, InvalidValue, MissingParameter,
                          ScenarioError)
-from rapp.scenario import MAX_CELLS, echo, list_scenarios, load_scenario
+from rapp.scenario import echo, list_scenarios, load_scenario, max_cells
 
 BASE = {
     "arm": {"link_lengths": [1.0, 1.0], "joint_limits": None},
@@ -193,7 +194,7 @@ def test_bad_input_names_the_field(path, value, cls, field):
 
 def test_huge_grid_is_refused_before_any_allocation():
     with pytest.raises(InvalidValue) as e:
-        load_scenario(mutate(("planner", "cells"), int(MAX_CELLS**0.5) + 1))
+        load_scenario(mutate(("planner", "cells"), int(max_cells(2)**0.5) + 1))
     assert e.value.field == "planner.cells" and "GB" in str(e.value)
 
 
@@ -230,7 +231,7 @@ def write(tmp_path, data, name="s.json"):
     (json.dumps(BASE).replace("4.0", "Infinity"), InvalidValue),
     (json.dumps(BASE).replace("4.0", "-Infinity"), InvalidValue),
     (json.dumps(BASE).replace("4.0", "1e999"), InvalidValue),
-    (json.dumps(BASE).replace("4.0", "9" * 5000), InvalidFormat),
+    (json.dumps(BASE).replace("4.0", "9" * 5000), InvalidValue),   # named: trajectory.duration
     (json.dumps(BASE)[:-1] + ', "arm": {}}', InvalidFormat),  # duplicate key
 ])
 def test_bad_files(tmp_path, text, cls):
@@ -323,3 +324,65 @@ def test_a_long_wall_near_the_base_is_not_called_unreachable():
     assert [w for w in s.warnings if "cannot collide" in w] == [
         "obstacles[1] lies beyond the arm's reach (2 m); it cannot collide"]
     assert collides(s.arm, [np.pi / 2, 0.0], s.obstacles[:1])
+
+
+# ------------------------------------------------------------ physical ranges (issue: reliability)
+
+@pytest.mark.parametrize("path,value,field", [
+    (("trajectory", "duration"), 1e-300, "trajectory.duration"),
+    (("trajectory", "duration"), 1e300, "trajectory.duration"),
+    (("arm", "link_lengths"), [1e308, 1.0], "arm.link_lengths[0]"),
+    (("arm", "link_lengths"), [1e20, 1.0], "arm.link_lengths[0]"),
+    (("arm", "link_lengths"), [1e-9, 1.0], "arm.link_lengths[0]"),
+    (("start",), [1e300, 0.0], "start[0]"),
+    (("goal", "joints"), [0.0, -1e300], "goal.joints[1]"),
+    (("obstacles", 1, "width"), 1e-17, "obstacles[1].width"),
+    (("obstacles", 1, "corner"), [1e17, 0.0], "obstacles[1].corner[0]"),
+    (("obstacles", 0, "radius"), 1e9, "obstacles[0].radius"),
+    (("obstacles", 0, "center"), [0.0, -1e12], "obstacles[0].center[1]"),
+    (("obstacles", 2, "vertices"), [[0, -1.6], [0.4, -1.6], [0.2, 1e30]], "obstacles[2].vertices[2][1]"),
+    (("obstacles", 1, "angle"), 1e300, "obstacles[1].angle"),
+    (("planner", "heuristic_weight"), 1e300, "planner.heuristic_weight"),
+])
+def test_extreme_but_finite_values_are_refused_naming_the_field(path, value, field):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # and no RuntimeWarning on the way
+        with pytest.raises(InvalidValue) as e:
+            load_scenario(mutate(path, value))
+    assert e.value.field == field, str(e.value)
+
+
+@pytest.mark.parametrize("key,value", [("goal_threshold", 2.0), ("goal_threshold", 1e9),
+                                       ("step", 7.0)])
+def test_rrt_settings_have_physical_ranges(key, value):
+    d = mutate(("planner",), {"algorithm": "rrt", key: value})
+    with pytest.raises(InvalidValue) as e:
+        load_scenario(d)
+    assert e.value.field == f"planner.{key}"
+
+
+def test_a_5000_digit_number_names_its_field(tmp_path):
+    text = json.dumps(BASE).replace('"radius": 0.4', '"radius": ' + "7" * 5000)
+    with pytest.raises(InvalidValue) as e:
+        load_scenario(write(tmp_path, text))
+    assert e.value.field == "obstacles[0].radius" and "5000 digits" in str(e.value)
+
+
+@pytest.mark.parametrize("n", range(1, 17))
+def test_the_defaults_are_accepted_for_every_number_of_links(n):
+    # Before: 9-16 links were refused with "planner.cells: a grid of 1.34e+08 cells ...",
+    # a key the user never wrote.
+    s = load_scenario({"arm": {"link_lengths": [2.0 / n] * n}, "start": [0.0] * n,
+                       "goal": {"joints": [1.0] + [0.0] * (n - 1)}})
+    if s.planner.algorithm == "astar":
+        assert math.prod(s.planner.cells) <= max_cells(n)
+    else:
+        assert n > 6 and any("default" in w for w in s.warnings)
+        assert "rrt, the default" in echo(s)
+
+
+def test_the_grid_limit_follows_the_memory_model():
+    from rapp import scenario as sc
+    for n in range(1, 9):
+        per_cell = sc.BYTES_PER_CELL_FIXED + sc.BYTES_PER_CELL_PER_JOINT * n
+        assert max_cells(n) * per_cell <= sc.MEMORY_BUDGET < 2e9
