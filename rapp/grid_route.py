@@ -1,4 +1,4 @@
-"""A* on the joint grid, joined to the exact start and goal, every move certified (IM1 search step).
+"""A* on the joint grid, joined to the exact start and goal, every move certified.
 
 The grid marks cell *centres*, so a path of free cells is not yet a
 collision-free motion. :func:`grid_route` makes it one:
@@ -12,6 +12,11 @@ collision-free motion. :func:`grid_route` makes it one:
    move needs checking); if those hold no path, on the plain occupancy with
    each new move checked by the continuous certified test, a failing move
    blocking its cell before the search is repeated.
+
+References
+----------
+SRS of 2D-RAPP (seed 000): IM1, the search step; GS2.
+Hart, Nilsson & Raphael (1968), A formal basis for the heuristic determination of minimum cost paths.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The planning pipeline of 2D-RAPP (IM1; MIS ``executePlanning``).
+"""The planning pipeline: scenario in, verified trajectory out.
 
 ``plan(scenario)`` runs, in order:
 
@@ -23,6 +23,11 @@
 Planners are looked up by name in :data:`PLANNERS`, so a new search method
 plugs in without touching the pipeline. ``plan()`` never prints. The result
 value and its file live in :mod:`rapp.results`.
+
+References
+----------
+SRS of 2D-RAPP (seed 000): IM1 (the instance model of path planning), R3.
+MIS of 2D-RAPP (seed 001): ``executePlanning``.
 """
 
 from __future__ import annotations
@@ -131,7 +136,7 @@ def _time_smooth(arm, obs, path, tr):
 
 
 def plan(scenario) -> Plan:
-    """Plan, time and verify a collision-free trajectory (IM1, MIS ``executePlanning``).
+    """Plan, time and verify a collision-free trajectory.
 
     Parameters
     ----------

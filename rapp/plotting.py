@@ -1,4 +1,4 @@
-"""Figures and animations of arms, obstacles, C-space and plans (R5; MIS Plotting module).
+"""Figures and animations of arms, obstacles, C-space and plans.
 
 Every function draws on an optional ``ax`` (a new figure when it is ``None``)
 and returns what it drew on, so that figures compose. Nothing here computes a
@@ -10,6 +10,11 @@ figure and axes backgrounds are white *explicitly* (a transparent figure on a
 dark page hides black text), text is dark, and the colours are the Okabe-Ito
 palette, which stays distinguishable under the common colour-vision
 deficiencies.
+
+References
+----------
+SRS of 2D-RAPP (seed 000): R5. MIS of 2D-RAPP (seed 001): the Plotting module.
+Okabe & Ito (2008), Color Universal Design: the colour palette.
 """
 
 from __future__ import annotations

@@ -1,10 +1,14 @@
-"""The result of a plan and its JSON file (R5): the ``Plan`` value, saved and loaded.
+"""The result of a plan and its JSON file: the ``Plan`` value, saved and loaded.
 
 A result file holds everything needed to re-check a plan without re-planning
 it: the scenario, the timed trajectory, the waypoints, the grid and its
 occupancy (bit-packed), the verification report and the metrics. Writing is
 atomic (a temporary file beside the target, then a rename), so a crash or an
 interrupt never leaves a half-written result or destroys the previous one.
+
+References
+----------
+SRS of 2D-RAPP (seed 000): R5 (output the trajectory and its metrics).
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ RESULT_VERSION = 1
 
 @dataclass(frozen=True, eq=False)
 class Plan:
-    """A planned, timed and verified trajectory (R5).
+    """A planned, timed and verified trajectory.
 
     Attributes
     ----------

@@ -1,4 +1,4 @@
-"""Rapidly-exploring random trees in joint space (seed 003, LC3).
+"""Rapidly-exploring random trees in joint space.
 
 The tree grows from the start configuration. Each iteration draws a target:
 with probability ``goal_bias`` (the report's beta) the goal, otherwise a
@@ -46,6 +46,12 @@ Failure. :func:`rrt` raises :class:`rapp.NoPathFound` when ``max_iterations``
 pass without reaching the goal (the planner relies on this); with
 ``raise_on_failure=False`` it returns a result with ``success=False`` instead,
 which is what parameter sweeps use.
+
+References
+----------
+LaValle (1998), Rapidly-exploring random trees: a new tool for path planning.
+Seed 003 (the 3-link RRT report): step alpha, goal bias beta, its Algorithm 1.
+SRS of 2D-RAPP (seed 000): LC3 (other planners).
 """
 
 from __future__ import annotations

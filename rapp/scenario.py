@@ -1,4 +1,4 @@
-"""Scenario files: the JSON input set of 2D-RAPP, its validation and its echo (R1, R2, NFR5).
+"""Scenario files: the JSON input set of 2D-RAPP, its validation and its echo.
 
 A scenario is one JSON object (see DESIGN.md "Scenario files")::
 
@@ -10,13 +10,18 @@ A scenario is one JSON object (see DESIGN.md "Scenario files")::
      "planner": {"algorithm": "astar", "cells": 100},
      "trajectory": {"duration": 5.0, "profile": "quintic", "samples": 200}}
 
-:func:`load_scenario` is MIS ``loadParams``: it raises :class:`~rapp.errors.FileNotFound`,
+:func:`load_scenario` raises :class:`~rapp.errors.FileNotFound`,
 :class:`~rapp.errors.InvalidFormat` (not JSON, wrong types, unknown keys),
 :class:`~rapp.errors.MissingParameter` and :class:`~rapp.errors.InvalidValue`
 (a physical constraint broken), each with ``.field`` naming the entry as a
 dotted path such as ``"obstacles[2].radius"``. The software ranges of SRS
 Table 4 are not errors: they become ``scenario.warnings`` and are echoed,
 because the other seeds use arms outside them.
+
+References
+----------
+SRS of 2D-RAPP (seed 000): R1 (input), R2 (validate and echo), NFR5, Table 4 (software ranges).
+MIS of 2D-RAPP (seed 001): ``loadParams`` and its exceptions.
 """
 
 from __future__ import annotations
@@ -678,7 +683,7 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
 
 
 def preflight(scenario: Scenario) -> None:
-    """Refuse a scenario that cannot succeed, before any search (R2: say it plainly).
+    """Refuse a scenario that cannot succeed, before any search.
 
     Raises :class:`~rapp.errors.InvalidValue` naming ``start`` or
     ``goal.joints`` when that configuration collides.
@@ -704,7 +709,7 @@ def preflight(scenario: Scenario) -> None:
 
 
 def load_scenario(source, *, check: bool = True) -> Scenario:
-    """Load and validate a scenario (MIS ``loadParams``).
+    """Load and validate a scenario.
 
     Parameters
     ----------
@@ -765,7 +770,7 @@ def _fmt(v, digits=4) -> str:
 
 
 def echo(scenario: Scenario) -> str:
-    """Every input of the scenario as a readable table with units (R2), warnings last.
+    """Every input of the scenario as a readable table with units, warnings last.
 
     Angles are shown in radians, and in degrees when the file declared degrees.
 

@@ -1,4 +1,4 @@
-"""Verification of a planned trajectory (R4, NFR1; MIS ``verifyOutput``).
+"""Verification of a planned trajectory: every check with its measured value and its limit.
 
 Every check reports what it measured next to the limit it was held to, so a
 passing report is evidence and a failing one says by how much:
@@ -10,11 +10,16 @@ passing report is evidence and a failing one says by how much:
 * ``joint limits``: the largest violation of a limit;
 * ``starts at start`` and ``goal reached``: the first sample is the start, and
   the last one is the joint goal within 0.01 rad or puts the end effector
-  within 1 mm of the Cartesian goal (NFR1);
+  within 1 mm of the Cartesian goal;
 * ``continuity``: no jump between samples larger than the motion the sampled
   velocity and acceleration allow, and finite derivatives;
 * ``time``: the sample times increase from 0 to the duration;
 * ``FK consistency``: the reported Cartesian path is ``FK(q)`` to 1e-9 m.
+
+References
+----------
+SRS of 2D-RAPP (seed 000): R4 (verify the output), NFR1 (accuracy: 0.01 rad, 0.1 cm).
+MIS of 2D-RAPP (seed 001): ``verifyOutput``.
 """
 
 from __future__ import annotations
@@ -24,7 +29,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rapp.arm import wrap_angle
 from rapp.collision import clearance, collides, segment_collision_free
 
 __all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL"]
@@ -158,12 +162,73 @@ class Report:
 
 def _joint_error(arm, q, target) -> np.ndarray:
     """|q - target| per joint, measured the short way round on a free joint."""
-    d = np.asarray(q, float) - np.asarray(target, float)
-    return np.abs(np.where(arm.limited, d, wrap_angle(d)))
+    return np.abs(arm.joint_delta(target, q))
+
+
+def _check_collision(arm, obs, q) -> list:
+    """A certified continuous check of each chord between samples; one sample is a point."""
+    k = len(q)
+    if k >= 2:
+        n_bad = int((~segment_collision_free(arm, q[:-1], q[1:], obs)).sum())
+    else:
+        n_bad = int(bool(obs) and bool(collides(arm, q, obs).any()))
+    checks = [Check("collision-free", n_bad == 0, n_bad, 0, "segments",
+                    f"{max(k - 1, 1)} segments between samples, each certified over its whole length")]
+    if obs:
+        c = float(clearance(arm, q, obs).min())
+        checks.append(Check("min clearance", c > 0, c, 0.0, "m",
+                            "smallest link-obstacle distance over the samples; must be > 0"))
+    return checks
+
+
+def _check_limits(arm, q) -> Check:
+    lo, hi, lim = arm.lower, arm.upper, arm.limited
+    viol = np.where(lim, np.maximum(lo - q, q - hi), -np.inf).max() if lim.any() else -np.inf
+    viol = max(float(viol), 0.0)
+    return Check("joint limits", viol <= LIMIT_TOL, viol, LIMIT_TOL, "rad",
+                 "largest excess beyond a joint limit" if lim.any() else "no limited joint")
+
+
+def _check_ends(arm, q, scenario) -> list:
+    e0 = float(_joint_error(arm, q[0], scenario.start).max())
+    checks = [Check("starts at start", e0 <= START_TOL, e0, START_TOL, "rad",
+                    "first sample against the scenario's start")]
+    if scenario.goal_q is not None:
+        eg = float(_joint_error(arm, q[-1], scenario.goal_q).max())
+        checks.append(Check("goal reached", eg <= JOINT_TOL, eg, JOINT_TOL, "rad",
+                            "last sample against the joint goal (NFR1: 0.01 rad)"))
+    else:
+        eg = float(np.hypot(*(arm.end_effector(q[-1]) - np.asarray(scenario.goal_xy))))
+        checks.append(Check("goal reached", eg <= POSITION_TOL, eg, POSITION_TOL, "m",
+                            "FK of the last sample against the Cartesian goal (NFR1: 0.1 cm)"))
+    return checks
+
+
+def _check_continuity(t, q, qd, qdd) -> Check:
+    """By Taylor, |q(t+h) - q(t)| <= |q'(t)| h + max|q''| h^2 / 2 per joint; a jump beyond
+    1.5 times that (plus rounding) is not a continuous motion."""
+    h = np.diff(t)[:, None]
+    amax = np.abs(qdd).max(axis=0)
+    vmax = np.maximum(np.abs(qd[:-1]), np.abs(qd[1:]))
+    bound = 1.5 * (vmax * h + 0.5 * amax * h**2) + 1e-9
+    jump = np.abs(np.diff(q, axis=0))
+    ratio = float((jump / bound).max())
+    return Check("continuity", ratio <= 1.0, ratio, 1.0, "ratio",
+                 f"largest step {float(jump.max()):.3g} rad between samples over its "
+                 "bound 1.5 (|q'| dt + max|q''| dt^2 / 2)")
+
+
+def _check_time(t, duration) -> Check:
+    k = len(t)
+    dt_ok = bool(np.all(np.diff(t) > 0)) if k >= 2 else True
+    terr = abs(float(t[0])) + abs(float(t[-1] - t[0]) - duration) if k >= 2 else 0.0
+    tlim = 1e-9 * max(duration, 1.0)  # relative to the duration: times are sums of float steps
+    return Check("time", dt_ok and terr <= tlim, terr, tlim, "s",
+                 f"times increase from 0 to the duration {duration:g} s")
 
 
 def verify(plan, scenario) -> Report:
-    """Check a plan's timed trajectory against the scenario (R4, NFR1).
+    """Check a plan's timed trajectory against the scenario.
 
     Parameters
     ----------
@@ -200,61 +265,11 @@ def verify(plan, scenario) -> Report:
     if not finite:
         return Report.from_checks([shape_check, Check(
             "finite", False, None, None, "", "t, q, q', q'' or xy holds NaN or infinity")])
-    checks = [shape_check]
-
-    # Collision: a certified continuous check of each chord between samples; a single
-    # sample has no chord, so it is tested as a point.
+    checks = [shape_check, *_check_collision(arm, obs, q), _check_limits(arm, q),
+              *_check_ends(arm, q, scenario)]
     if k >= 2:
-        n_bad = int((~segment_collision_free(arm, q[:-1], q[1:], obs)).sum())
-    else:
-        n_bad = int(bool(obs) and bool(collides(arm, q, obs).any()))
-    checks.append(Check("collision-free", n_bad == 0, n_bad, 0, "segments",
-                        f"{max(k - 1, 1)} segments between samples, each certified over its whole length"))
-    if obs:
-        c = float(clearance(arm, q, obs).min())
-        checks.append(Check("min clearance", c > 0, c, 0.0, "m",
-                            "smallest link-obstacle distance over the samples; must be > 0"))
-
-    lo, hi, lim = arm.lower, arm.upper, arm.limited
-    viol = np.where(lim, np.maximum(lo - q, q - hi), -np.inf).max() if lim.any() else -np.inf
-    viol = max(float(viol), 0.0)
-    checks.append(Check("joint limits", viol <= LIMIT_TOL, viol, LIMIT_TOL, "rad",
-                        "largest excess beyond a joint limit" if lim.any() else "no limited joint"))
-
-    e0 = float(_joint_error(arm, q[0], scenario.start).max())
-    checks.append(Check("starts at start", e0 <= START_TOL, e0, START_TOL, "rad",
-                        "first sample against the scenario's start"))
-    if scenario.goal_q is not None:
-        eg = float(_joint_error(arm, q[-1], scenario.goal_q).max())
-        checks.append(Check("goal reached", eg <= JOINT_TOL, eg, JOINT_TOL, "rad",
-                            "last sample against the joint goal (NFR1: 0.01 rad)"))
-    else:
-        eg = float(np.hypot(*(arm.end_effector(q[-1]) - np.asarray(scenario.goal_xy))))
-        checks.append(Check("goal reached", eg <= POSITION_TOL, eg, POSITION_TOL, "m",
-                            "FK of the last sample against the Cartesian goal (NFR1: 0.1 cm)"))
-
-    # Continuity: by Taylor, |q(t+h) - q(t)| <= |q'(t)| h + max|q''| h^2 / 2 per joint;
-    # a jump beyond 1.5 times that (plus rounding) is not a continuous motion.
-    if k >= 2:
-        h = np.diff(t)[:, None]
-        amax = np.abs(qdd).max(axis=0)
-        vmax = np.maximum(np.abs(qd[:-1]), np.abs(qd[1:]))
-        bound = 1.5 * (vmax * h + 0.5 * amax * h**2) + 1e-9
-        jump = np.abs(np.diff(q, axis=0))
-        ratio = float((jump / bound).max())
-        checks.append(Check("continuity", ratio <= 1.0, ratio, 1.0, "ratio",
-                            f"largest step {float(jump.max()):.3g} rad between samples over its "
-                            "bound 1.5 (|q'| dt + max|q''| dt^2 / 2)"))
-        dt_ok = bool(np.all(h > 0))
-        tspan = float(t[-1] - t[0])
-    else:
-        dt_ok, tspan = True, 0.0
-    dur = scenario.trajectory.duration
-    terr = abs(float(t[0])) + abs(tspan - dur) if k >= 2 else 0.0
-    tlim = 1e-9 * max(dur, 1.0)  # relative to the duration: times are sums of float steps
-    checks.append(Check("time", dt_ok and terr <= tlim, terr, tlim, "s",
-                        f"times increase from 0 to the duration {dur:g} s"))
-
+        checks.append(_check_continuity(t, q, qd, qdd))
+    checks.append(_check_time(t, scenario.trajectory.duration))
     fk = float(np.abs(arm.end_effector(q) - xy).max())
     checks.append(Check("FK consistency", fk <= FK_TOL, fk, FK_TOL, "m",
                         "reported Cartesian path against FK of the joint samples"))
