@@ -1,9 +1,19 @@
 """Command line: ``python -m rapp plan|check|list``.
 
 Exit codes: 0 done; 1 a planning answer (no path, no IK solution), said in one
-line; 2 bad input, one line on stderr naming the field and what is wrong; 130
-interrupted. Never a traceback: an unexpected internal error is one line and
-exit code 3.
+line; 2 bad input, one line on stderr naming the field or option and what is
+wrong; 3 a failed verification or an unexpected internal error (still one
+line, never a traceback); 130 interrupted (Ctrl-C, wherever it lands).
+
+Every output path is checked before any planning work: its folder exists and
+is writable, its format can be written, and it is neither the input scenario
+nor another output. Output files are written atomically, so an error or Ctrl-C
+never leaves a half-written file or destroys the previous one.
+
+Everything printed passes through :func:`printable`, so a scenario's name or a
+file name cannot inject terminal escape sequences or make printing fail.
+Warnings (numpy's RuntimeWarning included) never reach the terminal: they are
+counted and mentioned in one ``note:`` line of the normal output.
 
 Examples
 --------
@@ -15,14 +25,71 @@ default ...
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
+import re
+import shutil
 import sys
+import warnings
+from contextlib import contextmanager
 
-from rapp.errors import NoIKSolution, NoPathFound, RappError, ScenarioError
+from rapp.errors import InvalidValue, NoIKSolution, NoPathFound, RappError, ScenarioError
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "printable"]
 
 EXIT_OK, EXIT_NO_PLAN, EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+
+#: Frames per second of a saved animation (GIF and MP4 alike).
+ANIMATION_FPS = 15
+
+# Besides the C0 controls: DEL and C1 controls, lone surrogates, the line and paragraph
+# separators (a terminal may break the line there) and the bidirectional embeddings,
+# overrides and isolates (they reorder what is shown).
+_MORE_UNSAFE = r"\x7f-\x9f\ud800-\udfff\u2028\u2029\u202a-\u202e\u2066-\u2069"
+_UNSAFE_RE = re.compile(rf"[\x00-\x1f{_MORE_UNSAFE}]")
+_UNSAFE_BUT_NEWLINE_RE = re.compile(rf"[\x00-\x09\x0b-\x1f{_MORE_UNSAFE}]")
+
+
+def _escape(match) -> str:
+    c = ord(match.group())
+    return f"\\x{c:02x}" if c <= 0xFF else f"\\u{c:04x}"
+
+
+def printable(text, *, newline: bool = False) -> str:
+    """``text`` with every character that is unsafe on a terminal written as an escape.
+
+    C0 controls (tab and newline included), DEL and C1 controls become
+    ``\\xNN``; lone surrogates (from a JSON ``"\\ud800"`` or an undecodable
+    file name) become ``\\udNNN``; the Unicode line and paragraph separators
+    and the bidirectional controls become ``\\uNNNN``. Everything else,
+    backslashes included, is kept, so ordinary text reads as it is.
+
+    Parameters
+    ----------
+    text : object
+        Converted with ``str`` first.
+    newline : bool, default False
+        Keep ``"\\n"`` (for text of several lines, such as the scenario echo).
+
+    Returns
+    -------
+    str
+        Text that encodes to UTF-8 without error and holds no control characters
+        (other than ``"\\n"`` when ``newline`` is true).
+
+    Examples
+    --------
+    >>> printable("\\x1b[31mred\\x1b[0m")
+    '\\\\x1b[31mred\\\\x1b[0m'
+    >>> print(printable("bad \\ud800 name\\x85"))
+    bad \\ud800 name\\x85
+    >>> printable("two\\nlines"), printable("two\\nlines", newline=True)
+    ('two\\\\x0alines', 'two\\nlines')
+    >>> printable("café → ok")
+    'café → ok'
+    """
+    pattern = _UNSAFE_BUT_NEWLINE_RE if newline else _UNSAFE_RE
+    return pattern.sub(_escape, str(text))
 
 
 class _UsageError(Exception):
@@ -40,8 +107,8 @@ def build_parser() -> argparse.ArgumentParser:
     Examples
     --------
     >>> args = build_parser().parse_args(["plan", "--out", "r.json"])
-    >>> args.command, args.scenario, args.out
-    ('plan', 'default', 'r.json')
+    >>> args.command, args.scenario, args.out, args.timings
+    ('plan', 'default', 'r.json', False)
     """
     p = _Parser(prog="rapp", description="2D robot-arm path planning (2D-RAPP).")
     sub = p.add_subparsers(dest="command", metavar="{plan,check,list}", parser_class=_Parser)
@@ -49,13 +116,24 @@ def build_parser() -> argparse.ArgumentParser:
     pp = sub.add_parser("plan", help="plan, time and verify a trajectory",
                         description="Plan a collision-free trajectory for SCENARIO (a JSON file "
                         "or an embedded scenario name; default: the embedded default), echo the "
-                        "inputs, verify the result and print the report.")
+                        "inputs, verify the result and print the report. Output paths are "
+                        "checked before planning; none may be the scenario file or another "
+                        "output. The result file is the same byte for byte for the same "
+                        "scenario unless --timings is given.")
     pp.add_argument("scenario", nargs="?", default="default",
                     help="scenario file or embedded name (see 'rapp list')")
     pp.add_argument("--out", metavar="RESULT.json", help="write the result as JSON (atomically)")
-    pp.add_argument("--plot", metavar="FIG.png", help="save a figure of the plan")
-    pp.add_argument("--animate", metavar="ANIM.gif", help="save an animation of the arm")
-    pp.add_argument("--quiet", "-q", action="store_true", help="print only the one-line summary")
+    pp.add_argument("--plot", metavar="FIG.png",
+                    help="save a figure of the plan (atomically); the extension picks the "
+                    "format: .png, .pdf, .svg, .jpg, ...")
+    pp.add_argument("--animate", metavar="ANIM.gif",
+                    help="save an animation of the arm (atomically): .gif, or .mp4 when "
+                    "ffmpeg is installed")
+    pp.add_argument("--timings", action="store_true",
+                    help="print the wall-clock time per stage (also with --quiet) and store "
+                    "it in the --out result, which then differs from run to run")
+    pp.add_argument("--quiet", "-q", action="store_true",
+                    help="print only the one-line summary (and the stage times with --timings)")
     pc = sub.add_parser("check", help="validate a scenario and echo it; plan nothing",
                         description="Validate SCENARIO and echo every input with units (R2).")
     pc.add_argument("scenario", help="scenario file or embedded name")
@@ -64,16 +142,87 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _one_line(text: str) -> str:
-    return " ".join(str(text).split())
+def _one_line(text) -> str:
+    return " ".join(printable(text, newline=True).split())
+
+
+def _say(stream, text="", *, lines: bool = False) -> None:
+    """Print ``text`` made :func:`printable`; never fails on the stream's encoding."""
+    text = printable(text, newline=lines)
+    encoding = getattr(stream, "encoding", None)
+    if encoding:
+        try:
+            text.encode(encoding)
+        except UnicodeEncodeError:  # e.g. an ASCII terminal and an accented name
+            text = text.encode(encoding, "backslashreplace").decode(encoding)
+        except LookupError:
+            pass
+    print(text, file=stream)
+
+
+# --------------------------------------------------------------------------- output paths
+
+
+def _plot_formats() -> dict:
+    """Extension (no dot) -> "" when ``--plot`` can write it, else why it cannot."""
+    import matplotlib
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    formats = {ext: "" for ext in FigureCanvasAgg.get_supported_filetypes()}
+    tex = matplotlib.rcParams["pgf.texsystem"]
+    if "pgf" in formats and not shutil.which(tex):
+        # The pgf backend measures text with LaTeX; without it savefig fails after planning.
+        formats["pgf"] = f"needs {tex}, which is not installed"
+    try:
+        from PIL import features
+    except ImportError:  # pragma: no cover - Pillow is a dependency of matplotlib
+        features = None
+    for ext in ("webp", "avif"):
+        if ext in formats:
+            try:
+                ok = features is not None and features.check_module(ext)
+            except ValueError:  # a Pillow too old to know the format
+                ok = False
+            if not ok:
+                formats[ext] = f"needs Pillow built with {ext} support"
+    return formats
+
+
+def _check_format(path: str, option: str) -> None:
+    ext = os.path.splitext(path)[1].lower()
+    if option == "--plot":
+        formats = _plot_formats()
+        usable = ", ".join("." + e for e, why in sorted(formats.items()) if not why)
+        if not ext:
+            raise InvalidValue(f"{path!r} has no extension to pick the format (one of {usable})",
+                               field=option)
+        why = formats.get(ext[1:])
+        if why is None:
+            raise InvalidValue(f"unsupported extension {ext!r} (one of {usable})", field=option)
+        if why:
+            raise InvalidValue(f"cannot write {ext!r}: {why}", field=option)
+    elif option == "--animate":
+        from matplotlib import animation
+
+        writer = {".gif": "pillow", ".mp4": "ffmpeg"}.get(ext)
+        if writer is None:
+            raise InvalidValue(f"unsupported extension {ext!r} (use .gif, or .mp4 with ffmpeg)",
+                               field=option)
+        if not animation.writers.is_available(writer):
+            raise InvalidValue(f"cannot write {ext!r}: matplotlib's {writer} writer is not "
+                               "available" + (" (install ffmpeg, or use .gif)"
+                                              if writer == "ffmpeg" else ""), field=option)
 
 
 def _check_writable(path: str, option: str) -> None:
     """Refuse an output path before any work, naming the option."""
-    from rapp.errors import InvalidValue
-
+    if not path:
+        raise InvalidValue("empty file name", field=option)
     if os.path.isdir(path):
         raise InvalidValue(f"{path!r} is a directory, not a file name", field=option)
+    if os.path.exists(path) and not os.path.isfile(path):
+        # os.replace would put a regular file in place of a device or a pipe (/dev/null!).
+        raise InvalidValue(f"{path!r} is not a regular file", field=option)
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise InvalidValue(f"folder {folder!r} does not exist", field=option)
@@ -81,70 +230,227 @@ def _check_writable(path: str, option: str) -> None:
         raise InvalidValue(f"cannot write {path!r} (permission denied)", field=option)
 
 
+def _same_file(a: str, b: str) -> bool:
+    try:
+        if os.path.exists(a) and os.path.exists(b):
+            return os.path.samefile(a, b)  # hard links too
+    except OSError:
+        pass
+    return os.path.normcase(os.path.realpath(a)) == os.path.normcase(os.path.realpath(b))
+
+
+def _check_outputs(args) -> None:
+    """Refuse, before any planning, every output that could not be written or would clobber
+    the scenario or another output."""
+    outputs = [(path, option) for path, option in
+               ((args.out, "--out"), (args.plot, "--plot"), (args.animate, "--animate"))
+               if path is not None]
+    # The loader reads a file whenever one exists under that name, embedded name or not.
+    source = args.scenario if os.path.exists(args.scenario) else None
+    for i, (path, option) in enumerate(outputs):
+        if path and source is not None and _same_file(path, source):
+            raise InvalidValue(f"{path!r} is the scenario file {source!r}; refusing to "
+                               "overwrite it", field=option)
+        for other, other_option in outputs[:i]:
+            if path and other and _same_file(path, other):
+                raise InvalidValue(f"{path!r} is the same file as {other_option} {other!r}",
+                                   field=option)
+    for path, option in outputs:
+        _check_writable(path, option)
+        _check_format(path, option)
+
+
+@contextmanager
+def _writing(option: str):
+    """Report a failed write (disk full, ...) under the option's name, not a temporary one."""
+    try:
+        yield
+    except OSError as e:
+        if _interrupted(e):
+            raise
+        raise InvalidValue(f"cannot write: {e.strerror or e}", field=option) from e
+
+
+def _save_plot(p, s, path: str) -> None:
+    import matplotlib.pyplot as plt
+
+    from rapp import plotting
+    from rapp.files import atomic_output
+
+    ext = os.path.splitext(path)[1]
+    fig = plotting.plot_plan(p, s)
+    try:
+        with _writing("--plot"), atomic_output(path, suffix=ext) as tmp:
+            # The target's name decides the format, whatever the temporary file is called.
+            fig.savefig(tmp, dpi=100, format=ext[1:].lower())
+    finally:
+        plt.close(fig)
+
+
+def _save_animation(p, s, path: str) -> None:
+    import matplotlib.pyplot as plt
+    from matplotlib import animation
+
+    from rapp import plotting
+    from rapp.files import atomic_output
+
+    ext = os.path.splitext(path)[1]
+    anim = plotting.animate(s.arm, p.q, s.obstacles, t=p.t)
+    try:
+        with _writing("--animate"), atomic_output(path, suffix=ext) as tmp:
+            if ext.lower() == ".mp4":
+                anim.save(tmp, writer=animation.FFMpegWriter(fps=ANIMATION_FPS), dpi=80)
+            else:
+                plotting.save_gif(anim, tmp, fps=ANIMATION_FPS)
+    finally:
+        plt.close(anim._fig)
+
+
+# --------------------------------------------------------------------------- commands
+
+
+def _shown(s):
+    """The scenario with its free-text fields escaped one by one, so that a newline in a
+    name cannot forge a line of the echo."""
+    return dataclasses.replace(s, name=printable(s.name), description=printable(s.description),
+                               source=printable(s.source))
+
+
+def _say_notes(out, caught) -> None:
+    if caught:
+        first = caught[0]
+        n = len(caught)
+        _say(out, f"note: {n} warning{'s' if n > 1 else ''} silenced while running "
+                  f"(first: {_one_line(first.message)})")
+
+
 def _cmd_list(out) -> int:
     from rapp.scenario import list_scenarios, load_scenario
 
     for name in list_scenarios():
         s = load_scenario(name, check=False)
-        print(f"{name:<14}{s.description}", file=out)
+        _say(out, f"{name:<14}{s.description}")
     return EXIT_OK
 
 
-def _cmd_check(args, out) -> int:
+def _cmd_check(args, out, caught) -> int:
     from rapp.scenario import echo, load_scenario
 
     s = load_scenario(args.scenario)
-    print(echo(s), file=out)
-    print("scenario is valid", file=out)
+    _say(out, echo(_shown(s)), lines=True)
+    _say_notes(out, caught)
+    _say(out, "scenario is valid")
     return EXIT_OK
 
 
-def _cmd_plan(args, out, err) -> int:
+def _cmd_plan(args, out, err, caught) -> int:
     from rapp.planner import plan
     from rapp.results import save_result
     from rapp.scenario import echo, load_scenario
 
-    for path, option in ((args.out, "--out"), (args.plot, "--plot"), (args.animate, "--animate")):
-        if path:
-            _check_writable(path, option)
+    _check_outputs(args)
     s = load_scenario(args.scenario)
     if not args.quiet:
-        print(echo(s), file=out)
-        print(file=out)
+        _say(out, echo(_shown(s)), lines=True)
+        _say(out)
     p = plan(s)
     if not args.quiet:
-        print(p.report, file=out)
-        times = p.timings
-        print("time per stage: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in times.items()),
-              file=out)
+        _say(out, str(p.report), lines=True)
+    if args.timings:
+        _say(out, "time per stage: " + ", ".join(f"{k} {v * 1e3:.1f} ms"
+                                                 for k, v in p.timings.items()))
     if args.out:
-        save_result(p, args.out)
+        with _writing("--out"):
+            save_result(p, args.out, timings=args.timings)
     if args.plot or args.animate:
         import matplotlib
 
         matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        from rapp import plotting
-
         if args.plot:
-            fig = plotting.plot_plan(p, s)
-            fig.savefig(args.plot, dpi=100)
-            plt.close(fig)
+            _save_plot(p, s, args.plot)
         if args.animate:
-            anim = plotting.animate(s.arm, p.q, s.obstacles, t=p.t)
-            plotting.save_gif(anim, args.animate)
-            plt.close(anim._fig)
+            _save_animation(p, s, args.animate)
+    if not args.quiet:
+        _say_notes(out, caught)
     m = p.metrics
     status = "verified" if p.report.ok else "VERIFICATION FAILED"
-    print(f"planned {len(p.t)} samples over {s.trajectory.duration:g} s, "
-          f"joint path {m.get('joint_length_rad', 0):.3f} rad, end effector "
-          f"{m.get('ee_length_m', 0):.3f} m: {status}", file=out)
+    _say(out, f"planned {len(p.t)} samples over {s.trajectory.duration:g} s, "
+              f"joint path {m.get('joint_length_rad', 0):.3f} rad, end effector "
+              f"{m.get('ee_length_m', 0):.3f} m: {status}")
     if not p.report.ok:
-        print("rapp: error: the trajectory failed verification: "
-              + ", ".join(c.name for c in p.report.failed), file=err)
+        _say(err, "rapp: error: the trajectory failed verification: "
+                  + ", ".join(c.name for c in p.report.failed))
         return EXIT_INTERNAL
     return EXIT_OK
+
+
+# --------------------------------------------------------------------------- main
+
+
+def _interrupted(e: BaseException) -> bool:
+    """Whether ``e`` is a Ctrl-C, or was raised while one was being handled.
+
+    A KeyboardInterrupt inside ``Animation.save`` surfaces as an IndexError from the
+    writer's cleanup; the interrupt is still there in the exception's context.
+    """
+    seen = set()
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return True
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return False
+
+
+def _failure(e: BaseException) -> tuple:
+    """The exit code and the one stderr line for an exception that ended a command."""
+    if _interrupted(e):
+        return EXIT_INTERRUPTED, "rapp: interrupted"
+    if isinstance(e, _UsageError):
+        return EXIT_BAD_INPUT, f"{_one_line(e)} (see --help)"
+    if isinstance(e, ScenarioError):
+        return EXIT_BAD_INPUT, f"rapp: error: {_one_line(e)}"
+    if isinstance(e, NoIKSolution):
+        return EXIT_NO_PLAN, f"rapp: no IK solution ({_one_line(e.reason)}): {_one_line(e)}"
+    if isinstance(e, NoPathFound):
+        return EXIT_NO_PLAN, f"rapp: no path: {_one_line(e)}"
+    if isinstance(e, RappError):
+        return EXIT_BAD_INPUT, f"rapp: error: {_one_line(e)}"
+    if isinstance(e, OSError):
+        name = _one_line(getattr(e, "filename", None) or "output")
+        return EXIT_BAD_INPUT, f"rapp: error: {name}: {_one_line(e.strerror or e)}"
+    if isinstance(e, MemoryError):
+        return EXIT_BAD_INPUT, "rapp: error: out of memory; try a smaller planner.cells"
+    return EXIT_INTERNAL, f"rapp: internal error: {type(e).__name__}: {_one_line(e)}"
+
+
+@contextmanager
+def _warning_policy():
+    """Collect every warning instead of printing it (the caller mentions them in a note).
+
+    numpy's floating-point errors are pinned to "warn" so that they are collected too,
+    whatever state imported code left numpy in; underflow stays ignored, as in numpy.
+    A plan is judged by its verification, not by a warning on the way, so a warning is
+    not an error; ``python -W error`` still makes it one (an internal error, one line).
+    """
+    import numpy as np
+
+    with warnings.catch_warnings(record=True) as caught, \
+            np.errstate(divide="warn", over="warn", invalid="warn", under="ignore"):
+        yield caught
+
+
+def _run(argv, out, err) -> int:
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as e:  # --help, --version
+        return int(e.code or 0) if not isinstance(e.code, str) else EXIT_BAD_INPUT
+    with _warning_policy() as caught:
+        if args.command == "list":
+            return _cmd_list(out)
+        if args.command == "check":
+            return _cmd_check(args, out, caught)
+        return _cmd_plan(args, out, err, caught)
 
 
 def main(argv=None) -> int:
@@ -158,39 +464,12 @@ def main(argv=None) -> int:
     out, err = sys.stdout, sys.stderr
     try:
         try:
-            args = build_parser().parse_args(argv)
-        except SystemExit as e:  # --help, --version
-            return int(e.code or 0) if not isinstance(e.code, str) else EXIT_BAD_INPUT
-        if args.command == "list":
-            return _cmd_list(out)
-        if args.command == "check":
-            return _cmd_check(args, out)
-        return _cmd_plan(args, out, err)
-    except _UsageError as e:
-        print(f"{_one_line(e)} (see --help)", file=err)
-        return EXIT_BAD_INPUT
-    except ScenarioError as e:
-        print(f"rapp: error: {_one_line(e)}", file=err)
-        return EXIT_BAD_INPUT
-    except NoIKSolution as e:
-        print(f"rapp: no IK solution ({e.reason}): {_one_line(e)}", file=err)
-        return EXIT_NO_PLAN
-    except NoPathFound as e:
-        print(f"rapp: no path: {_one_line(e)}", file=err)
-        return EXIT_NO_PLAN
-    except KeyboardInterrupt:
-        print("rapp: interrupted", file=err)
+            return _run(argv, out, err)
+        except Exception as e:  # a bug too: still one line, never a traceback
+            code, line = _failure(e)
+        except KeyboardInterrupt:
+            code, line = EXIT_INTERRUPTED, "rapp: interrupted"
+        _say(err, line)
+        return code
+    except KeyboardInterrupt:  # a second Ctrl-C while the first was being reported
         return EXIT_INTERRUPTED
-    except RappError as e:
-        print(f"rapp: error: {_one_line(e)}", file=err)
-        return EXIT_BAD_INPUT
-    except OSError as e:
-        name = getattr(e, "filename", None)
-        print(f"rapp: error: {name or 'output'}: {_one_line(e.strerror or e)}", file=err)
-        return EXIT_BAD_INPUT
-    except MemoryError:
-        print("rapp: error: out of memory; try a smaller planner.cells", file=err)
-        return EXIT_BAD_INPUT
-    except Exception as e:  # a bug: still one line, never a traceback
-        print(f"rapp: internal error: {type(e).__name__}: {_one_line(e)}", file=err)
-        return EXIT_INTERNAL
