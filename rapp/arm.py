@@ -12,7 +12,20 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["Arm", "wrap_angle"]
+__all__ = ["Arm", "wrap_angle", "MAX_COORDINATE", "MAX_ANGLE"]
+
+#: Largest accepted size of the workspace, in length units: the link lengths of an
+#: :class:`Arm` add up to at most this, and obstacles (:mod:`rapp.obstacles`) lie
+#: within it. Squares and cross products of such coordinates stay below about
+#: 1e201, far from the float64 overflow at 1.8e308, so no distance computation
+#: can overflow. A real arm is many orders of magnitude smaller in any unit.
+MAX_COORDINATE = 1e100
+
+#: Largest accepted magnitude of a joint angle (and of a joint limit), radians.
+#: Sums and differences of angles and their products with lengths up to
+#: :data:`MAX_COORDINATE` then stay finite. (Far below this bound an angle has no
+#: direction left: from 2**55 rad, about 3.6e16, consecutive floats are > 2 pi apart.)
+MAX_ANGLE = 1e100
 
 
 def wrap_angle(q):
@@ -26,6 +39,26 @@ def wrap_angle(q):
     return (np.asarray(q, dtype=float) + np.pi) % (2 * np.pi) - np.pi
 
 
+def _joint_limit(i: int, lim):
+    """Entry ``i`` of ``joint_limits`` as ``None`` or a float pair, or a ValueError naming it."""
+    if lim is None:
+        return None
+    bad = ValueError(
+        f"joint_limits[{i}] must be None or a pair (lo, hi) of finite angles with lo < hi "
+        f"and |lo|, |hi| <= {MAX_ANGLE:g} rad, got {lim!r}"
+    )
+    if isinstance(lim, (str, bytes)):
+        raise bad
+    try:
+        lo, hi = lim
+        lo, hi = float(lo), float(hi)
+    except (TypeError, ValueError):
+        raise bad from None
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi and max(-lo, hi) <= MAX_ANGLE):
+        raise bad
+    return (lo, hi)
+
+
 @dataclass(frozen=True, eq=False)
 class Arm:
     """A planar serial arm of revolute joints.
@@ -33,11 +66,18 @@ class Arm:
     Parameters
     ----------
     link_lengths : sequence of float
-        ``L_1 .. L_n``, each finite and positive.
+        ``L_1 .. L_n``, each finite and positive, adding up to at most
+        :data:`MAX_COORDINATE`.
     joint_limits : sequence of (lo, hi) or None, optional
         One entry per joint; ``None`` (or ``None`` for the whole argument)
         means the joint turns freely and its angle wraps (a torus axis).
-        Limits may be asymmetric (LC5) and must satisfy ``lo < hi``.
+        Limits may be asymmetric (LC5) and must satisfy ``lo < hi`` and
+        ``|lo|, |hi| <= MAX_ANGLE``.
+
+    Raises
+    ------
+    ValueError
+        Naming ``link_lengths`` or the offending ``joint_limits[i]``.
 
     Examples
     --------
@@ -48,36 +88,48 @@ class Arm:
     [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]
     >>> arm.reach
     (0.0, 2.0)
+    >>> Arm([1.0, 1.0], [1.0, 2.0])
+    Traceback (most recent call last):
+    ...
+    ValueError: joint_limits[0] must be None or a pair (lo, hi) of finite angles with lo < hi and |lo|, |hi| <= 1e+100 rad, got 1.0
     """
 
     link_lengths: tuple
     joint_limits: tuple | None = None
 
     def __init__(self, link_lengths: Sequence[float], joint_limits=None):
-        lengths = np.asarray(link_lengths, dtype=float)
+        try:
+            lengths = np.asarray(link_lengths, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"link_lengths must be a non-empty list of numbers, got {link_lengths!r}") from None
         if lengths.ndim != 1 or lengths.size == 0:
             raise ValueError("link_lengths must be a non-empty list of numbers")
         if not np.all(np.isfinite(lengths)) or np.any(lengths <= 0):
             raise ValueError(f"link_lengths must be finite and > 0, got {lengths.tolist()}")
+        # Checked link by link first so that the sum below cannot overflow.
+        if np.any(lengths > MAX_COORDINATE) or lengths.sum() > MAX_COORDINATE:
+            raise ValueError(
+                f"link_lengths must add up to at most {MAX_COORDINATE:g} (rapp.arm.MAX_COORDINATE), "
+                f"beyond which distances overflow float64, got {lengths.tolist()}"
+            )
         n = lengths.size
         if joint_limits is None:
             limits = (None,) * n
         else:
-            joint_limits = list(joint_limits)
+            try:
+                if isinstance(joint_limits, (str, bytes)):
+                    raise TypeError
+                joint_limits = list(joint_limits)
+            except TypeError:
+                raise ValueError(
+                    f"joint_limits must be None or a list of one (lo, hi) or None per joint, "
+                    f"got {joint_limits!r}"
+                ) from None
             if len(joint_limits) != n:
                 raise ValueError(
                     f"joint_limits has {len(joint_limits)} entries but the arm has {n} joints"
                 )
-            limits = []
-            for i, lim in enumerate(joint_limits):
-                if lim is None:
-                    limits.append(None)
-                    continue
-                lo, hi = (float(v) for v in lim)
-                if not (np.isfinite(lo) and np.isfinite(hi)) or not lo < hi:
-                    raise ValueError(f"joint_limits[{i}] must be finite with lo < hi, got {lim}")
-                limits.append((lo, hi))
-            limits = tuple(limits)
+            limits = tuple(_joint_limit(i, lim) for i, lim in enumerate(joint_limits))
         object.__setattr__(self, "link_lengths", tuple(float(v) for v in lengths))
         object.__setattr__(self, "joint_limits", limits)
 
@@ -129,12 +181,14 @@ class Arm:
         total = float(lengths.sum())
         return (max(0.0, 2.0 * float(lengths.max()) - total), total)
 
-    def check_q(self, q, name: str = "q") -> np.ndarray:
+    def check_q(self, q, name: str = "q", *, max_abs: float = MAX_ANGLE) -> np.ndarray:
         """``q`` as a float array of configurations ``(..., n)``, or a ValueError naming ``name``.
 
         Every function that takes configurations calls this first, so a wrong
         shape or a NaN/infinite angle is refused with the argument's name
-        instead of turning into a wrong answer further down.
+        instead of turning into a wrong answer further down. Angles larger in
+        magnitude than ``max_abs`` (default :data:`MAX_ANGLE`) are refused too:
+        the kinematics and collision bounds would overflow on them.
 
         Examples
         --------
@@ -154,6 +208,12 @@ class Arm:
         if not np.isfinite(q).all():
             shown = q.tolist() if q.size <= 8 else "an array with non-finite entries"
             raise ValueError(f"{name} must be finite joint angles, got {shown}")
+        if np.any(np.abs(q) > max_abs):
+            shown = q.tolist() if q.size <= 8 else "an array with larger entries"
+            which = " (rapp.arm.MAX_ANGLE)" if max_abs == MAX_ANGLE else ""
+            raise ValueError(
+                f"{name} must be joint angles of magnitude at most {max_abs:g} rad{which}, got {shown}"
+            )
         return q
 
     def joint_delta(self, q_from, q_to) -> np.ndarray:
@@ -211,7 +271,11 @@ class Arm:
         >>> Arm([1.0, 2.0]).joint_positions(np.zeros((5, 2))).shape
         (5, 3, 2)
         """
-        phi = self.absolute_angles(q)
+        return self._positions(self.check_q(q))
+
+    def _positions(self, q: np.ndarray) -> np.ndarray:
+        """:meth:`joint_positions` of a float array already checked (or known to be in range)."""
+        phi = np.cumsum(q, axis=-1)
         steps = np.stack((np.cos(phi), np.sin(phi)), axis=-1) * self.lengths[:, None]
         out = np.zeros(phi.shape[:-1] + (self.n + 1, 2))
         np.cumsum(steps, axis=-2, out=out[..., 1:, :])

@@ -19,8 +19,11 @@ configurations.
 
 from __future__ import annotations
 
+import operator
+
 import numpy as np
 
+from rapp.errors import CertificationLimit
 from rapp.obstacles import Circle, Polygon
 
 __all__ = [
@@ -39,7 +42,20 @@ __all__ = [
     "motion_bounds",
     "segment_collision_free",
     "path_collision_free",
+    "MAX_PENDING_INTERVALS",
 ]
+
+#: Most sub-intervals :func:`segment_collision_free` keeps pending at once in one
+#: call (a few MB in all); one segment needing more raises
+#: :class:`~rapp.errors.CertificationLimit`. Planning the bundled scenarios keeps
+#: at most about a thousand pending; only an arm huge relative to its clearance
+#: (links of 1e20 beside an obstacle 1 away) comes near the limit.
+MAX_PENDING_INTERVALS = 1 << 14
+
+# Segments bisected together, and configurations per clearance evaluation: they
+# bound the temporaries (about n * k * 16 bytes per configuration for a k-gon).
+_GROUP = 256
+_CHUNK = 4096
 
 
 def _dot(u, v):
@@ -78,7 +94,8 @@ def closest_point_on_segment(a, b, p) -> np.ndarray:
     ab = b - a
     den = _dot(ab, ab)
     num = _dot(p - a, ab)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    # A very short segment far from p makes num / den overflow; clipping to 1 is then right.
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         t = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
     t = np.clip(t, 0.0, 1.0)
     return a + t[..., None] * ab
@@ -339,17 +356,79 @@ def motion_bounds(arm, dq) -> np.ndarray:
     >>> motion_bounds(Arm([1.0, 1.0]), [0.1, 0.0]).tolist()   # rotating the base by 0.1
     [0.1, 0.2]
     """
-    dq = np.abs(np.asarray(dq, dtype=float))
-    lengths = arm.lengths
+    dq = np.abs(arm.check_q(dq, "dq", max_abs=np.inf))
+    # Finite steps times finite lengths can still exceed float64; inf is then the true bound.
+    with np.errstate(over="ignore"):
+        return dq @ _reach_matrix(arm)
+
+
+def _reach_matrix(arm) -> np.ndarray:
+    """``R[i, j] = L_i + ... + L_j`` for ``i <= j``, else 0 (see :func:`motion_bounds`)."""
     n = arm.n
-    # R[i, j] = sum_{k=i..j} L_k for i <= j, else 0.
-    c = np.concatenate(([0.0], np.cumsum(lengths)))
+    c = np.concatenate(([0.0], np.cumsum(arm.lengths)))
     R = c[None, 1:] - c[:-1, None]
-    R = np.where(np.arange(n)[:, None] <= np.arange(n)[None, :], R, 0.0)
-    return dq @ R
+    return np.where(np.arange(n)[:, None] <= np.arange(n)[None, :], R, 0.0)
 
 
-def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9) -> np.ndarray:
+class _GroupTooLarge(Exception):
+    """Internal: several segments together exceed the pending limit; retry them one by one."""
+
+
+def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
+    """Certification of the segments ``q0 + t dq`` by bisection: bool ``(m,)``.
+
+    Raises :class:`_GroupTooLarge` when more than ``cap`` intervals of several
+    segments are pending, :class:`CertificationLimit` when one segment alone needs more.
+    """
+    m = q0.shape[0]
+    free = np.ones(m, dtype=bool)
+    owner = np.arange(m)
+    lo = np.zeros(m)
+    hi = np.ones(m)
+    worst = np.full(m, np.inf)  # per segment: smallest clearance that failed to certify
+    while owner.size:
+        if owner.size > cap:
+            if owner[0] != owner[-1]:  # owners stay sorted: several segments pending
+                raise _GroupTooLarge
+            i = owner[0]
+            raise CertificationLimit(_limit_message(arm, q0[i], q1[i], bounds[i], worst[i], cap))
+        mid = 0.5 * (lo + hi)
+        half = 0.5 * (hi - lo)
+        q = q0[owner] + mid[:, None] * dq[owner]
+        d = np.empty(q.shape)
+        for s in range(0, len(q), _CHUNK):
+            pts = arm._positions(q[s:s + _CHUNK])
+            d[s:s + _CHUNK] = segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
+        hit = np.any(d <= 0, axis=-1)
+        certified = np.all(bounds[owner] * half[:, None] < d, axis=-1)
+        stuck = ~certified & ~hit & (hi - lo < min_interval)
+        free[owner[hit | stuck]] = False
+        keep = ~certified & free[owner]
+        failed = np.where(bounds[owner] * half[:, None] >= d, d, np.inf).min(axis=-1)
+        np.minimum.at(worst, owner[keep], failed[keep])
+        owner, lo, mid, hi = owner[keep], lo[keep], mid[keep], hi[keep]
+        # Children interleaved so that owners stay sorted.
+        owner = np.repeat(owner, 2)
+        lo, hi = np.stack((lo, mid), axis=1).ravel(), np.stack((mid, hi), axis=1).ravel()
+    return free
+
+
+def _limit_message(arm, q0, q1, bounds, clearance, cap):
+    scale = float(np.sum(arm.lengths))
+    sweep = float(bounds.max())
+    return (
+        f"the segment q0={q0.tolist()} -> q1={q1.tolist()} could not be certified "
+        f"collision-free within {cap} sub-intervals (rapp.collision.MAX_PENDING_INTERVALS): "
+        f"the arm is too large relative to its clearance. Its links add up to {scale:.3g} "
+        f"and sweep up to {sweep:.3g} along the segment, but the clearance where "
+        f"certification failed is only {clearance:.3g}, so the pieces would have to be "
+        f"shorter than {2 * clearance / sweep:.3g} of the segment. Use units in which the arm "
+        "and its clearances are of comparable size, or shorter segments"
+    )
+
+
+def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9,
+                           max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
     """Certify that every configuration on the joint-space segments ``q0 → q1`` is free.
 
     The straight segment ``q(t) = q0 + t (q1 - q0)``, ``t in [0, 1]``, is
@@ -364,8 +443,14 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     grazes an obstacle, clearance about 0) also counts as not free, which is
     conservative and agrees with "touching counts".
 
-    All segments and all pending intervals are processed together as arrays;
-    the loop runs over bisection levels only.
+    Segments are processed together as arrays, in groups of up to 256 with
+    all their pending intervals; the loop runs over bisection levels. At most
+    ``max_intervals`` intervals are pending at once, which bounds the memory
+    (about 50 bytes per interval) and the work. A segment that would need more
+    raises :class:`~rapp.errors.CertificationLimit` instead of running for
+    minutes: that happens only when the arm is huge relative to its clearance
+    (e.g. links of 1e20 beside an obstacle at distance 1), and the message
+    gives both numbers.
 
     Angles are taken as given: for a wrapping joint, pass unwrapped values
     (e.g. ``q1 = q0 + step`` across the ``±pi`` seam), otherwise the segment
@@ -378,10 +463,21 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     obstacles : iterable of Circle and Polygon
     min_interval : float
         Shortest parameter interval examined before giving up (conservatively).
+    max_intervals : int
+        Most sub-intervals pending at once (:data:`MAX_PENDING_INTERVALS`).
 
     Returns
     -------
     ndarray of bool, shape (...)
+
+    Raises
+    ------
+    ValueError
+        ``q0`` or ``q1`` is not a finite configuration of the arm, or an
+        obstacle or a keyword argument is invalid.
+    CertificationLimit
+        (a ValueError) A segment needs more than ``max_intervals`` pending
+        sub-intervals.
 
     Examples
     --------
@@ -391,33 +487,44 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     [True, False]
     """
     obstacles = [check_obstacle(ob) for ob in obstacles]
-    q0, q1 = np.broadcast_arrays(arm.check_q(q0, "q0"), arm.check_q(q1, "q1"))
+    q0, q1 = arm.check_q(q0, "q0"), arm.check_q(q1, "q1")
+    try:
+        q0, q1 = np.broadcast_arrays(q0, q1)
+    except ValueError:
+        raise ValueError(f"q0 and q1 must broadcast together, got shapes {q0.shape} and {q1.shape}") from None
+    try:
+        min_interval = float(min_interval)
+    except (TypeError, ValueError):
+        min_interval = np.nan
+    if not (np.isfinite(min_interval) and min_interval > 0):
+        raise ValueError(f"min_interval must be a finite number > 0, got {min_interval!r}")
+    try:
+        cap = operator.index(max_intervals)
+    except TypeError:
+        raise ValueError(f"max_intervals must be an integer >= 2, got {max_intervals!r}") from None
+    if cap < 2:
+        raise ValueError(f"max_intervals must be an integer >= 2, got {max_intervals!r}")
     shape = q0.shape[:-1]
-    q0 = q0.reshape(-1, arm.n)
-    dq = q1.reshape(-1, arm.n) - q0
-    bounds = motion_bounds(arm, dq)  # (m, n)
+    q0, q1 = q0.reshape(-1, arm.n), q1.reshape(-1, arm.n)
+    dq = q1 - q0
+    bounds = np.abs(dq) @ _reach_matrix(arm)  # (m, n); finite: angles and lengths are bounded
     free = np.ones(q0.shape[0], dtype=bool)
     if not obstacles:
         return free.reshape(shape)
-    owner = np.arange(q0.shape[0])
-    lo = np.zeros(q0.shape[0])
-    hi = np.ones(q0.shape[0])
-    while owner.size:
-        mid = 0.5 * (lo + hi)
-        half = 0.5 * (hi - lo)
-        d = link_clearances(arm, q0[owner] + mid[:, None] * dq[owner], obstacles)
-        hit = np.any(d <= 0, axis=-1)
-        certified = np.all(bounds[owner] * half[:, None] < d, axis=-1)
-        stuck = ~certified & ~hit & (hi - lo < min_interval)
-        free[owner[hit | stuck]] = False
-        keep = ~certified & free[owner]
-        owner, lo, mid, hi = owner[keep], lo[keep], mid[keep], hi[keep]
-        owner = np.concatenate((owner, owner))
-        lo, hi = np.concatenate((lo, mid)), np.concatenate((mid, hi))
+    for g in range(0, q0.shape[0], _GROUP):
+        sl = slice(g, g + _GROUP)
+        try:
+            free[sl] = _bisect(arm, q0[sl], q1[sl], dq[sl], bounds[sl], obstacles, min_interval, cap)
+        except _GroupTooLarge:
+            for i in range(g, min(g + _GROUP, q0.shape[0])):
+                one = slice(i, i + 1)
+                free[i] = _bisect(arm, q0[one], q1[one], dq[one], bounds[one], obstacles,
+                                  min_interval, cap)[0]
     return free.reshape(shape)
 
 
-def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9) -> np.ndarray:
+def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9,
+                        max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
     """True where every straight joint-space segment of a polyline is certified free.
 
     Parameters
@@ -426,10 +533,19 @@ def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9) -
         ``k >= 1`` configurations; wrapping joints must be unwrapped by the
         caller (``np.unwrap`` along the path) so that consecutive angles differ
         by the intended short step.
+    min_interval, max_intervals
+        Passed to :func:`segment_collision_free`.
 
     Returns
     -------
     bool, or ndarray of bool of shape ``(...)``
+
+    Raises
+    ------
+    ValueError
+        ``path_q`` is not an array of finite configurations of the arm.
+    CertificationLimit
+        See :func:`segment_collision_free`.
 
     Examples
     --------
@@ -440,11 +556,12 @@ def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9) -
     """
     p = arm.check_q(path_q, "path_q")
     if p.ndim < 2 or p.shape[-2] < 1:
-        raise ValueError(f"path must have shape (..., k, {arm.n}) with k >= 1, got {p.shape}")
+        raise ValueError(f"path_q must have shape (..., k, {arm.n}) with k >= 1, got {p.shape}")
     if p.shape[-2] == 1:
         ok = ~collides(arm, p[..., 0, :], obstacles)
     else:
         ok = segment_collision_free(
-            arm, p[..., :-1, :], p[..., 1:, :], obstacles, min_interval=min_interval
+            arm, p[..., :-1, :], p[..., 1:, :], obstacles, min_interval=min_interval,
+            max_intervals=max_intervals,
         ).all(axis=-1)
     return ok if ok.ndim else bool(ok)

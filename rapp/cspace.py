@@ -14,6 +14,8 @@ the test along the last of those joints is a closed form in the link's angle.
 
 from __future__ import annotations
 
+import math
+import operator
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,7 +24,15 @@ from rapp.arm import Arm, wrap_angle
 from rapp.collision import check_obstacle, motion_bounds, segment_clearances
 from rapp.obstacles import Circle
 
-__all__ = ["JointGrid", "occupancy", "grid_q", "certified_free"]
+__all__ = ["JointGrid", "occupancy", "grid_q", "certified_free", "MAX_GRID_CELLS"]
+
+#: Most cells (the product of the cells per joint) a :class:`JointGrid` accepts.
+#: At this size :func:`occupancy` and :func:`certified_free` return 50 MB bool
+#: arrays and :func:`grid_q` an array of ``8 n`` bytes per cell (0.8 GB for two
+#: joints); refusing larger grids up front keeps a typo in ``cells`` (say 30000
+#: per joint of a 2-link arm: 7 GB) from exhausting memory. A grid this fine is
+#: far beyond what planning needs (the scenarios accept a few million cells).
+MAX_GRID_CELLS = 50_000_000
 
 
 @dataclass(frozen=True)
@@ -33,7 +43,13 @@ class JointGrid:
     ----------
     arm : Arm
     cells : int or sequence of int
-        Cells per joint (one number for all, or one per joint), each ``>= 2``.
+        Cells per joint (one number for all, or one per joint), each ``>= 2``,
+        at most :data:`MAX_GRID_CELLS` in all.
+
+    Raises
+    ------
+    ValueError
+        Naming ``cells`` (or ``arm``) when it is invalid or the grid too large.
 
     Examples
     --------
@@ -47,12 +63,18 @@ class JointGrid:
     [0.0, -1.0]
     >>> g.index([3.1, 0.4]).tolist()      # 3.1 is nearest to -pi across the seam
     [0, 1]
+    >>> JointGrid(Arm([1.0, 1.0]), 30000)
+    Traceback (most recent call last):
+    ...
+    ValueError: cells (30000, 30000) make a grid of 900,000,000 cells, more than rapp.cspace.MAX_GRID_CELLS = 50,000,000; use fewer cells per joint
     """
 
     arm: Arm
     cells: tuple
 
     def __post_init__(self):
+        if not isinstance(self.arm, Arm):
+            raise ValueError(f"arm must be a rapp.Arm, got {type(self.arm).__name__}")
         n = self.arm.n
         raw = self.cells
         vals = [raw] * n if np.ndim(raw) == 0 else list(raw)
@@ -63,7 +85,20 @@ class JointGrid:
             if isinstance(c, (bool, np.bool_)) or not isinstance(c, (int, np.integer)) or c < 2:
                 raise ValueError(f"cells[{i}] must be an integer >= 2, got {c!r}")
             out.append(int(c))
+        total = math.prod(out)  # Python integers: no overflow, checked before any allocation
+        if total > MAX_GRID_CELLS:
+            shown = f"{total:,}" if total < 10**15 else f"{float(total):.3g}"
+            raise ValueError(
+                f"cells {tuple(out)} make a grid of {shown} cells, more than "
+                f"rapp.cspace.MAX_GRID_CELLS = {MAX_GRID_CELLS:,}; use fewer cells per joint"
+            )
         object.__setattr__(self, "cells", tuple(out))
+        if not np.all(self.step > 0):
+            i = int(np.flatnonzero(~(self.step > 0))[0])
+            raise ValueError(
+                f"cells[{i}] = {out[i]} is too many for joint {i}'s range "
+                f"{self.arm.joint_limits[i]}: the angle step would round to 0"
+            )
 
     @property
     def n(self) -> int:
@@ -132,13 +167,33 @@ class JointGrid:
         """
         q = self.arm.check_q(q)
         base = np.where(self.wraps, wrap_angle(q) + np.pi, q - self.lower)
-        return base / self.step
+        # A configuration far outside a narrow joint range can land beyond float64:
+        # +-inf is then the honest position, far off the grid.
+        with np.errstate(over="ignore"):
+            return base / self.step
 
     def index(self, q) -> np.ndarray:
-        """Nearest grid index of configurations ``(..., n)``; wrap-aware, clipped on bounded axes."""
+        """Nearest grid index of configurations ``(..., n)``; wrap-aware, clipped on bounded axes.
+
+        Examples
+        --------
+        >>> from rapp import Arm
+        >>> JointGrid(Arm([1.0, 1.0], [None, (-1.0, 1.0)]), 5).index([[3.0, 0.4], [0.0, 9.0]]).tolist()
+        [[0, 3], [2, 4]]
+        """
         m = np.array(self.cells)
-        i = np.rint(self.fractional_index(q)).astype(int)
+        # Clipped before rounding so that a value far off the grid converts to int safely.
+        f = np.clip(self.fractional_index(q), -1.0, m.astype(float))
+        i = np.rint(f).astype(int)
         return np.where(self.wraps, i % m, np.clip(i, 0, m - 1))
+
+
+def _check_grid(arm, grid):
+    """ValueError naming ``grid`` unless it is a JointGrid of ``arm`` (whose size it has checked)."""
+    if not isinstance(grid, JointGrid):
+        raise ValueError(f"grid must be a rapp.JointGrid, got {type(grid).__name__}")
+    if grid.arm != arm:
+        raise ValueError("grid was built for a different arm")
 
 
 def _prefix_grid(grid, i):
@@ -172,7 +227,9 @@ def _circle_hits(P, cos_phi, sin_phi, L, center, r):
     d2 = v[..., 0] ** 2 + v[..., 1] ** 2
     t2 = d2 - r * r
     tangent = np.sqrt(np.maximum(t2, 0.0))
-    T = np.where(L >= tangent, tangent, (L * L + t2) / (2 * L))
+    # For a short link far from the disc the tip distance overflows; inf means "never hits".
+    with np.errstate(over="ignore"):
+        T = np.where(L >= tangent, tangent, (L * L + t2) / (2 * L))
     T = np.where(L < np.sqrt(d2) - r, np.inf, T)
     T = np.where(t2 <= 0, -np.inf, T)
     dot = v[..., 0, None] * cos_phi
@@ -230,8 +287,7 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     >>> bool((occ == collides(arm, grid_q(JointGrid(arm, 8)), [Circle((1.75, 0.75), 0.6)])).all())
     True
     """
-    if grid.arm != arm:
-        raise ValueError("grid was built for a different arm")
+    _check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
     shape = grid.shape
     n = arm.n
@@ -261,12 +317,17 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
 def grid_q(grid) -> np.ndarray:
     """Every configuration of the grid, shape ``grid.shape + (n,)``.
 
+    The array takes ``8 n`` bytes per cell; :class:`JointGrid` refuses grids
+    of more than :data:`MAX_GRID_CELLS` cells, which bounds it.
+
     Examples
     --------
     >>> from rapp import Arm
     >>> grid_q(JointGrid(Arm([1.0, 1.0]), 4)).shape
     (4, 4, 2)
     """
+    if not isinstance(grid, JointGrid):
+        raise ValueError(f"grid must be a rapp.JointGrid, got {type(grid).__name__}")
     return np.stack(np.meshgrid(*grid.axes, indexing="ij"), axis=-1)
 
 
@@ -292,19 +353,31 @@ def certified_free(arm, obstacles, grid, *, chunk: int = 200_000) -> np.ndarray:
     >>> bool(np.all(~safe | ~occupancy(arm, obs, grid))), int(safe.sum()) < int((~occupancy(arm, obs, grid)).sum())
     (True, True)
     """
+    _check_grid(arm, grid)
+    obstacles = [check_obstacle(ob) for ob in obstacles]
+    try:
+        size_ok = operator.index(chunk) >= 1
+    except TypeError:
+        size_ok = False
+    if not size_ok:
+        raise ValueError(f"chunk must be a positive integer, got {chunk!r}")
+    chunk = operator.index(chunk)
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
     axes = grid.axes
     out = np.ones(grid.shape, bool)
     for j in range(n):
         # Link j depends on joints 0..j only: test it on that prefix grid and broadcast.
-        sub = np.stack(np.meshgrid(*axes[: j + 1], indexing="ij"), axis=-1).reshape(-1, j + 1)
-        q = np.zeros((sub.shape[0], n))
-        q[:, : j + 1] = sub
-        ok = np.empty(q.shape[0], bool)
-        for lo in range(0, q.shape[0], chunk):  # chunks bound the memory, not a loop over cells
-            pts = arm.joint_positions(q[lo:lo + chunk])
+        prefix = grid.shape[: j + 1]
+        size = math.prod(prefix)
+        ok = np.empty(size, bool)
+        for lo in range(0, size, chunk):  # chunks bound the memory, not a loop over cells
+            idx = np.unravel_index(np.arange(lo, min(lo + chunk, size)), prefix)
+            q = np.zeros((idx[0].size, n))
+            for k in range(j + 1):
+                q[:, k] = axes[k][idx[k]]
+            pts = arm.joint_positions(q)
             d = segment_clearances(pts[:, j, :], pts[:, j + 1, :], obstacles)
             ok[lo:lo + chunk] = d > need[j]
-        out &= ok.reshape(grid.shape[: j + 1] + (1,) * (n - j - 1))
+        out &= ok.reshape(prefix + (1,) * (n - j - 1))
     return out

@@ -9,6 +9,9 @@ Examples
 >>> from rapp.errors import InvalidValue, ScenarioError, RappError
 >>> issubclass(InvalidValue, ScenarioError) and issubclass(ScenarioError, RappError)
 True
+>>> from rapp.errors import InvalidCell, CertificationLimit, NoPathFound
+>>> issubclass(InvalidCell, (NoPathFound, ValueError)), issubclass(CertificationLimit, ValueError)
+(True, True)
 """
 
 from __future__ import annotations
@@ -53,6 +56,26 @@ class InvalidValue(ScenarioError):
 
 class NoPathFound(RappError):
     """The search space holds no collision-free path from start to goal."""
+
+
+class InvalidCell(NoPathFound, ValueError):
+    """A start or goal cell that is not a cell of the search grid (outside it, or malformed).
+
+    A bad argument, hence a ValueError; it is also a NoPathFound because the
+    grid searches raised that for a cell outside the grid before, and callers
+    may still catch it as such.
+    """
+
+
+class CertificationLimit(RappError, ValueError):
+    """A joint-space segment could not be certified within the bisection's work limit.
+
+    :func:`rapp.collision.segment_collision_free` bisects a segment until its
+    motion bound fits inside the clearance. When the arm is huge relative to
+    its clearance the pieces must be tiny and their number explodes; past
+    :data:`rapp.collision.MAX_PENDING_INTERVALS` pending pieces it stops with
+    this error, whose message states the link scale and the clearance.
+    """
 
 
 class GridTooCoarse(NoPathFound):

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rapp.errors import NoPathFound
+from rapp.errors import InvalidCell, NoPathFound
 
 __all__ = [
     "SearchResult",
@@ -59,22 +59,34 @@ def _grid(occupied):
 def _wraps(wraps, n):
     if isinstance(wraps, (bool, np.bool_)):
         return (bool(wraps),) * n
-    w = tuple(bool(x) for x in wraps)
+    try:
+        w = tuple(bool(x) for x in wraps)
+    except TypeError:
+        raise ValueError(f"wraps must be a bool or one bool per axis, got {wraps!r}") from None
     if len(w) != n:
         raise ValueError(f"wraps needs one bool per axis ({n}), got {len(w)}")
     return w
 
 
 def _cell(index, shape, what):
-    """Flat number of a cell; NoPathFound if it lies outside the grid."""
+    """Flat number of a cell; a ValueError naming ``what`` if it is not a cell of the grid.
+
+    A cell outside the grid raises :class:`~rapp.errors.InvalidCell`, a ValueError
+    that is also the NoPathFound these searches raised for it before.
+    """
     try:
-        idx = tuple(operator.index(i) for i in index)
+        if isinstance(index, (str, bytes)):
+            raise TypeError
+        items = list(index)
+        if any(isinstance(i, (bool, np.bool_)) for i in items):
+            raise TypeError
+        idx = tuple(operator.index(i) for i in items)
     except TypeError:
         raise ValueError(f"{what} must be a sequence of integer indices, got {index!r}") from None
     if len(idx) != len(shape):
         raise ValueError(f"{what} has {len(idx)} indices but the grid has {len(shape)} axes")
     if any(not 0 <= i < m for i, m in zip(idx, shape)):
-        raise NoPathFound(f"the {what} cell {idx} is outside the grid of shape {tuple(shape)}")
+        raise InvalidCell(f"{what} cell {idx} is outside the grid of shape {tuple(shape)}")
     return idx, int(np.ravel_multi_index(idx, shape))
 
 
@@ -382,9 +394,13 @@ def astar_search(
 
     Raises
     ------
+    ValueError
+        ``start`` or ``goal`` is not ``n`` integer indices, or lies outside
+        the grid (then an :class:`~rapp.errors.InvalidCell`, which is also a
+        NoPathFound); or another argument is invalid.
     NoPathFound
-        The start or goal is blocked or outside the grid, the goal is
-        unreachable, or the expansion limit was hit.
+        The start or goal is blocked, the goal is unreachable, or the
+        expansion limit was hit.
 
     Examples
     --------
@@ -397,13 +413,19 @@ def astar_search(
     """
     occ, w_ax, sidx, s, gidx, t = _prepare(occupied, start, goal, wraps)
     hw = w_ax if heuristic_wraps is None else _wraps(heuristic_wraps, occ.ndim)
-    w = float(heuristic_weight)
+    try:
+        w = float(heuristic_weight)
+    except (TypeError, ValueError):
+        w = np.nan
     if not (np.isfinite(w) and w >= 1.0):
         raise ValueError(f"heuristic_weight must be a finite number >= 1, got {heuristic_weight!r}")
     if max_expansions is None:
         limit = -1
     else:
-        limit = operator.index(max_expansions)
+        try:
+            limit = operator.index(max_expansions)
+        except TypeError:
+            raise ValueError(f"max_expansions must be an integer >= 0 or None, got {max_expansions!r}") from None
         if limit < 0:
             raise ValueError(f"max_expansions must be >= 0, got {max_expansions!r}")
     G = _PaddedGraph(occ, w_ax)
@@ -511,9 +533,10 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
 
     Raises
     ------
+    ValueError
+        ``start`` or ``goal`` malformed or outside the grid (see :func:`astar_search`).
     NoPathFound
-        Start or goal blocked or outside the grid, goal unreachable, or the
-        expansion limit hit.
+        Start or goal blocked, goal unreachable, or the expansion limit hit.
 
     Examples
     --------
@@ -522,6 +545,10 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     [(0, 0), (3, 0)]
     >>> astar(grid, (0, 0), (3, 0), wraps=False)
     [(0, 0), (1, 0), (2, 0), (3, 0)]
+    >>> astar(grid, (0, 4), (3, 0))
+    Traceback (most recent call last):
+    ...
+    rapp.errors.InvalidCell: start cell (0, 4) is outside the grid of shape (4, 4)
     """
     r = astar_search(
         occupied,
@@ -558,6 +585,11 @@ def bfs_distances(occupied, start, wraps=True):
         Distances; ``-1`` for blocked and unreachable cells (all ``-1`` when the
         start itself is blocked).
 
+    Raises
+    ------
+    ValueError
+        ``start`` is not ``n`` integer indices or lies outside the grid.
+
     Examples
     --------
     >>> bfs_distances(np.zeros(6, bool), [0]).tolist()
@@ -567,10 +599,7 @@ def bfs_distances(occupied, start, wraps=True):
     """
     occ = _grid(occupied)
     w = _wraps(wraps, occ.ndim)
-    try:
-        sidx, s = _cell(start, occ.shape, "start")
-    except NoPathFound as e:
-        raise ValueError(str(e)) from None
+    sidx, s = _cell(start, occ.shape, "start")
     size = occ.size
     dist = np.full(size + 1, -1, dtype=np.int64)
     if not occ[sidx]:
@@ -609,8 +638,10 @@ def bfs(occupied, start, goal, *, wraps=True):
 
     Raises
     ------
+    ValueError
+        ``start`` or ``goal`` malformed or outside the grid (see :func:`astar_search`).
     NoPathFound
-        Start or goal blocked or outside the grid, or goal unreachable.
+        Start or goal blocked, or goal unreachable.
 
     Examples
     --------
@@ -665,8 +696,10 @@ def greedy_best_first(occupied, start, goal, *, wraps=True, heuristic_wraps=None
 
     Raises
     ------
+    ValueError
+        ``start`` or ``goal`` malformed or outside the grid (see :func:`astar_search`).
     NoPathFound
-        Start or goal blocked or outside the grid, or goal unreachable.
+        Start or goal blocked, or goal unreachable.
 
     Examples
     --------

@@ -27,6 +27,7 @@ with one ``np.searchsorted``.
 
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass, field
 from math import comb
 
@@ -48,6 +49,31 @@ __all__ = [
 ]
 
 
+def _finite(value, name: str) -> np.ndarray:
+    """``value`` as a float array, or a ValueError naming ``name`` unless every entry is finite."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers, got {value!r}") from None
+    if not np.all(np.isfinite(a)):
+        shown = a.tolist() if a.size <= 8 else "an array with non-finite entries"
+        raise ValueError(f"{name} must be finite, got {shown}")
+    return a
+
+
+def _fits(result: np.ndarray, message: str) -> np.ndarray:
+    """``result``, or a ValueError with ``message`` when a finite input overflowed into it.
+
+    The formulas here run under ``np.errstate(all="ignore")``; an overflow or
+    an invalid operation leaves an inf or a nan in the result, so this one
+    check turns every such case into an error that says which input is too
+    large, instead of a RuntimeWarning and a wrong trajectory.
+    """
+    if not np.all(np.isfinite(result)):
+        raise ValueError(message)
+    return result
+
+
 def shift_to_absolute(b: np.ndarray, t0) -> np.ndarray:
     """Coefficients of ``sum_k b_k (t - t0)^k`` in powers of ``t``.
 
@@ -59,7 +85,12 @@ def shift_to_absolute(b: np.ndarray, t0) -> np.ndarray:
     >>> shift_to_absolute(np.array([0.0, 1.0, 0.0, 0.0]), 2.0).tolist()   # t - 2
     [-2.0, 1.0, 0.0, 0.0]
     """
-    return _shift(b, -np.asarray(t0, dtype=float))
+    b = _finite(b, "b")
+    t0 = _finite(t0, "t0")
+    with np.errstate(all="ignore"):
+        a = _shift(b, -t0)
+    return _fits(a, f"t0 up to {np.abs(t0).max():.3g} is too large for these coefficients: the "
+                    "absolute-time coefficients overflow float64 (local time does not)")
 
 
 def _shift(b: np.ndarray, s) -> np.ndarray:
@@ -72,12 +103,19 @@ def _shift(b: np.ndarray, s) -> np.ndarray:
 
 
 def _durations(t0, tf):
-    t0 = np.asarray(t0, dtype=float)
-    tf = np.asarray(tf, dtype=float)
-    h = tf - t0
+    t0 = _finite(t0, "t0")
+    tf = _finite(tf, "tf")
+    with np.errstate(over="ignore"):
+        h = tf - t0
     if np.any(~(h > 0)):
-        raise ValueError("every segment needs tf > t0")
-    return t0, h
+        raise ValueError(f"every segment needs tf > t0, got t0={t0.tolist()}, tf={tf.tolist()}")
+    return t0, _fits(h, "tf - t0 overflows float64: t0 and tf are too far apart")
+
+
+def _too_short(what, h):
+    return (f"the {what} coefficients overflow float64: the segment duration (tf - t0, "
+            f"shortest {np.min(h):.3g}) is too short for the positions, velocities and "
+            "accelerations asked")
 
 
 def cubic(t0, tf, p0, pf, v0=0.0, vf=0.0) -> np.ndarray:
@@ -112,15 +150,25 @@ def cubic_local(h, p0, pf, v0, vf) -> np.ndarray:
     >>> cubic_local(3.0, 0.0, 3.0, 0.0, 0.25).round(4).tolist()
     [0.0, 0.0, 0.9167, -0.1944]
     """
-    p0, pf, v0, vf = (np.asarray(v, dtype=float) for v in (p0, pf, v0, vf))
-    d = pf - p0
-    b = [
-        p0,
-        v0,
-        (3 * d - (2 * v0 + vf) * h) / h**2,
-        (-2 * d + (v0 + vf) * h) / h**3,
-    ]
-    return np.stack(np.broadcast_arrays(*b), axis=0)
+    h = _positive_durations(h)
+    p0, pf, v0, vf = (_finite(v, k) for v, k in ((p0, "p0"), (pf, "pf"), (v0, "v0"), (vf, "vf")))
+    with np.errstate(all="ignore"):
+        d = pf - p0
+        b = [
+            p0,
+            v0,
+            (3 * d - (2 * v0 + vf) * h) / h**2,
+            (-2 * d + (v0 + vf) * h) / h**3,
+        ]
+        b = np.stack(np.broadcast_arrays(*b), axis=0)
+    return _fits(b, _too_short("cubic", h))
+
+
+def _positive_durations(h):
+    h = _finite(h, "h")
+    if np.any(h <= 0):
+        raise ValueError(f"h (the segment duration) must be > 0, got {h.tolist()}")
+    return h
 
 
 def quintic(t0, tf, p0, pf, v0=0.0, vf=0.0, a0=0.0, af=0.0) -> np.ndarray:
@@ -148,17 +196,21 @@ def quintic_local(h, p0, pf, v0, vf, a0, af) -> np.ndarray:
     >>> quintic_local(1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0).tolist()
     [0.0, 0.0, 0.0, 10.0, -15.0, 6.0]
     """
-    p0, pf, v0, vf, a0, af = (np.asarray(v, dtype=float) for v in (p0, pf, v0, vf, a0, af))
-    d = pf - p0
-    b = [
-        p0,
-        v0,
-        a0 / 2,
-        (20 * d - (8 * vf + 12 * v0) * h - (3 * a0 - af) * h**2) / (2 * h**3),
-        (-30 * d + (14 * vf + 16 * v0) * h + (3 * a0 - 2 * af) * h**2) / (2 * h**4),
-        (12 * d - 6 * (vf + v0) * h - (a0 - af) * h**2) / (2 * h**5),
-    ]
-    return np.stack(np.broadcast_arrays(*b), axis=0)
+    h = _positive_durations(h)
+    p0, pf, v0, vf, a0, af = (_finite(v, k) for v, k in (
+        (p0, "p0"), (pf, "pf"), (v0, "v0"), (vf, "vf"), (a0, "a0"), (af, "af")))
+    with np.errstate(all="ignore"):
+        d = pf - p0
+        b = [
+            p0,
+            v0,
+            a0 / 2,
+            (20 * d - (8 * vf + 12 * v0) * h - (3 * a0 - af) * h**2) / (2 * h**3),
+            (-30 * d + (14 * vf + 16 * v0) * h + (3 * a0 - 2 * af) * h**2) / (2 * h**4),
+            (12 * d - 6 * (vf + v0) * h - (a0 - af) * h**2) / (2 * h**5),
+        ]
+        b = np.stack(np.broadcast_arrays(*b), axis=0)
+    return _fits(b, _too_short("quintic", h))
 
 
 def _derivative_coeffs(c: np.ndarray, derivative: int, axis: int) -> np.ndarray:
@@ -180,12 +232,13 @@ def polyval(coeffs, t, derivative: int = 0) -> np.ndarray:
     >>> polyval(c, [0.0, 3.0]).round(12).tolist(), polyval(c, 3.0, 1).round(12).tolist()
     ([2.0, 5.0], 0.25)
     """
-    c = _derivative_coeffs(np.asarray(coeffs, dtype=float), derivative, 0)
-    t = np.asarray(t, dtype=float)
+    c = _derivative_coeffs(_finite(coeffs, "coeffs"), derivative, 0)
+    t = _finite(t, "t")
     out = np.zeros(np.broadcast_shapes(c.shape[1:], t.shape))
-    for k in range(c.shape[0] - 1, -1, -1):
-        out = out * t + c[k]
-    return out
+    with np.errstate(all="ignore"):
+        for k in range(c.shape[0] - 1, -1, -1):
+            out = out * t + c[k]
+    return _fits(out, "the polynomial's value overflows float64 at these t")
 
 
 @dataclass(frozen=True, eq=False)
@@ -229,8 +282,8 @@ class PiecewisePolynomial:
     local: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
-        bp = np.asarray(self.breakpoints, dtype=float)
-        c = np.asarray(self.coefficients, dtype=float)
+        bp = _finite(self.breakpoints, "breakpoints")
+        c = _finite(self.coefficients, "coefficients")
         if c.ndim == 2:
             c = c[:, :, None]
         if bp.ndim != 1 or bp.size < 2 or np.any(np.diff(bp) <= 0):
@@ -240,9 +293,15 @@ class PiecewisePolynomial:
                 f"coefficients must have shape ({bp.size - 1}, deg+1, d), got {c.shape}"
             )
         if self.local is None:
-            loc = np.moveaxis(_shift(np.moveaxis(c, 1, 0), bp[:-1, None]), 0, 1)
+            with np.errstate(all="ignore"):
+                loc = np.moveaxis(_shift(np.moveaxis(c, 1, 0), bp[:-1, None]), 0, 1)
+            _fits(loc, "breakpoints and coefficients too large: the local-time coefficients "
+                       "overflow float64")
         else:
-            loc = np.asarray(self.local, dtype=float).reshape(c.shape)
+            loc = _finite(self.local, "local")
+            if loc.size != c.size:
+                raise ValueError(f"local must have the shape of coefficients {c.shape}, got {loc.shape}")
+            loc = loc.reshape(c.shape)
         for arr in (bp, c, loc):
             arr.setflags(write=False)
         object.__setattr__(self, "breakpoints", bp)
@@ -259,12 +318,19 @@ class PiecewisePolynomial:
         >>> pp.coefficients.ravel().tolist(), pp.evaluate(2.5).tolist()
         ([-1.0, 1.0], [1.5])
         """
-        bp = np.asarray(breakpoints, dtype=float)
-        loc = np.asarray(local, dtype=float)
+        bp = _finite(breakpoints, "breakpoints")
+        loc = _finite(local, "local")
         if loc.ndim == 2:
             loc = loc[:, :, None]
-        absolute = np.moveaxis(
-            shift_to_absolute(np.moveaxis(loc, 1, 0), bp[:-1, None]), 0, 1)
+        if bp.ndim != 1 or loc.ndim != 3 or loc.shape[0] != bp.size - 1:
+            raise ValueError(
+                f"local must have shape (len(breakpoints) - 1, deg+1, d), got {loc.shape} "
+                f"for {bp.size} breakpoints"
+            )
+        with np.errstate(all="ignore"):
+            absolute = np.moveaxis(_shift(np.moveaxis(loc, 1, 0), -bp[:-1, None]), 0, 1)
+        _fits(absolute, f"breakpoints up to {np.abs(bp).max():.3g} are too late for these "
+                        "segments: the absolute-time coefficients overflow float64")
         return cls(bp, absolute, loc)
 
     @property
@@ -305,19 +371,26 @@ class PiecewisePolynomial:
         """
         if derivative not in (0, 1, 2):
             raise ValueError("derivative must be 0, 1 or 2")
-        t = np.asarray(t, dtype=float)
+        try:
+            t = np.asarray(t, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"t must be times (numbers), got {t!r}") from None
+        # +-inf is a fine time (the arm waits at an end); nan is no time at all.
+        if np.isnan(t).any():
+            raise ValueError("t must be times, got nan")
         tc = np.clip(t, self.t0, self.tf)
         seg = np.clip(np.searchsorted(self.breakpoints, tc, side="right") - 1,
                       0, self.coefficients.shape[0] - 1)
         c = _derivative_coeffs(self.local, derivative, 1)[seg]  # t.shape + (k, d)
         tau = (tc - self.breakpoints[seg])[..., None]
         out = np.zeros(t.shape + (self.dim,))
-        for k in range(c.shape[-2] - 1, -1, -1):
-            out = out * tau + c[..., k, :]
+        with np.errstate(all="ignore"):
+            for k in range(c.shape[-2] - 1, -1, -1):
+                out = out * tau + c[..., k, :]
         if derivative:
             outside = (t < self.t0) | (t > self.tf)
             out[outside] = 0.0
-        return out
+        return _fits(out, "the trajectory's values overflow float64 at these times")
 
     def sample(self, t):
         """``(q, qd, qdd)`` at times ``t``, each of shape ``t.shape + (d,)``.
@@ -335,15 +408,33 @@ class PiecewisePolynomial:
 
 
 def _as_points(times, positions):
-    times = np.asarray(times, dtype=float)
-    positions = np.asarray(positions, dtype=float)
+    times = _finite(times, "times")
+    positions = _finite(positions, "positions")
     if positions.ndim == 1:
         positions = positions[:, None]
-    if times.ndim != 1 or times.size < 2 or positions.shape[0] != times.size:
-        raise ValueError("need k >= 2 times and k positions")
-    if np.any(np.diff(times) <= 0):
+    if times.ndim != 1 or times.size < 2 or positions.ndim != 2 or positions.shape[0] != times.size:
+        raise ValueError(
+            f"need k >= 2 times and k positions, got times of shape {times.shape} "
+            f"and positions of shape {positions.shape}"
+        )
+    with np.errstate(over="ignore"):
+        steps = np.diff(times)
+    if np.any(steps <= 0):
         raise ValueError("times must be strictly increasing")
+    _fits(steps, "times span more than float64 holds: their differences overflow")
     return times, positions
+
+
+def _rows(values, k, d, name):
+    """``values`` as a finite ``(k, d)`` array, or a ValueError naming ``name``."""
+    a = _finite(values, name)
+    if a.size != k * d:
+        raise ValueError(f"{name} must have shape ({k}, {d}) like positions, got {a.shape}")
+    return a.reshape(k, d)
+
+
+_STEEP = ("positions change too fast for the times between them: the velocities overflow "
+          "float64 (times too close together, or positions too large)")
 
 
 def heuristic_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray:
@@ -357,12 +448,15 @@ def heuristic_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray
     [0.0, 1.5, 0.0, 0.0]
     """
     times, p = _as_points(times, positions)
-    slopes = np.diff(p, axis=0) / np.diff(times)[:, None]
-    left, right = slopes[:-1], slopes[1:]
-    inner = np.where(np.sign(left) * np.sign(right) > 0, 0.5 * (left + right), 0.0)
+    v_start, v_end = _finite(v_start, "v_start"), _finite(v_end, "v_end")
+    with np.errstate(all="ignore"):
+        slopes = np.diff(p, axis=0) / np.diff(times)[:, None]
+        left, right = slopes[:-1], slopes[1:]
+        # Halves first: the mean of two huge slopes of one sign must not overflow.
+        inner = np.where(np.sign(left) * np.sign(right) > 0, 0.5 * left + 0.5 * right, 0.0)
     v = np.empty_like(p)
     v[0], v[-1], v[1:-1] = v_start, v_end, inner
-    return v
+    return _fits(v, _STEEP)
 
 
 def spline_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray:
@@ -380,6 +474,13 @@ def spline_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray:
     [0.0, 0.0, 0.0]
     """
     times, p = _as_points(times, positions)
+    v_start, v_end = _finite(v_start, "v_start"), _finite(v_end, "v_end")
+    with np.errstate(all="ignore"):
+        v = _spline_velocities(times, p, v_start, v_end)
+    return _fits(v, _STEEP)
+
+
+def _spline_velocities(times, p, v_start, v_end):
     k, d = p.shape
     v = np.empty_like(p)
     v[0], v[-1] = v_start, v_end
@@ -413,7 +514,9 @@ def spline_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray:
 def _end_values(values, d):
     if values is None:
         return np.zeros(d), np.zeros(d)
-    values = np.asarray(values, dtype=float)
+    values = _finite(values, "velocities")
+    if values.ndim == 0 or values.shape[0] < 1:
+        raise ValueError(f"velocities must have k or 2 rows, got shape {values.shape}")
     if values.ndim == 1:
         values = values[:, None]
     return values[0], values[-1]
@@ -465,20 +568,23 @@ def via_points(times, positions, velocities=None, profile: str = "cubic",
         elif isinstance(velocities, str):
             raise ValueError(f"unknown velocities {velocities!r}")
         else:
-            v = np.asarray(velocities, dtype=float).reshape(k, d)
+            v = _rows(velocities, k, d, "velocities")
     else:
         raise ValueError(f"profile must be 'cubic', 'quintic' or 'spline', got {profile!r}")
     t0, tf = times[:-1, None], times[1:, None]
     if profile == "quintic":
         if accelerations is None or (isinstance(accelerations, str)
                                      and accelerations == "continuous"):
-            slopes = np.diff(v, axis=0) / np.diff(times)[:, None]
-            acc = np.zeros_like(v)
-            acc[1:-1] = 0.5 * (slopes[:-1] + slopes[1:])
+            with np.errstate(all="ignore"):
+                slopes = np.diff(v, axis=0) / np.diff(times)[:, None]
+                acc = np.zeros_like(v)
+                acc[1:-1] = 0.5 * slopes[:-1] + 0.5 * slopes[1:]
+            _fits(acc, "velocities change too fast for the times between them: the "
+                       "accelerations overflow float64")
         elif isinstance(accelerations, str):
             raise ValueError(f"unknown accelerations {accelerations!r}")
         else:
-            acc = np.asarray(accelerations, dtype=float).reshape(k, d)
+            acc = _rows(accelerations, k, d, "accelerations")
         c = quintic_local(tf - t0, p[:-1], p[1:], v[:-1], v[1:], acc[:-1], acc[1:])
     else:
         c = cubic_local(tf - t0, p[:-1], p[1:], v[:-1], v[1:])
@@ -514,25 +620,63 @@ def time_path(waypoints, duration: float, profile: str = "cubic", *, wraps=None,
     >>> pp.evaluate([0.0, 4.0], 1).tolist()
     [[0.0, 0.0], [0.0, 0.0]]
     """
-    w = np.asarray(waypoints, dtype=float)
+    w = _finite(waypoints, "waypoints")
     if w.ndim == 1:
         w = w[:, None]
     if w.ndim != 2 or w.shape[0] < 1:
         raise ValueError(f"waypoints must have shape (k, n), got {w.shape}")
-    if not duration > 0:
-        raise ValueError(f"duration must be > 0, got {duration}")
+    T, t0 = _duration(duration), float(_finite(t0, "t0"))
     if wraps is not None:
         wraps = np.asarray(wraps, dtype=bool)
+        if wraps.ndim > 1 or wraps.size not in (1, w.shape[1]):
+            raise ValueError(f"wraps must have one bool per joint ({w.shape[1]}), got {wraps.tolist()}")
         w = np.where(wraps, np.unwrap(w, axis=0), w)
-    step = np.linalg.norm(np.diff(w, axis=0), axis=-1)
-    w = w[np.concatenate([[True], step > 0])]
+    w = w[np.concatenate([[True], _steps(w) > 0])]
+    with np.errstate(over="ignore"):
+        end = np.float64(t0) + T
+        s = np.concatenate([[0.0], np.cumsum(_steps(w))])
+        times = t0 + _share(T, s, s[-1]) if w.shape[0] > 1 else np.array([t0, end])
+    _fits(times, f"t0 + duration overflows float64, got t0={t0:g}, duration={T:g}")
+    if np.any(np.diff(times) <= 0):
+        raise ValueError(
+            f"duration {T:g} is too short beside t0 = {t0:g} (or a waypoint step too short "
+            "beside the whole path): waypoint times round together in float64"
+        )
     if w.shape[0] == 1:
         # Nowhere to go: rest at the single configuration.
-        return PiecewisePolynomial.from_local([t0, t0 + duration], np.stack(
+        return PiecewisePolynomial.from_local(times, np.stack(
             [w[0], np.zeros_like(w[0]), np.zeros_like(w[0]), np.zeros_like(w[0])])[None])
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=-1))])
-    times = t0 + duration * s / s[-1]
     return via_points(times, w, profile=profile)
+
+
+def _share(T, lengths, total):
+    """``T * lengths / total``: each length's share of the duration ``T``."""
+    with np.errstate(over="ignore"):
+        out = T * lengths / total
+    # Only when T * length overflows: the quotient first costs a rounding, not the result.
+    return out if np.all(np.isfinite(out)) else T * (lengths / total)
+
+
+def _duration(duration) -> float:
+    """``duration`` as a float, or a ValueError naming it unless it is finite and > 0."""
+    T = float(_finite(duration, "duration"))
+    if not T > 0:
+        raise ValueError(f"duration must be > 0, got {duration!r}")
+    return T
+
+
+def _steps(w) -> np.ndarray:
+    """Joint-space length of every step between rows of ``w``; a ValueError if the path's overflows."""
+    with np.errstate(all="ignore"):
+        d = np.diff(w, axis=0)
+        step = np.linalg.norm(d, axis=-1)
+        if not np.all(np.isfinite(step)):
+            # The squares overflowed (steps beyond ~1e154): scale each step by its largest entry.
+            m = np.abs(d).max(axis=-1, initial=0.0)
+            m = np.where(m > 0, m, 1.0)
+            step = m * np.linalg.norm(d / m[:, None], axis=-1)
+        _fits(step.sum(), "waypoints are too far apart: the path's length overflows float64")
+    return _fits(step, "waypoints are too far apart: a step's length overflows float64")
 
 
 _SMOOTHSTEP = (lambda s: s**3 * (10 - 15 * s + 6 * s**2),
@@ -561,18 +705,32 @@ def time_polyline(waypoints, duration: float, samples: int):
     >>> q[4].tolist(), qd[4].tolist()
     ([1.0, 0.0], [0.0, 0.0])
     """
-    w = np.asarray(waypoints, float)
+    w = _finite(waypoints, "waypoints")
     if w.ndim != 2 or len(w) < 1:
         raise ValueError(f"waypoints must have shape (m, n), got {w.shape}")
-    T = float(duration)
-    t = np.linspace(0.0, T, samples)
+    T = _duration(duration)
+    try:
+        samples_ok = operator.index(samples) >= 2
+    except TypeError:
+        samples_ok = False
+    if not samples_ok:
+        raise ValueError(f"samples must be an integer >= 2, got {samples!r}")
+    t = np.linspace(0.0, T, operator.index(samples))
     n = w.shape[1]
-    seg = np.linalg.norm(np.diff(w, axis=0), axis=1) if len(w) > 1 else np.zeros(0)
+    seg = _steps(w)
     total = float(seg.sum())
     if total <= 0.0:
         z = np.zeros((len(t), n))
         return t, np.broadcast_to(w[0], (len(t), n)).copy(), z, z.copy()
-    dur = T * seg / total
+    with np.errstate(all="ignore"):
+        t, q, qd, qdd = _smoothstep_polyline(w, T, t, seg, total)
+    msg = (f"waypoints move too far for duration {T:g}: the velocities or accelerations "
+           "overflow float64")
+    return t, q, _fits(qd, msg), _fits(qdd, msg)
+
+
+def _smoothstep_polyline(w, T, t, seg, total):
+    dur = _share(T, seg, total)
     bp = np.concatenate(([0.0], np.cumsum(dur)))
     bp[-1] = T
     inner = (bp[:-1, None] + dur[:, None] * np.array([0.25, 0.5, 0.75])).ravel()
