@@ -1,5 +1,7 @@
 """Inverse kinematics: FK(IK(target)) == target, solution counts, honest failures."""
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -287,3 +289,185 @@ def test_ik_names_a_wrongly_shaped_q0():
     arm = Arm([1.0, 0.8, 0.5])
     with pytest.raises(ValueError, match=r"q0 must be 3 finite joint angles, got shape \(2,\)"):
         ik(arm, [1.0, 0.5], q0=[0.0, 0.5])
+
+
+# ----------------------------------------------------------------- boundary circles, n >= 3
+
+DIRECTIONS = np.deg2rad(np.arange(360.0))
+UNIT = np.stack((np.cos(DIRECTIONS), np.sin(DIRECTIONS)), axis=-1)
+OUTER_ARMS = [[0.7, 0.6, 0.5, 0.4, 0.3], [1.0, 0.8, 0.5], [2.0, 0.5, 0.4, 0.3, 0.2]]
+# r_min = 2 max(L) - sum(L) > 0, with the longest link first, in the middle and last.
+INNER_ARMS = [[2.0, 0.5, 0.4, 0.3, 0.2], [0.3, 1.5, 0.4], [0.2, 0.3, 1.4]]
+
+
+def fk_error(arm, q, target):
+    return np.linalg.norm(arm.end_effector(q) - target, axis=-1).max()
+
+
+@pytest.mark.parametrize("lengths", OUTER_ARMS)
+def test_ik_on_the_outer_circle_is_the_stretched_arm(lengths):
+    # Exactly at full reach the self-motion manifold is one point. Before, ik returned
+    # 3 to 10 rows there, all approximations of it (up to 1e-5 rad off).
+    arm = Arm(lengths)
+    r_out = arm.reach[1]
+    for u in UNIT:
+        target = r_out * u
+        q = ik(arm, target)
+        assert q.shape == (1, arm.n)
+        assert abs(wrap_angle(q[0, 0] - np.arctan2(u[1], u[0]))) <= 1e-12
+        assert np.all(q[0, 1:] == 0.0)
+        assert fk_error(arm, q, target) <= 1e-12
+
+
+@pytest.mark.parametrize("lengths", [OUTER_ARMS[0], OUTER_ARMS[1]])
+def test_ik_just_inside_the_outer_circle(lengths):
+    arm = Arm(lengths)
+    r_out = arm.reach[1]
+    for scale in (1 - 1e-10, 1 - 1e-9 / r_out, 1 - 1e-6):
+        for u in UNIT[::4]:
+            q = ik(arm, r_out * scale * u)
+            assert fk_error(arm, q, r_out * scale * u) <= 1e-9
+            # every solution is a slightly bent arm
+            assert np.abs(wrap_angle(q[:, 1:])).max() < 10 * np.sqrt(1 - scale) + 1e-9
+        # the batch solver's default start handles them too
+        q, ok = ik_numeric(arm, r_out * scale * UNIT)
+        assert ok.all() and fk_error(arm, q, r_out * scale * UNIT) <= 1e-10
+
+
+@pytest.mark.parametrize("lengths", INNER_ARMS)
+def test_ik_on_the_inner_circle_is_the_folded_arm(lengths):
+    arm = Arm(lengths)
+    r_in = arm.reach[0]
+    longest = int(np.argmax(lengths))
+    for u in UNIT:
+        target = r_in * u
+        q = ik(arm, target)
+        assert q.shape == (1, arm.n)
+        assert fk_error(arm, q, target) <= 1e-12
+        # the longest link points at the target, every other link straight back
+        phi = arm.absolute_angles(q[0]) - np.arctan2(u[1], u[0])
+        back = np.arange(arm.n) != longest
+        assert abs(wrap_angle(phi[longest])) <= 1e-12
+        assert np.all(np.abs(wrap_angle(phi[back] + np.pi)) <= 1e-12)
+    for r in (r_in * (1 + 1e-10), r_in + 1e-9, r_in + 1e-6, r_in - 5e-11):
+        for u in UNIT[::8]:
+            assert fk_error(arm, ik(arm, r * u), r * u) <= 1e-9
+        q, ok = ik_numeric(arm, r * UNIT)
+        assert ok.all() and fk_error(arm, q, r * UNIT) <= 1e-10
+
+
+def test_ik_boundary_tolerance_and_limits():
+    arm = Arm([1.0, 0.8, 0.5])
+    # within tol (1e-10) outside a circle: the boundary solution, as for 2 links
+    assert ik(arm, [2.3 + 5e-11, 0.0]).tolist() == [[0.0, 0.0, 0.0]]
+    with pytest.raises(NoIKSolution) as err:
+        ik(arm, [2.3 + 1e-9, 0.0])
+    assert err.value.reason == "out of reach"
+    # the one solution on a circle breaks a limit: that is exact, not "not found"
+    bent = Arm([1.0, 0.8, 0.5], [None, (0.1, 2.0), None])
+    with pytest.raises(NoIKSolution, match="stretched arm") as err:
+        ik(bent, [0.0, 2.3])
+    assert err.value.reason == "joint limits"
+    # a limited joint takes its 2 pi equivalent(s) within the limits
+    wide = Arm([0.3, 1.5, 0.4], [None, (0.0, 7.0), None])
+    q = ik(wide, [0.0, -0.8])
+    assert q.shape == (1, 3) and np.isclose(q[0, 1], np.pi)
+    assert fk_error(wide, q, [0.0, -0.8]) <= 1e-12
+
+
+# --------------------------------------------------------- ik_numeric: honest ok, no warnings
+
+
+def hard_batch(arm, rng, k=300):
+    """Targets that stress the solver: solutions on joint limits, on and next to both
+    boundary circles, at the base, far away, and ordinary ones."""
+    n = arm.n
+    q = rng.uniform(arm.lower, arm.upper, (k, n))
+    j = rng.integers(n, size=k)
+    on = arm.limited[j]
+    q[np.arange(k)[on], j[on]] = np.where(rng.random(on.sum()) < 0.5, arm.lower[j[on]],
+                                          arm.upper[j[on]])
+    r_in, r_out = arm.reach
+    u = UNIT[rng.integers(360, size=40)]
+    rims = np.concatenate([r_out * u[:10], r_out * (1 - 1e-10) * u[10:20], r_in * u[20:30],
+                           (r_in + 1e-9) * u[30:40]])
+    far = np.array([[1e3, -2e3], [0.0, 1e12], [-1e300, 1e300], [r_out * 1.5, 0.0]])
+    return np.concatenate([arm.end_effector(q), rims, far, [[0.0, 0.0]]])
+
+
+STRESS_ARMS = [
+    Arm([1.0, 0.8, 0.5]),
+    Arm([1.0, 0.3, 0.2], [(-1.0, 1.0), (0.0, 2.0), (-2.0, 0.5)]),
+    Arm([0.7, 0.6, 0.5, 0.4, 0.3], [None, (-2.5, 2.5), (0.0, 2.5), None, (-1.0, 0.0)]),
+    Arm([3e99, 2e99, 1e99]),
+    Arm([1e-300, 2e-300, 3e-300], [(-1.0, 1.0)] * 3),
+]
+
+
+@pytest.mark.parametrize("arm", STRESS_ARMS, ids=["plain", "limited", "5-link", "huge", "tiny"])
+def test_numeric_never_warns(arm):
+    # Before: 59 overflow warnings in one call (a singular J at a stretched arm made
+    # the closed-form 2 x 2 determinant cancel to nothing).
+    rng = np.random.default_rng(1)
+    targets = hard_batch(arm, rng)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for tol in (1e-15, 1e-10, 1e-3):
+            q, ok = ik_numeric(arm, targets, tol=tol)
+            assert np.isfinite(q).all()
+        ik_numeric(arm, targets, q0=np.zeros(arm.n), tol=1e-15)   # singular start
+        ik_numeric(arm, targets, q0=np.full(arm.n, 1e9), max_step=1e300)
+
+
+@pytest.mark.parametrize("arm", STRESS_ARMS[:3], ids=["plain", "limited", "5-link"])
+@pytest.mark.parametrize("tol", [1e-15, 1e-12, 1e-9])
+def test_numeric_ok_is_exactly_the_tip_check(arm, tol):
+    # Before: at tol 1e-15, ok disagreed with the returned q's real tip error.
+    rng = np.random.default_rng(int(tol * 1e15) + arm.n)
+    targets = hard_batch(arm, rng, k=2000)
+    q, ok = ik_numeric(arm, targets, tol=tol)
+    with np.errstate(over="ignore"):
+        truth = (np.linalg.norm(arm.end_effector(q) - targets, axis=-1) <= tol)
+    assert np.array_equal(ok, truth & arm.within_limits(q))
+    assert ok.mean() > 0.5
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(3, 6), st.integers(0, 2**31 - 1), st.sampled_from([1e-15, 1e-12, 1e-9]),
+       st.booleans())
+def test_numeric_ok_property(n, seed, tol, limited):
+    rng = np.random.default_rng(seed)
+    lo = rng.uniform(-2.5, 0.0, n)
+    limits = list(zip(lo, lo + rng.uniform(0.3, 3.0, n))) if limited else None
+    arm = Arm(rng.uniform(0.2, 1.5, n), limits)
+    targets = hard_batch(arm, rng, k=100)
+    q, ok = ik_numeric(arm, targets, tol=tol)
+    with np.errstate(over="ignore"):
+        truth = np.linalg.norm(arm.end_effector(q) - targets, axis=-1) <= tol
+    assert np.array_equal(ok, truth & arm.within_limits(q))
+
+
+@pytest.mark.parametrize("n", [3, 4, 5])
+def test_numeric_solves_solutions_on_a_joint_limit(n):
+    # One joint of q* exactly on a limit. Before: 98.1 % solved for 3 links.
+    rng = np.random.default_rng(100 + n)
+    solved = total = 0
+    for _ in range(8):
+        lo = rng.uniform(-2.5, 0.0, n)
+        hi = lo + rng.uniform(0.3, 3.0, n)
+        arm = Arm(rng.uniform(0.3, 1.2, n), list(zip(lo, hi)))
+        q_star = rng.uniform(lo, hi, (250, n))
+        j = rng.integers(n, size=250)
+        q_star[np.arange(250), j] = np.where(rng.random(250) < 0.5, lo[j], hi[j])
+        targets = arm.end_effector(q_star)
+        q, ok = ik_numeric(arm, targets)
+        assert np.all(arm.within_limits(q))
+        assert np.linalg.norm(arm.end_effector(q[ok]) - targets[ok], axis=-1).max() <= 1e-10
+        solved += ok.sum()
+        total += ok.size
+    assert solved / total >= 0.99
+
+
+def test_numeric_refuses_non_finite_targets():
+    with pytest.raises(ValueError, match="finite"):
+        ik_numeric(Arm([1.0, 0.8, 0.5]), [[np.nan, 0.0]])
