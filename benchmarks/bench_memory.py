@@ -4,8 +4,7 @@ Each case runs ``rapp.plan`` in a fresh Python process (so one case's peak canno
 another's) on an arm of n equal links reaching round a disc, with the grid limit lifted, and
 reads the process's peak resident memory (``ru_maxrss``). The cost of a cell is the peak above
 the process's size after importing rapp and loading the scenario, divided by the number of
-cells. ``rapp.scenario`` accepts a grid only when ``cells * (BYTES_PER_CELL_FIXED +
-BYTES_PER_CELL_PER_JOINT * n)`` fits ``MEMORY_BUDGET``; this script checks that the model is
+cells. ``rapp.scenario`` accepts a grid only when ``cells * bytes_per_cell(n)`` fits ``MEMORY_BUDGET``; this script checks that the model is
 above every measurement and writes ``benchmarks/results/memory.json``.
 
 Run from the repository root: ``python benchmarks/bench_memory.py`` (about two minutes).
@@ -54,7 +53,7 @@ def measure(n: int, cells: int) -> dict:
     r = json.loads(out.strip().splitlines()[-1])
     total = cells ** n
     per_cell = (r["peak_kib"] - r["base_kib"]) * 1024 / total
-    model = sc.BYTES_PER_CELL_FIXED + sc.BYTES_PER_CELL_PER_JOINT * n
+    model = sc.bytes_per_cell(n)
     return {"joints": n, "cells_per_joint": cells, "cells": total, "outcome": r["outcome"],
             "process_base_mb": r["base_kib"] / 1024, "peak_mb": r["peak_kib"] / 1024,
             "bytes_per_cell": per_cell, "model_bytes_per_cell": model,
@@ -69,8 +68,7 @@ def main() -> None:
               f"{r['model_bytes_per_cell']:>6} {r['model_over_measured']:>10.2f}")
     worst = min(r["model_over_measured"] for r in rows)
     largest = [{"joints": n, "max_cells": sc.max_cells(n),
-                "predicted_peak_gb": sc.max_cells(n) * (sc.BYTES_PER_CELL_FIXED
-                                                        + sc.BYTES_PER_CELL_PER_JOINT * n) / 1e9}
+                "predicted_peak_gb": sc.max_cells(n) * sc.bytes_per_cell(n) / 1e9}
                for n in range(1, 9)]
     result = {
         "date": date.today().isoformat(),

@@ -386,6 +386,7 @@ def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
     lo = np.zeros(m)
     hi = np.ones(m)
     worst = np.full(m, np.inf)  # per segment: smallest clearance that failed to certify
+    touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
     while owner.size:
         if owner.size > cap:
             if owner[0] != owner[-1]:  # owners stay sorted: several segments pending
@@ -399,7 +400,10 @@ def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
         for s in range(0, len(q), _CHUNK):
             pts = arm._positions(q[s:s + _CHUNK])
             d[s:s + _CHUNK] = segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
-        hit = np.any(d <= 0, axis=-1)
+        # Touching counts as collision, and a clearance below the rounding of the arm's own
+        # coordinates cannot be told from touching: without this, a link grazing a vertex
+        # along a whole stretch would be bisected until the interval limit.
+        hit = np.any(d <= touch, axis=-1)
         certified = np.all(bounds[owner] * half[:, None] < d, axis=-1)
         stuck = ~certified & ~hit & (hi - lo < min_interval)
         free[owner[hit | stuck]] = False

@@ -52,6 +52,7 @@ __all__ = [
     "L_MAX",
     "R_MAX",
     "max_cells",
+    "bytes_per_cell",
     "MEMORY_BUDGET",
     "MIN_LENGTH",
     "MAX_LENGTH",
@@ -80,16 +81,28 @@ MAX_GOAL_THRESHOLD = 1.0
 MEMORY_BUDGET = 1.5e9
 #: Peak bytes per grid cell of the whole pipeline (occupancy, certified cells, search,
 #: shortcut, timing, verification), measured by ``benchmarks/bench_memory.py`` and recorded
-#: in ``benchmarks/results/memory.json``; an arm with n joints needs about
-#: ``BYTES_PER_CELL_FIXED + BYTES_PER_CELL_PER_JOINT * n`` bytes per cell.
+#: in ``benchmarks/results/memory.json``; an arm with n joints needs at most about
+#: ``bytes_per_cell(n)`` (the search's neighbour tables grow with n, hence the square).
 BYTES_PER_CELL_FIXED = 60
-BYTES_PER_CELL_PER_JOINT = 80
+BYTES_PER_CELL_PER_JOINT = 40
+BYTES_PER_CELL_PER_JOINT_SQUARED = 10
 #: Joints up to which A* on a grid is the default planner; above it the default is RRT,
 #: because a grid fine enough to plan on would not fit in memory.
 GRID_DEFAULT_MAX_JOINTS = 6
 MAX_FILE_BYTES = 10_000_000
 MAX_SAMPLES = 1_000_000
 ALGORITHMS = ("astar", "rrt")
+
+
+def bytes_per_cell(n: int) -> int:
+    """Peak bytes per grid cell of the planning pipeline for an arm of ``n`` joints (a bound).
+
+    Examples
+    --------
+    >>> bytes_per_cell(2), bytes_per_cell(8)
+    (180, 1020)
+    """
+    return BYTES_PER_CELL_FIXED + BYTES_PER_CELL_PER_JOINT * n + BYTES_PER_CELL_PER_JOINT_SQUARED * n * n
 
 
 def max_cells(n: int) -> int:
@@ -100,9 +113,9 @@ def max_cells(n: int) -> int:
     Examples
     --------
     >>> max_cells(2), max_cells(3)
-    (6818181, 5000000)
+    (8333333, 5555555)
     """
-    return int(MEMORY_BUDGET // (BYTES_PER_CELL_FIXED + BYTES_PER_CELL_PER_JOINT * n))
+    return int(MEMORY_BUDGET // bytes_per_cell(n))
 
 
 def default_cells(n: int) -> int:
@@ -509,6 +522,17 @@ def _parse_arm(r: _Reader, v) -> Arm:
     return Arm(lengths, limits)
 
 
+def _build(constructor, field: str, *args):
+    """``constructor(*args)``; its ValueError (e.g. a 1e-3 x 1e3 sliver) becomes InvalidValue at
+    ``field.<the argument it names>`` when the message starts with one, else at ``field``."""
+    try:
+        return constructor(*args)
+    except ValueError as e:
+        first = str(e).split(" ", 1)[0]
+        sub = first if first in ("center", "radius", "corner", "width", "height", "angle") else ""
+        raise InvalidValue(str(e), field=f"{field}.{sub}" if sub else field) from None
+
+
 def _parse_obstacle(r: _Reader, ob, f: str):
     """One obstacle and its distance from the base (for the out-of-reach warning)."""
     if not isinstance(ob, Mapping):
@@ -523,13 +547,13 @@ def _parse_obstacle(r: _Reader, ob, f: str):
         rad = r.length(d["radius"], f"{f}.radius", "radius")
         if rad > R_MAX:
             r.warnings.append(f"{f}.radius = {rad:g} m is above the SRS r_max = {R_MAX} m")
-        return Circle(c, rad), math.hypot(*c) - rad
+        return _build(Circle, f, c, rad), math.hypot(*c) - rad
     if kind == "rectangle":
         d = _object(ob, f, required=("type", "corner", "width", "height"), optional=("angle",))
         c = r.point(d["corner"], f"{f}.corner")
         w = r.length(d["width"], f"{f}.width", "width")
         h = r.length(d["height"], f"{f}.height", "height")
-        poly = Polygon.rectangle(c, w, h, r.angle(d.get("angle", 0.0), f"{f}.angle"))
+        poly = _build(Polygon.rectangle, f, c, w, h, r.angle(d.get("angle", 0.0), f"{f}.angle"))
         return poly, _distance_from_base(poly)
     d = _object(ob, f, required=("type", "vertices"))
     verts = _list(d["vertices"], f"{f}.vertices")
@@ -643,7 +667,7 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
     cells = _grid_cells(d, n)
     total = math.prod(cells)
     if algorithm == "astar" and total > max_cells(n):
-        per_cell = BYTES_PER_CELL_FIXED + BYTES_PER_CELL_PER_JOINT * n
+        per_cell = bytes_per_cell(n)
         raise InvalidValue(
             f"a grid of {total:.3g} cells would need about {total * per_cell / 1e9:.3g} GB; "
             f"the limit for {n} joints is {max_cells(n):.3g} cells "

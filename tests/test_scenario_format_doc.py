@@ -254,8 +254,9 @@ def test_choices_and_limits_on_the_page_are_the_modules():
         assert f"`{name}`" in PAGE, name
     assert (sc.MIN_LENGTH, sc.MAX_LENGTH, sc.MAX_COORDINATE, sc.MAX_ANGLE) == (1e-3, 1e3, 1e4, 100)
     assert (sc.MIN_DURATION, sc.MAX_DURATION, sc.MAX_LINKS) == (1e-3, 1e6, 16)
-    assert f"{sc.BYTES_PER_CELL_FIXED} + {sc.BYTES_PER_CELL_PER_JOINT}\\,n" in PAGE
-    assert int(sc.max_cells(2) ** 0.5) == 2611 and 170 ** 3 <= sc.max_cells(3) < 171 ** 3
+    assert (f"{sc.BYTES_PER_CELL_FIXED} + {sc.BYTES_PER_CELL_PER_JOINT}\\,n + "
+            f"{sc.BYTES_PER_CELL_PER_JOINT_SQUARED}\\,n^2") in PAGE
+    assert int(sc.max_cells(2) ** 0.5) == 2886 and 177 ** 3 <= sc.max_cells(3) < 178 ** 3
     assert f"[{sc.L_MIN}, {sc.L_MAX}]" in PAGE and f"{sc.R_MAX}$ m" in PAGE
     default_cells = sc.load_scenario(dict(BASE, arm={"link_lengths": [1, 1, 1]}, start=[0, 0, 0],
                                           goal={"joints": [1, 0, 0]}), check=False).planner.cells
