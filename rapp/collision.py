@@ -19,12 +19,12 @@ configurations.
 
 from __future__ import annotations
 
-import operator
 
 import numpy as np
 
 from rapp.errors import CertificationLimit
 from rapp.obstacles import Circle, Polygon
+from rapp.checks import finite_number, positive_integer
 
 __all__ = [
     "closest_point_on_segment",
@@ -496,18 +496,8 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
         q0, q1 = np.broadcast_arrays(q0, q1)
     except ValueError:
         raise ValueError(f"q0 and q1 must broadcast together, got shapes {q0.shape} and {q1.shape}") from None
-    try:
-        min_interval = float(min_interval)
-    except (TypeError, ValueError):
-        min_interval = np.nan
-    if not (np.isfinite(min_interval) and min_interval > 0):
-        raise ValueError(f"min_interval must be a finite number > 0, got {min_interval!r}")
-    try:
-        cap = operator.index(max_intervals)
-    except TypeError:
-        raise ValueError(f"max_intervals must be an integer >= 2, got {max_intervals!r}") from None
-    if cap < 2:
-        raise ValueError(f"max_intervals must be an integer >= 2, got {max_intervals!r}")
+    min_interval = finite_number(min_interval, "min_interval", above=0.0)
+    cap = positive_integer(max_intervals, "max_intervals", lo=2)
     shape = q0.shape[:-1]
     q0, q1 = q0.reshape(-1, arm.n), q1.reshape(-1, arm.n)
     dq = q1 - q0

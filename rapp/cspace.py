@@ -15,7 +15,6 @@ the test along the last of those joints is a closed form in the link's angle.
 from __future__ import annotations
 
 import math
-import operator
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +22,7 @@ import numpy as np
 from rapp.arm import Arm, wrap_angle
 from rapp.collision import check_obstacle, motion_bounds, segment_clearances
 from rapp.obstacles import Circle
+from rapp.checks import positive_integer
 
 __all__ = ["JointGrid", "occupancy", "grid_q", "certified_free", "MAX_GRID_CELLS"]
 
@@ -355,13 +355,7 @@ def certified_free(arm, obstacles, grid, *, chunk: int = 200_000) -> np.ndarray:
     """
     _check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
-    try:
-        size_ok = operator.index(chunk) >= 1
-    except TypeError:
-        size_ok = False
-    if not size_ok:
-        raise ValueError(f"chunk must be a positive integer, got {chunk!r}")
-    chunk = operator.index(chunk)
+    chunk = positive_integer(chunk, "chunk")
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
     axes = grid.axes

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rapp.errors import InvalidCell, NoPathFound
+from rapp.checks import finite_number, positive_integer
 
 __all__ = [
     "SearchResult",
@@ -344,6 +345,13 @@ class _PaddedGraph:
         return out
 
 
+def _expansion_limit(max_expansions) -> int:
+    """``max_expansions`` as an int, -1 for no limit; a ValueError naming it otherwise."""
+    if max_expansions is None:
+        return -1
+    return positive_integer(max_expansions, "max_expansions", lo=0)
+
+
 def astar_search(
     occupied,
     start,
@@ -413,21 +421,8 @@ def astar_search(
     """
     occ, w_ax, sidx, s, gidx, t = _prepare(occupied, start, goal, wraps)
     hw = w_ax if heuristic_wraps is None else _wraps(heuristic_wraps, occ.ndim)
-    try:
-        w = float(heuristic_weight)
-    except (TypeError, ValueError):
-        w = np.nan
-    if not (np.isfinite(w) and w >= 1.0):
-        raise ValueError(f"heuristic_weight must be a finite number >= 1, got {heuristic_weight!r}")
-    if max_expansions is None:
-        limit = -1
-    else:
-        try:
-            limit = operator.index(max_expansions)
-        except TypeError:
-            raise ValueError(f"max_expansions must be an integer >= 0 or None, got {max_expansions!r}") from None
-        if limit < 0:
-            raise ValueError(f"max_expansions must be >= 0, got {max_expansions!r}")
+    w = finite_number(heuristic_weight, "heuristic_weight", at_least=1.0)
+    limit = _expansion_limit(max_expansions)
     G = _PaddedGraph(occ, w_ax)
     size, closed, red, offs = G.size, G.closed, G.red, G.offsets
     hgrid = G.padded(_heuristic_grid(occ.shape, gidx, hw))
@@ -440,58 +435,30 @@ def astar_search(
     found = s == t
     stopped = False
 
-    # The two loops below differ only in their heap key. They are written out
-    # twice on purpose: a key function called per push costs more than the
-    # search itself on a 360 x 360 torus.
-    if w == 1.0:
-        # One int key per heap entry, (f, -g, cell) packed, compares much faster
-        # than tuples: key = (f * (P + 1) + (P - g)) * P + cell, g <= P.
-        h = hgrid.tolist()
-        n1 = size + 1
-        heap = [(h[s] * n1 + size) * size + s]
-        while heap and not found:
-            u = pop(heap) % size
-            if closed[u]:
+    # Heap entries (f, -g, cell): lowest f first, ties toward the larger g (deeper nodes, so
+    # equal-f plateaus are crossed fast), then the cell index, so the order is deterministic.
+    wh = hgrid.tolist() if w == 1.0 else (w * hgrid).tolist()
+    heap = [(wh[s], 0, s)]
+    while heap and not found:
+        u = pop(heap)[2]
+        if closed[u]:
+            continue
+        if u == t:
+            found = True
+            break
+        if expansions == limit:
+            stopped = True
+            break
+        closed[u] = 1
+        expansions += 1
+        gv = g[u] + 1
+        for d in offs:
+            v = red[u + d]
+            if closed[v] or gv >= g[v]:
                 continue
-            if u == t:
-                found = True
-                break
-            if expansions == limit:
-                stopped = True
-                break
-            closed[u] = 1
-            expansions += 1
-            gv = g[u] + 1
-            for d in offs:
-                v = red[u + d]
-                if closed[v] or gv >= g[v]:
-                    continue
-                g[v] = gv
-                parent[v] = u
-                push(heap, ((gv + h[v]) * n1 + size - gv) * size + v)
-    else:
-        wh = (w * hgrid).tolist()
-        heap = [(wh[s], 0, s)]
-        while heap and not found:
-            u = pop(heap)[2]
-            if closed[u]:
-                continue
-            if u == t:
-                found = True
-                break
-            if expansions == limit:
-                stopped = True
-                break
-            closed[u] = 1
-            expansions += 1
-            gv = g[u] + 1
-            for d in offs:
-                v = red[u + d]
-                if closed[v] or gv >= g[v]:
-                    continue
-                g[v] = gv
-                parent[v] = u
-                push(heap, (gv + wh[v], -gv, v))
+            g[v] = gv
+            parent[v] = u
+            push(heap, (gv + wh[v], -gv, v))
 
     if not found:
         if stopped:

@@ -27,11 +27,12 @@ with one ``np.searchsorted``.
 
 from __future__ import annotations
 
-import operator
 from dataclasses import dataclass, field
 from math import comb
 
 import numpy as np
+
+from rapp.checks import positive_integer
 
 __all__ = [
     "cubic",
@@ -709,13 +710,7 @@ def time_polyline(waypoints, duration: float, samples: int):
     if w.ndim != 2 or len(w) < 1:
         raise ValueError(f"waypoints must have shape (m, n), got {w.shape}")
     T = _duration(duration)
-    try:
-        samples_ok = operator.index(samples) >= 2
-    except TypeError:
-        samples_ok = False
-    if not samples_ok:
-        raise ValueError(f"samples must be an integer >= 2, got {samples!r}")
-    t = np.linspace(0.0, T, operator.index(samples))
+    t = np.linspace(0.0, T, positive_integer(samples, "samples", lo=2))
     n = w.shape[1]
     seg = _steps(w)
     total = float(seg.sum())

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import rapp
-from rapp import Arm, Circle, NoPathFound, Polygon, RappError
+from rapp import Arm, Circle, NoPathFound, Polygon
 from rapp.collision import (
     MAX_PENDING_INTERVALS,
     clearance,

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from rapp import Arm, Circle, load_scenario, plan
+from rapp import load_scenario, plan
 from rapp.collision import collides, segment_collision_free
 from rapp.verify import FK_TOL, JOINT_TOL, POSITION_TOL, Check, Report, verify
 

@@ -17,7 +17,6 @@ tested as properties:
 """
 
 import numpy as np
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
