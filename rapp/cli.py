@@ -33,7 +33,14 @@ import sys
 import warnings
 from contextlib import contextmanager
 
+import numpy as np
+
 from rapp.errors import InvalidValue, NoIKSolution, NoPathFound, RappError, ScenarioError
+from rapp.files import atomic_output
+from rapp import planner, results, scenario
+
+# matplotlib and rapp.plotting (about 1 s to import) are imported where a figure is made, so that
+# `check`, `list` and a plan without --plot/--animate start fast.
 
 __all__ = ["main", "build_parser", "printable"]
 
@@ -275,7 +282,6 @@ def _save_plot(p, s, path: str) -> None:
     import matplotlib.pyplot as plt
 
     from rapp import plotting
-    from rapp.files import atomic_output
 
     ext = os.path.splitext(path)[1]
     fig = plotting.plot_plan(p, s)
@@ -288,11 +294,9 @@ def _save_plot(p, s, path: str) -> None:
 
 
 def _save_animation(p, s, path: str) -> None:
-    import matplotlib.pyplot as plt
     from matplotlib import animation
 
     from rapp import plotting
-    from rapp.files import atomic_output
 
     ext = os.path.splitext(path)[1]
     anim = plotting.animate(s.arm, p.q, s.obstacles, t=p.t)
@@ -303,7 +307,7 @@ def _save_animation(p, s, path: str) -> None:
             else:
                 plotting.save_gif(anim, tmp, fps=ANIMATION_FPS)
     finally:
-        plt.close(anim._fig)
+        plotting.close_animation(anim)
 
 
 # --------------------------------------------------------------------------- commands
@@ -325,35 +329,30 @@ def _say_notes(out, caught) -> None:
 
 
 def _cmd_list(out) -> int:
-    from rapp.scenario import list_scenarios, load_scenario
 
-    for name in list_scenarios():
-        s = load_scenario(name, check=False)
+    for name in scenario.list_scenarios():
+        s = scenario.load_scenario(name, check=False)
         _say(out, f"{name:<14}{s.description}")
     return EXIT_OK
 
 
 def _cmd_check(args, out, caught) -> int:
-    from rapp.scenario import echo, load_scenario
 
-    s = load_scenario(args.scenario)
-    _say(out, echo(_shown(s)), lines=True)
+    s = scenario.load_scenario(args.scenario)
+    _say(out, scenario.echo(_shown(s)), lines=True)
     _say_notes(out, caught)
     _say(out, "scenario is valid")
     return EXIT_OK
 
 
 def _cmd_plan(args, out, err, caught) -> int:
-    from rapp.planner import plan
-    from rapp.results import save_result
-    from rapp.scenario import echo, load_scenario
 
     _check_outputs(args)
-    s = load_scenario(args.scenario)
+    s = scenario.load_scenario(args.scenario)
     if not args.quiet:
-        _say(out, echo(_shown(s)), lines=True)
+        _say(out, scenario.echo(_shown(s)), lines=True)
         _say(out)
-    p = plan(s)
+    p = planner.plan(s)
     if not args.quiet:
         _say(out, str(p.report), lines=True)
     if args.timings:
@@ -361,7 +360,7 @@ def _cmd_plan(args, out, err, caught) -> int:
                                                  for k, v in p.timings.items()))
     if args.out:
         with _writing("--out"):
-            save_result(p, args.out, timings=args.timings)
+            results.save_result(p, args.out, timings=args.timings)
     if args.plot or args.animate:
         import matplotlib
 
@@ -433,7 +432,6 @@ def _warning_policy():
     A plan is judged by its verification, not by a warning on the way, so a warning is
     not an error; ``python -W error`` still makes it one (an internal error, one line).
     """
-    import numpy as np
 
     with warnings.catch_warnings(record=True) as caught, \
             np.errstate(divide="warn", over="warn", invalid="warn", under="ignore"):

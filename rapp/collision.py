@@ -398,7 +398,7 @@ def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
         q = q0[owner] + mid[:, None] * dq[owner]
         d = np.empty(q.shape)
         for s in range(0, len(q), _CHUNK):
-            pts = arm._positions(q[s:s + _CHUNK])
+            pts = arm.joint_positions(q[s:s + _CHUNK])
             d[s:s + _CHUNK] = segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
         # Touching counts as collision, and a clearance below the rounding of the arm's own
         # coordinates cannot be told from touching: without this, a link grazing a vertex

@@ -47,6 +47,7 @@ __all__ = [
     "animate",
     "save_gif",
     "animation_html",
+    "close_animation",
 ]
 
 # Okabe & Ito (2008), "Color Universal Design". Read-only, so no caller can recolour the book.
@@ -718,7 +719,7 @@ def animate(arm, q, obstacles=(), t=None, trail=True, *, max_frames=60, interval
     Returns
     -------
     matplotlib.animation.FuncAnimation
-        Keep a reference; its figure is ``anim._fig``.
+        Keep a reference; close its figure with :func:`close_animation`.
 
     Examples
     --------
@@ -727,7 +728,7 @@ def animate(arm, q, obstacles=(), t=None, trail=True, *, max_frames=60, interval
     >>> anim = animate(Arm([1.0, 1.0]), q)
     >>> anim._save_count  # frames after subsampling 200 samples
     60
-    >>> plt.close(anim._fig)
+    >>> close_animation(anim)
     """
     q = np.asarray(q, dtype=float).reshape(-1, arm.n)
     idx = _subsample(len(q), max_frames)
@@ -774,11 +775,24 @@ def save_gif(anim, path, fps=15, dpi=80):
     ...     p = save_gif(anim, os.path.join(d, "a.gif"))
     ...     open(p, "rb").read(6)
     b'GIF89a'
-    >>> plt.close(anim._fig)
+    >>> close_animation(anim)
     """
     path = Path(path)
     anim.save(str(path), writer=animation.PillowWriter(fps=fps), dpi=dpi)
     return path
+
+
+def close_animation(anim) -> None:
+    """Close the figure an animation draws on (after saving it, or when it is no longer shown).
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> anim = animate(Arm([1.0, 1.0]), np.linspace([0, 0], [1, 1], 3))
+    >>> n = len(plt.get_fignums()); close_animation(anim); len(plt.get_fignums()) == n - 1
+    True
+    """
+    plt.close(anim._fig)  # matplotlib keeps the figure of an Animation only here
 
 
 def animation_html(anim, *, default_mode="loop"):
@@ -796,5 +810,5 @@ def animation_html(anim, *, default_mode="loop"):
     >>> "<script" in html, plt.fignum_exists(anim._fig.number)
     (True, False)
     """
-    plt.close(anim._fig)
+    close_animation(anim)
     return anim.to_jshtml(default_mode=default_mode)
