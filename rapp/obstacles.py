@@ -7,6 +7,7 @@ tests live in :mod:`rapp.collision`.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -241,6 +242,28 @@ class Polygon:
         local = np.array([[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]])
         rot = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
         return cls(c + local @ rot.T)
+
+    @cached_property
+    def separating_axes(self) -> tuple:
+        """``(vertices, normals, lo, hi)``: the polygon's edge normals and its projection on each.
+
+        The separating-axis test projects a segment on these axes; the polygon's own
+        projections never change, so they are computed once per polygon. Read-only arrays.
+
+        Examples
+        --------
+        >>> v, normals, lo, hi = Polygon.rectangle((0, 0), 2, 1).separating_axes
+        >>> normals.tolist(), lo.tolist(), hi.tolist()
+        ([[0.0, -2.0], [1.0, 0.0], [0.0, 2.0], [-1.0, 0.0]], [-2.0, 0.0, 0.0, -2.0], [0.0, 2.0, 2.0, 0.0])
+        """
+        v = self.array
+        e = np.roll(v, -1, axis=0) - v
+        normals = np.stack((e[:, 1], -e[:, 0]), axis=-1)
+        pv = v @ normals.T
+        out = (v, normals, pv.min(axis=0), pv.max(axis=0))
+        for arr in out:
+            arr.setflags(write=False)
+        return out
 
     @property
     def array(self) -> np.ndarray:
