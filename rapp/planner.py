@@ -45,7 +45,10 @@ from rapp.grid_route import grid_route
 from rapp.ik import free_ik_solutions
 from rapp.paths import Route, drop_repeats, path_length, shortcut, unwrap_path
 from rapp.results import Plan
+from rapp.prm import prm
 from rapp.rrt import plan_rrt
+from rapp.rrt_connect import rrt_connect
+from rapp.rrt_star import rrt_star
 from rapp.scenario import Scenario, load_scenario
 from rapp.trajectory import time_path, time_polyline
 from rapp.verify import verify
@@ -72,13 +75,29 @@ def _plan_astar(scenario: Scenario, goal_qs: np.ndarray) -> Route:
 def _plan_rrt(scenario: Scenario, goal_qs: np.ndarray) -> Route:
     """RRT from the exact start to the goal configurations; its path is certified edge by edge."""
     p = scenario.planner
-    t0 = time.perf_counter()
     settings = {"step": p.step, "goal_bias": p.goal_bias, "goal_threshold": p.goal_threshold,
                 "max_iterations": p.max_iterations, "seed": p.seed}
-    path = np.asarray(plan_rrt(scenario.arm, scenario.obstacles, scenario.start_array, goal_qs,
-                               settings=settings), float)
+    return _sampled_route(scenario, goal_qs, lambda arm, obs, start, goals: plan_rrt(
+        arm, obs, start, goals, settings=settings))
+
+
+def _sampling_planner(function, keys):
+    """A PLANNERS entry for a sampling planner called as ``function(arm, start, goal,
+    obstacles, **settings)`` with the scenario's settings named in ``keys``."""
+    def run(scenario: Scenario, goal_qs: np.ndarray) -> Route:
+        p = scenario.planner
+        kw = {k: getattr(p, k) for k in keys}
+        return _sampled_route(scenario, goal_qs, lambda arm, obs, start, goals: function(
+            arm, start, goals, obs, **kw).path)
+    run.__doc__ = f"{function.__name__} from the exact start to the goal configurations."
+    return run
+
+
+def _sampled_route(scenario: Scenario, goal_qs, solve) -> Route:
+    t0 = time.perf_counter()
+    path = np.asarray(solve(scenario.arm, scenario.obstacles, scenario.start_array, goal_qs), float)
     if path.ndim != 2 or len(path) == 0:
-        raise NoPathFound("RRT found no path")
+        raise NoPathFound(f"{scenario.planner.algorithm} found no path")
     path = unwrap_path(scenario.arm, path)
     metrics = {"tree_path_nodes": int(len(path)), "goal_candidates": int(len(goal_qs))}
     return Route(path, path[-1], None, None, metrics,
@@ -90,7 +109,15 @@ STAGES = ("ik", "cspace", "search", "smoothing", "trajectory", "verify", "total"
 
 #: Planner name -> function(scenario, goal configurations (g, n)) -> Route.
 #: Read-only: a new planner is added here, in code, not registered at run time.
-PLANNERS: Mapping[str, Callable] = MappingProxyType({"astar": _plan_astar, "rrt": _plan_rrt})
+PLANNERS: Mapping[str, Callable] = MappingProxyType({
+    "astar": _plan_astar,
+    "rrt": _plan_rrt,
+    "rrt_connect": _sampling_planner(rrt_connect, ("step", "seed", "max_iterations", "time_budget")),
+    "rrt_star": _sampling_planner(rrt_star, ("step", "goal_bias", "goal_threshold", "seed",
+                                             "max_iterations", "time_budget")),
+    "prm": _sampling_planner(prm, ("samples", "neighbours", "seed", "max_iterations",
+                                   "time_budget")),
+})
 
 
 def _sample_times(duration: float, samples: int, breakpoints) -> np.ndarray:

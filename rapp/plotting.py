@@ -41,6 +41,8 @@ __all__ = [
     "plot_plan",
     "plot_profiles",
     "plot_metrics",
+    "plot_astar_step",
+    "animate_astar",
     "plot_polynomials",
     "plot_segment_circle",
     "split_at_seam",
@@ -559,6 +561,202 @@ def _stage_times(metrics):
 def _num(v):
     """Three significant digits without an exponent for everyday magnitudes."""
     return f"{v:.0f}" if abs(v) >= 100 else f"{v:.3g}"
+
+
+def _check_astar_step(trace, k):
+    if trace.occupied.ndim != 2:
+        raise ValueError(f"plot_astar_step draws grids of two joints, got {trace.occupied.ndim}")
+    if not 0 <= k <= trace.expansions:
+        raise ValueError(
+            f"step k must be in 0..{trace.expansions} (the last shows the path), got {k}")
+
+
+def plot_astar_step(trace, k, ax=None, *, annotate=True, legend=True):
+    """One step of A* on a 2-joint grid: closed set, open list, current cell, the wrap.
+
+    Parameters
+    ----------
+    trace : rapp.search.AStarTrace
+        What :func:`rapp.search.astar_steps` recorded.
+    k : int
+        The step, ``0 <= k < trace.expansions``: the state right after the
+        ``k``-th expansion, with the current cell, the neighbours it relaxed
+        (purple arrows; an arrow that leaves the grid re-enters on the other
+        side, across the seam) and the chain of parents back to the start.
+        ``k == trace.expansions`` is the end: the goal taken off the open list
+        and the path reconstructed from the parent map.
+    annotate : bool
+        Write ``g`` in every reached cell.
+    legend : bool
+        A legend outside the grid, on the right.
+
+    The first array axis (joint 1) is drawn along x, the second along y, one
+    square per cell, indices in cells. Dashed lines mark the seams of the
+    wrapping axes.
+
+    Returns
+    -------
+    Axes
+
+    Examples
+    --------
+    >>> from rapp.search import astar_steps
+    >>> occ = np.zeros((6, 5), bool); occ[2, 1:4] = True
+    >>> t = astar_steps(occ, (1, 2), (4, 2))
+    >>> ax = plot_astar_step(t, 0)
+    >>> ax.get_xlabel(), ax.get_legend() is not None
+    ('joint 1 cell index (cells)', True)
+    >>> plt.close(ax.figure)
+    """
+    from matplotlib.lines import Line2D
+    from matplotlib.patheffects import withStroke
+    from matplotlib.ticker import MaxNLocator
+
+    _check_astar_step(trace, k)
+    ax = _axes(ax, figsize=(8.4, 5.6))
+    occ = trace.occupied
+    M0, M1 = occ.shape
+    end = k == trace.expansions
+    last = max(k - 1, 0) if end else k
+    have = trace.expansions > 0
+    closed = trace.closed[last] if have else np.zeros(occ.shape, bool)
+    frontier = trace.frontier[last] if have else np.zeros(occ.shape, bool)
+    if have:
+        g = trace.g[last]
+    else:  # the start is the goal: nothing was expanded
+        g = np.full(occ.shape, -1)
+        g[trace.start] = 0
+    kind = np.zeros(occ.shape, dtype=int)
+    kind[occ] = 1
+    kind[closed] = 2
+    kind[frontier] = 3
+    colours = ["white", OCCUPIED, COLORS["sky"], COLORS["yellow"], COLORS["orange"]]
+    current = None
+    if not end:
+        current = tuple(int(i) for i in trace.current[k])
+        kind[current] = 4
+    ext = (-0.5, M0 - 0.5, -0.5, M1 - 0.5)
+    ax.imshow(kind.T, origin="lower", extent=ext, cmap=ListedColormap(colours), vmin=-0.5,
+              vmax=4.5, interpolation="nearest", aspect="equal", zorder=0)
+    ax.set_xticks(np.arange(M0 + 1) - 0.5, minor=True)
+    ax.set_yticks(np.arange(M1 + 1) - 0.5, minor=True)
+    ax.grid(True, which="minor", color="#cccccc", linewidth=0.6)
+    ax.tick_params(which="minor", length=0)
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True, steps=[1, 2, 5, 10]))
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True, steps=[1, 2, 5, 10]))
+    ax.set_xlim(ext[0] - 0.9, ext[1] + 0.9)
+    ax.set_ylim(ext[2] - 0.9, ext[3] + 0.9)
+    ax.set_xlabel("joint 1 cell index (cells)")
+    ax.set_ylabel("joint 2 cell index (cells)")
+    handles = [
+        patches.Patch(facecolor=OCCUPIED, edgecolor=TEXT, label="blocked"),
+        patches.Patch(facecolor=COLORS["sky"], edgecolor=TEXT, label="closed set"),
+        patches.Patch(facecolor=COLORS["yellow"], edgecolor=TEXT, label="open list (frontier)"),
+    ]
+    # The same entries in every frame, so that an animation's legend does not jump.
+    handles.append(patches.Patch(facecolor=COLORS["orange"], edgecolor=TEXT, label="current cell"))
+    seam = dict(color=TEXT, ls="--", lw=1.6, zorder=3)
+    for axis, w in enumerate(trace.wraps):
+        if w:
+            for x in (-0.5, (M0, M1)[axis] - 0.5):
+                (ax.axvline if axis == 0 else ax.axhline)(x, **seam)
+    if any(trace.wraps):
+        handles.append(Line2D([], [], label="seam (wraps round)", **seam))
+    if annotate:
+        for c in np.argwhere(g >= 0):
+            ax.text(c[0], c[1], str(int(g[tuple(c)])), ha="center", va="center",
+                    fontsize="small", color=TEXT, zorder=6,
+                    path_effects=[withStroke(linewidth=2.5, foreground="white")])
+    lo, span = np.array([-0.5, -0.5]), np.array([M0, M1], dtype=float)
+    line = trace.path if end else trace.chain(k)
+    seg = split_at_seam(line.astype(float), lo, span, trace.wraps)
+    name = f"path, cost {trace.cost}" if end else "parents back to the start"
+    ax.plot(seg[:, 0], seg[:, 1], "-", color=COLORS["blue"], lw=2.5, alpha=0.9, zorder=5,
+            label=name)
+    handles.append(Line2D([], [], color=COLORS["blue"], lw=2.5, label=name))
+    if not end and trace.relaxed[k]:
+        arrow = dict(arrowstyle="-|>", color=COLORS["purple"], lw=1.8, mutation_scale=12)
+        u = np.array(current, dtype=float)
+        for v in trace.relaxed[k]:
+            v = np.array(v, dtype=float)
+            d = v - u
+            crossed = np.abs(d) > 1
+            if crossed.any():  # across the seam: leave here, re-enter on the other side
+                d = -np.sign(d) * crossed + d * ~crossed
+                ax.annotate("", xy=u + 0.75 * d, xytext=u + 0.2 * d, arrowprops=arrow, zorder=6)
+                ax.annotate("", xy=v - 0.2 * d, xytext=v - 0.75 * d, arrowprops=arrow, zorder=6)
+            else:
+                ax.annotate("", xy=u + 0.8 * d, xytext=u + 0.2 * d, arrowprops=arrow, zorder=6)
+    handles.append(Line2D([], [], color=COLORS["purple"], lw=1.8, marker=">",
+                          label="neighbours relaxed"))
+    ax.plot(*trace.start, "o", color=START, ms=12, mec=TEXT, mew=1.0, zorder=7)
+    ax.plot(*trace.goal, "*", color=GOAL, ms=17, mec=TEXT, mew=0.8, zorder=7)
+    handles += [
+        Line2D([], [], ls="", marker="o", color=START, mec=TEXT, ms=10,
+                                label="start"),
+        Line2D([], [], ls="", marker="*", color=GOAL, mec=TEXT, ms=14,
+                                label="goal"),
+    ]
+    if end:
+        title = (f"end: goal taken off the open list after {trace.expansions} expansions;\n"
+                 f"path of cost {trace.cost} rebuilt from the parent map")
+    else:
+        gu = int(g[current])
+        hu = float(trace.h[current])
+        seam = any((np.abs(np.subtract(v, current)) > 1).any() for v in trace.relaxed[k])
+        title = (f"step {k + 1} of {trace.expansions}: expand {current}, "
+                 f"g = {gu}, h = {hu:g}, f = {gu + hu:g}\n"
+                 f"closed: {int(closed.sum())} cells, open list: {int(frontier.sum())} cells"
+                 + ("; a step across the seam" if seam else ""))
+    ax.set_title(title, fontsize="medium")
+    if legend:
+        _legend(ax, handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                borderaxespad=0.0, fontsize="small")
+    return style_axes(ax)
+
+
+def animate_astar(trace, *, ax=None, interval=800, annotate=True, dpi=80):
+    """Animate :func:`plot_astar_step` over every step of a trace, then the reconstructed path.
+
+    Parameters
+    ----------
+    trace : rapp.search.AStarTrace
+    ax : Axes, optional
+        Drawn on; by default a new 8.4 x 5.6 inch figure at ``dpi`` (672 x 448
+        pixels at 80 dpi), the grid on the left and the legend on the right.
+    interval : float
+        Milliseconds per frame.
+
+    Returns
+    -------
+    matplotlib.animation.FuncAnimation
+        ``trace.expansions + 1`` frames. Show it with :func:`animation_html`.
+
+    Examples
+    --------
+    >>> from rapp.search import astar_steps
+    >>> anim = animate_astar(astar_steps(np.zeros((5, 5), bool), (0, 0), (4, 2)))
+    >>> anim._save_count
+    4
+    >>> close_animation(anim)
+    """
+    _check_astar_step(trace, 0)
+    if ax is None:
+        # A fixed layout: constrained layout would re-place the axes as the title changes.
+        with plt.rc_context(_LIGHT):
+            fig = plt.figure(figsize=(8.4, 5.6), dpi=dpi)
+            ax = fig.add_axes((0.08, 0.09, 0.58, 0.78))
+        style_axes(ax)
+    fig = ax.figure
+
+    def update(i):
+        ax.clear()
+        plot_astar_step(trace, i, ax, annotate=annotate)
+        return ()
+
+    update(0)
+    return animation.FuncAnimation(fig, update, frames=trace.expansions + 1, interval=interval,
+                                   blit=False, repeat=True, cache_frame_data=False)
 
 
 def plot_metrics(metrics, ax=None, *, keys=None, unit="s"):

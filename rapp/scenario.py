@@ -61,6 +61,8 @@ __all__ = [
     "MIN_DURATION",
     "MAX_DURATION",
     "MAX_LINKS",
+    "ALGORITHMS",
+    "SETTINGS_OF",
 ]
 
 #: SRS Table 4 software ranges (warnings, not errors).
@@ -91,7 +93,19 @@ BYTES_PER_CELL_PER_JOINT_SQUARED = 10
 GRID_DEFAULT_MAX_JOINTS = 6
 MAX_FILE_BYTES = 10_000_000
 MAX_SAMPLES = 1_000_000
-ALGORITHMS = ("astar", "rrt")
+ALGORITHMS = ("astar", "rrt", "rrt_connect", "rrt_star", "prm")
+#: The planner settings each algorithm reads (``seed`` is read by every sampling planner).
+SETTINGS_OF = {
+    "astar": ("cells", "heuristic_weight", "max_expansions"),
+    "rrt": ("step", "goal_bias", "goal_threshold", "max_iterations", "seed", "time_budget"),
+    "rrt_connect": ("step", "max_iterations", "seed", "time_budget"),
+    "rrt_star": ("step", "goal_bias", "goal_threshold", "max_iterations", "seed", "time_budget"),
+    "prm": ("samples", "neighbours", "max_iterations", "seed", "time_budget"),
+}
+#: ``max_iterations`` when the file does not set it: RRT* runs its whole budget (it keeps
+#: improving the path), and PRM's iterations are path searches, not samples.
+DEFAULT_ITERATIONS = {"rrt": 20000, "rrt_connect": 20000, "rrt_star": 3000, "prm": 500}
+MAX_TIME_BUDGET = 3600.0
 
 
 def bytes_per_cell(n: int) -> int:
@@ -132,13 +146,13 @@ PROFILES = ("cubic", "quintic", "spline")
 _TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
              "description")
 _PLANNER_KEYS = ("algorithm", "cells", "heuristic_weight", "max_expansions", "seed", "step",
-                 "goal_bias", "goal_threshold", "max_iterations")
-_RRT_KEYS = ("step", "goal_bias", "goal_threshold", "max_iterations")
+                 "goal_bias", "goal_threshold", "max_iterations", "time_budget", "samples",
+                 "neighbours")
 
 
 @dataclass(frozen=True)
 class PlannerSettings:
-    """How to search: ``algorithm`` ("astar" or "rrt") and its parameters (angles in radians)."""
+    """How to search: ``algorithm`` (one of :data:`ALGORITHMS`) and its settings (radians, seconds)."""
 
     algorithm: str = "astar"
     cells: tuple = (100, 100)
@@ -149,6 +163,9 @@ class PlannerSettings:
     goal_bias: float = 0.1
     goal_threshold: float = 0.01
     max_iterations: int = 20000
+    time_budget: float | None = None
+    samples: int = 500
+    neighbours: int = 10
 
 
 @dataclass(frozen=True)
@@ -227,9 +244,8 @@ class Scenario:
         planner = {"algorithm": p.algorithm, "cells": list(p.cells),
                    "heuristic_weight": p.heuristic_weight, "max_expansions": p.max_expansions,
                    "seed": p.seed}
-        if p.algorithm == "rrt":
-            planner.update(step=p.step, goal_bias=p.goal_bias, goal_threshold=p.goal_threshold,
-                           max_iterations=p.max_iterations)
+        if p.algorithm != "astar":
+            planner.update({k: getattr(p, k) for k in SETTINGS_OF[p.algorithm]})
         return {
             "name": self.name,
             "description": self.description,
@@ -691,19 +707,27 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
     if not 0 < thr <= MAX_GOAL_THRESHOLD:
         raise InvalidValue(f"must lie in (0, {MAX_GOAL_THRESHOLD:g}] rad (a joint-space distance to a "
                            f"goal configuration), got {thr:g}", field="planner.goal_threshold")
-    iters = _integer(d.get("max_iterations", defaults.max_iterations), "planner.max_iterations",
-                     1, 10_000_000)
-    if algorithm != "rrt":
-        for key in _RRT_KEYS:
-            if key in d:
-                warnings.append(f"planner.{key} is an RRT setting and is ignored by {algorithm}")
-    elif "algorithm" not in d:
+    iters = _integer(d.get("max_iterations", DEFAULT_ITERATIONS.get(algorithm, defaults.max_iterations)),
+                     "planner.max_iterations", 1, 10_000_000)
+    budget = d.get("time_budget")
+    if budget is not None:
+        budget = _number(budget, "planner.time_budget")
+        if not 0 < budget <= MAX_TIME_BUDGET:
+            raise InvalidValue(f"must lie in (0, {MAX_TIME_BUDGET:g}] s, got {budget:g}",
+                               field="planner.time_budget")
+    samples = _integer(d.get("samples", defaults.samples), "planner.samples", 10, 100_000)
+    neighbours = _integer(d.get("neighbours", defaults.neighbours), "planner.neighbours", 1, 100)
+    for key in _PLANNER_KEYS[4:]:  # every sampling setting: warn where it is not read
+        if key in d and key != "seed" and key not in SETTINGS_OF[algorithm]:
+            warnings.append(f"planner.{key} is not a setting of {algorithm} and is ignored")
+    if algorithm == "rrt" and "algorithm" not in d:
         warnings.append(f"planner.algorithm: rrt, the default for more than "
                         f"{GRID_DEFAULT_MAX_JOINTS} joints (a grid fine enough to plan on would "
                         "not fit in memory)")
     return PlannerSettings(algorithm=algorithm, cells=cells, heuristic_weight=weight,
                            max_expansions=max_exp, seed=seed, step=step, goal_bias=bias,
-                           goal_threshold=thr, max_iterations=iters)
+                           goal_threshold=thr, max_iterations=iters, time_budget=budget,
+                           samples=samples, neighbours=neighbours)
 
 
 def preflight(scenario: Scenario) -> None:
@@ -840,11 +864,17 @@ def echo(scenario: Scenario) -> str:
         rows.append(("  weight", _fmt(p.heuristic_weight)))
         rows.append(("  max expand", "none" if p.max_expansions is None else str(p.max_expansions)))
     else:
-        rows.append(("  step", f"{_fmt(p.step)} rad"))
-        rows.append(("  goal bias", _fmt(p.goal_bias)))
-        rows.append(("  goal thresh", f"{_fmt(p.goal_threshold)} rad"))
-        rows.append(("  iterations", str(p.max_iterations)))
-        rows.append(("  seed", str(p.seed)))
+        uses = SETTINGS_OF[p.algorithm]
+        shown = {"step": ("step", f"{_fmt(p.step)} rad"),
+                 "goal_bias": ("goal bias", _fmt(p.goal_bias)),
+                 "goal_threshold": ("goal thresh", f"{_fmt(p.goal_threshold)} rad"),
+                 "samples": ("samples", str(p.samples)),
+                 "neighbours": ("neighbours", str(p.neighbours)),
+                 "max_iterations": ("iterations", str(p.max_iterations)),
+                 "time_budget": ("time budget", "none" if p.time_budget is None
+                                 else f"{_fmt(p.time_budget)} s"),
+                 "seed": ("seed", str(p.seed))}
+        rows.extend(("  " + shown[k][0], shown[k][1]) for k in shown if k in uses)
     t = s.trajectory
     rows.append(("trajectory", f"{t.profile}, {_fmt(t.duration)} s, {t.samples} samples"))
     width = max(len(k) for k, _ in rows) + 2

@@ -14,6 +14,7 @@ every axis, or one bool per axis.
   oracle the tests compare A* against (on unit costs BFS is Dijkstra).
 * :func:`greedy_best_first` -- kept only to show why it is not optimal.
 * :func:`check_heuristic` -- exhaustive admissibility and consistency check.
+* :func:`astar_steps` -- the same A*, recorded expansion by expansion (for figures).
 
 Implementation note: A* runs in Python over flat cell numbers. The neighbour
 table (with the wrap of each axis built in) and the heuristic of every cell are
@@ -42,6 +43,8 @@ __all__ = [
     "greedy_best_first",
     "toroidal_manhattan",
     "check_heuristic",
+    "AStarTrace",
+    "astar_steps",
 ]
 
 
@@ -703,3 +706,194 @@ def greedy_best_first(occupied, start, goal, *, wraps=True, heuristic_wraps=None
     while flat[-1] != s:
         flat.append(parent[flat[-1]])
     return _as_tuples(G.path(flat[::-1]))
+
+
+# --------------------------------------------------------------------------- A*, step by step
+
+
+@dataclass(frozen=True, eq=False)
+class AStarTrace:
+    """What :func:`astar_steps` records: the search, one snapshot per expansion.
+
+    Snapshot ``k`` (``0 <= k < expansions``) is the state right after the
+    ``k``-th cell was taken off the open list, closed and its neighbours
+    relaxed.
+
+    Attributes
+    ----------
+    occupied : ndarray of bool
+        The grid searched.
+    start, goal : tuple of int
+    wraps : tuple of bool
+        Which axes wrap.
+    h : ndarray of float, grid shape
+        The heuristic used (GD1, times the weight).
+    current : ndarray of int, shape (expansions, n)
+        The cell expanded at each step.
+    closed : ndarray of bool, shape (expansions,) + grid shape
+        The closed set after each step; it grows by exactly the current cell.
+    frontier : ndarray of bool, shape (expansions,) + grid shape
+        The open list after each step: cells reached but not yet closed.
+    g : ndarray of int, shape (expansions,) + grid shape
+        Cost so far after each step, ``-1`` where no path is known yet.
+    parent : ndarray of int, shape (expansions,) + grid shape + (n,)
+        The parent map after each step, ``-1`` where a cell has no parent.
+    relaxed : tuple of tuple of tuple of int
+        Per step, the neighbours whose ``g`` dropped (pushed onto the open list).
+    path : ndarray of int, shape (cost + 1, n)
+        The path reconstructed from the final parent map, start to goal.
+    cost : int
+    expansions : int
+    """
+
+    occupied: np.ndarray
+    start: tuple
+    goal: tuple
+    wraps: tuple
+    h: np.ndarray
+    current: np.ndarray
+    closed: np.ndarray
+    frontier: np.ndarray
+    g: np.ndarray
+    parent: np.ndarray
+    relaxed: tuple
+    path: np.ndarray
+    cost: int
+    expansions: int
+
+    def chain(self, k):
+        """Cells from the start to the cell expanded at step ``k``, along the parent map."""
+        cells = [tuple(int(i) for i in self.current[k])]
+        parent = self.parent[k]
+        while cells[-1] != self.start:
+            cells.append(tuple(int(i) for i in parent[cells[-1]]))
+        return np.array(cells[::-1], dtype=np.int64).reshape(-1, len(self.start))
+
+
+def astar_steps(occupied, start, goal, *, wraps=True, heuristic_weight=1.0):
+    """Run A* as :func:`astar_search` does and record every expansion.
+
+    The same loop in the same order: heap entries ``(f, -g, cell)`` (lowest
+    ``f`` first, ties to the larger ``g``, then to the smaller cell), a closed
+    set, a parent map, lazy deletion of stale heap entries, the goal accepted
+    when it is taken off the heap, the path reconstructed by following parents
+    back from the goal. It expands the same cells as :func:`astar_search` and
+    returns the same cost. Meant for small grids and figures: each snapshot
+    holds copies of the grid-sized arrays (about ``10 + 8 n`` bytes per cell
+    per expansion).
+
+    Parameters
+    ----------
+    occupied : ndarray of bool
+        The grid of any dimension ``n``; ``True`` = blocked.
+    start, goal : sequence of int
+        Cells, ``n`` indices each.
+    wraps : bool or sequence of bool, default True
+        Which axes wrap (for the neighbours and the heuristic).
+    heuristic_weight : float, default 1.0
+        ``w >= 1``: ``f = g + w h`` (weighted A*).
+
+    Returns
+    -------
+    AStarTrace
+
+    Raises
+    ------
+    ValueError
+        ``start`` or ``goal`` malformed or outside the grid (see :func:`astar_search`).
+    NoPathFound
+        Start or goal blocked, or goal unreachable.
+
+    Examples
+    --------
+    A ring of 8 cells: from 1 to 6 the short way crosses the seam (1, 0, 7, 6).
+
+    >>> t = astar_steps(np.zeros(8, bool), [1], [6])
+    >>> t.cost, t.path.ravel().tolist()
+    (3, [1, 0, 7, 6])
+    >>> t.current.ravel().tolist()          # expanded in this order; the goal is not expanded
+    [1, 0, 7]
+    >>> t.closed.sum(axis=1).tolist()       # the closed set grows by one per step
+    [1, 2, 3]
+    >>> np.flatnonzero(t.frontier[0]).tolist(), t.g[0].tolist()
+    ([0, 2], [1, 0, 1, -1, -1, -1, -1, -1])
+    >>> t.expansions == astar_search(np.zeros(8, bool), [1], [6]).expansions
+    True
+    """
+    occ, w_ax, sidx, _, gidx, _ = _prepare(occupied, start, goal, wraps)
+    w = finite_number(heuristic_weight, "heuristic_weight", at_least=1.0)
+    n = occ.ndim
+    G = _PaddedGraph(occ, w_ax)
+    size, closed, red, offs = G.size, G.closed, G.red, G.offsets
+    h = _heuristic_grid(occ.shape, gidx, w_ax) * w
+    wh = G.padded(h).tolist()
+    s, t = G.flat(sidx), G.flat(gidx)
+    # Padded flat number -> cell of the real grid (pad cells are never reached).
+    cell_of = G.path(np.arange(size))
+    g = [size + 1] * size
+    g[s] = 0
+    parent = {}
+    reached = {s}
+    heap = [(wh[s], 0, s)]
+    snaps = {"current": [], "closed": [], "frontier": [], "g": [], "parent": []}
+    relaxed = []
+    done = set()
+    found = s == t
+    while heap and not found:
+        u = heapq.heappop(heap)[2]
+        if closed[u]:
+            continue
+        if u == t:
+            found = True
+            break
+        closed[u] = 1
+        done.add(u)
+        gv = g[u] + 1
+        pushed = []
+        for d in offs:
+            v = red[u + d]
+            if closed[v] or gv >= g[v]:
+                continue
+            g[v] = gv
+            parent[v] = u
+            reached.add(v)
+            pushed.append(tuple(int(i) for i in cell_of[v]))
+            heapq.heappush(heap, (gv + wh[v], -gv, v))
+        # Snapshot: the state after line "relax the neighbours" of this expansion.
+        gk = np.full(occ.shape, -1, dtype=np.int64)
+        pk = np.full(occ.shape + (n,), -1, dtype=np.int64)
+        for v in reached:
+            c = tuple(cell_of[v])
+            gk[c] = g[v]
+            if v in parent:
+                pk[c] = cell_of[parent[v]]
+        ck = np.zeros(occ.shape, dtype=bool)
+        ck[tuple(cell_of[sorted(done)].T)] = True
+        snaps["current"].append(cell_of[u])
+        snaps["closed"].append(ck)
+        snaps["frontier"].append((gk >= 0) & ~ck)
+        snaps["g"].append(gk)
+        snaps["parent"].append(pk)
+        relaxed.append(tuple(pushed))
+    if not found:
+        raise NoPathFound(f"the goal {gidx} cannot be reached from the start {sidx}")
+    flat = [t]
+    while flat[-1] != s:
+        flat.append(parent[flat[-1]])
+    k = len(relaxed)
+
+    def stack(name, shape, dtype):
+        a = np.array(snaps[name], dtype=dtype).reshape((k,) + shape)
+        a.setflags(write=False)
+        return a
+
+    path = G.path(flat[::-1])
+    return AStarTrace(
+        occupied=occ, start=sidx, goal=gidx, wraps=w_ax, h=h,
+        current=stack("current", (n,), np.int64),
+        closed=stack("closed", occ.shape, bool),
+        frontier=stack("frontier", occ.shape, bool),
+        g=stack("g", occ.shape, np.int64),
+        parent=stack("parent", occ.shape + (n,), np.int64),
+        relaxed=tuple(relaxed), path=path, cost=len(flat) - 1, expansions=k,
+    )

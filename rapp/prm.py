@@ -1,0 +1,177 @@
+"""Lazy PRM: a probabilistic roadmap whose edges are certified only when a path needs them.
+
+Free configurations are sampled uniformly and each is joined to its ``neighbours`` nearest
+(wrap-aware distance) by a *candidate* edge. Dijkstra's algorithm finds the shortest candidate
+path from the start to a goal; only that path's uncertified edges are then certified
+(:func:`rapp.collision.segment_collision_free`, all in one call). Edges that fail are removed
+and the search is repeated; when the roadmap holds no path, it grows by as many samples again.
+Most candidate edges are never checked, which is where the time of a PRM goes.
+
+References
+----------
+Kavraki, Švestka, Latombe and Overmars (1996), Probabilistic roadmaps for path planning in
+high-dimensional configuration spaces. Bohlin and Kavraki (2000), Path planning using lazy PRM.
+"""
+
+from __future__ import annotations
+
+import heapq
+
+import numpy as np
+
+from rapp.checks import positive_integer
+from rapp.collision import collides, segment_collision_free
+from rapp.errors import NoPathFound
+from rapp.paths import path_length
+from rapp.rrt import RRTResult
+from rapp.sampling import Budget, check_start_and_goals, uniform_samples, unwrapped_chain
+
+__all__ = ["prm"]
+
+
+def _dijkstra(nodes_n: int, edges: dict, sources, targets):
+    """Shortest path on an undirected weighted graph {(i, j): w}; parent map and the target hit."""
+    adj = [[] for _ in range(nodes_n)]
+    for (i, j), w in edges.items():
+        adj[i].append((j, w))
+        adj[j].append((i, w))
+    dist = np.full(nodes_n, np.inf)
+    parent = np.full(nodes_n, -1)
+    heap = []
+    for s in sources:
+        dist[s] = 0.0
+        heap.append((0.0, s))
+    heapq.heapify(heap)
+    goal_set = set(int(t) for t in targets)
+    while heap:
+        d, u = heapq.heappop(heap)
+        if d > dist[u]:
+            continue
+        if u in goal_set:
+            return parent, u
+        for v, w in adj[u]:
+            nd = d + w
+            if nd < dist[v]:
+                dist[v], parent[v] = nd, u
+                heapq.heappush(heap, (nd, v))
+    return parent, -1
+
+
+def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int = 10, seed=0,
+        max_iterations: int = 500, time_budget: float | None = None,
+        max_samples: int | None = None, raise_on_failure: bool = True) -> RRTResult:
+    """Plan with a lazy probabilistic roadmap from ``start`` to a goal configuration.
+
+    Parameters
+    ----------
+    arm, start, goal, obstacles
+        As :func:`rapp.rrt_connect.rrt_connect`.
+    samples : int
+        Free configurations added to the roadmap each time it holds no path.
+    neighbours : int
+        Candidate edges from each node to its nearest nodes.
+    max_iterations : int
+        Path searches at most (each followed by certifying the path it found).
+    max_samples : int, optional
+        Largest roadmap (default ``20 * samples``): when it holds no path, the answer is
+        failure.
+    time_budget : float, optional
+        Seconds at most.
+
+    Returns
+    -------
+    RRTResult
+        ``nodes`` the roadmap (start first, then the goals, then the samples) and ``parent``
+        the last search's shortest-path tree.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> arm = Arm([1.0, 1.0])
+    >>> res = prm(arm, [0.0, 0.0], [2.5, 0.0], [Circle((0.0, 1.2), 0.3)], samples=200, seed=1)
+    >>> res.success, bool(np.allclose(arm.wrap(res.path[-1]), [2.5, 0.0]))
+    (True, True)
+    """
+    obstacles = list(obstacles)
+    samples = positive_integer(samples, "samples")
+    neighbours = positive_integer(neighbours, "neighbours")
+    max_samples = 20 * samples if max_samples is None else positive_integer(max_samples, "max_samples")
+    budget = Budget(max_iterations, time_budget)
+    start, goals = check_start_and_goals(arm, start, goal, obstacles)
+    rng = np.random.default_rng(seed)
+    nodes = arm.wrap(np.vstack((start, goals)))
+    goal_ids = np.arange(1, len(goals) + 1)
+    edges: dict = {}          # candidate edges (i < j) -> length
+    certified: set = set()
+    parent, hit = np.full(len(nodes), -1), -1
+    grow = True
+    while not budget.spent():
+        if grow:
+            if len(nodes) - 1 - len(goals) >= max_samples:
+                break
+            first_new = len(nodes)
+            nodes = _grow(arm, rng, nodes, samples, obstacles)
+            _add_candidate_edges(arm, nodes, neighbours, edges, 0 if first_new <= 1 + len(goals)
+                                 else first_new)
+        parent, hit = _dijkstra(len(nodes), edges, [0], goal_ids)
+        if hit < 0:
+            grow = True
+            continue
+        chain = [hit]
+        while parent[chain[-1]] >= 0:
+            chain.append(int(parent[chain[-1]]))
+        chain = chain[::-1]
+        pairs = [(min(a, b), max(a, b)) for a, b in zip(chain[:-1], chain[1:])]
+        todo = [p for p in pairs if p not in certified]
+        if todo:
+            a = nodes[[p[0] for p in todo]]
+            b = a + arm.joint_delta(a, nodes[[p[1] for p in todo]])
+            free = segment_collision_free(arm, a, b, obstacles)
+            for p, ok in zip(todo, free):
+                if ok:
+                    certified.add(p)
+                else:
+                    del edges[p]
+            if not free.all():
+                grow = False
+                continue
+        path = unwrapped_chain(arm, nodes[chain], start)
+        return RRTResult(path, nodes, parent, budget.iterations, True, path_length(path))
+    if raise_on_failure:
+        raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal in "
+                          f"{budget.iterations} searches")
+    return RRTResult(np.empty((0, arm.n)), nodes, parent, budget.iterations, False, float("inf"))
+
+
+def _grow(arm, rng, nodes, k, obstacles):
+    """``nodes`` with ``k`` free uniform samples appended (drawn until that many are free)."""
+    new = []
+    have = 0
+    for _ in range(100):
+        q = uniform_samples(arm, rng, k)
+        if obstacles:
+            q = q[~collides(arm, q, obstacles)]
+        new.append(q)
+        have += len(q)
+        if have >= k:
+            break
+    return np.vstack([nodes] + new)[: len(nodes) + k]
+
+
+def _add_candidate_edges(arm, nodes, k, edges, first_new):
+    """Join every node from ``first_new`` on to its ``k`` nearest (wrap-aware) by a candidate
+    edge; edges already there keep their state. Memory grows with new nodes times all nodes."""
+    k = min(k, len(nodes) - 1)
+    if k <= 0:
+        return
+    for lo in range(first_new, len(nodes), 256):
+        block = np.arange(lo, min(lo + 256, len(nodes)))
+        d = arm.joint_delta(nodes[block, None, :], nodes[None, :, :])
+        dist = np.sqrt(np.einsum("ijk,ijk->ij", d, d))
+        dist[np.arange(len(block)), block] = np.inf
+        near = np.argpartition(dist, k - 1, axis=1)[:, :k]
+        for row, i in enumerate(block):
+            for j in near[row]:
+                key = (min(int(i), int(j)), max(int(i), int(j)))
+                if key not in edges:
+                    edges[key] = float(dist[row, j])

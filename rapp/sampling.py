@@ -1,0 +1,160 @@
+"""What the sampling planners share: trees in joint space, uniform samples, budgets, checks.
+
+A free joint is a circle, so every distance and every step is taken the short way round
+(:meth:`rapp.Arm.joint_delta`); nodes are stored wrapped (:meth:`rapp.Arm.wrap`) and paths
+are returned unwrapped, each waypoint the previous one plus the certified edge, so that the
+straight segment between consecutive waypoints is exactly the motion that was certified
+collision-free (:func:`rapp.collision.segment_collision_free`).
+
+References
+----------
+LaValle (2006), *Planning Algorithms*, ch. 5: sampling-based motion planning.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from rapp.checks import finite_number, positive_integer
+from rapp.collision import collides
+from rapp.errors import NoPathFound
+
+__all__ = ["Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
+
+
+class Tree:
+    """A tree in joint space as growable arrays: wrapped nodes, parent map, cost from the root.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> t = Tree(Arm([1.0, 1.0]), [[0.0, 0.0]])
+    >>> t.add([3.0, 0.0], 0, cost=3.0)
+    1
+    >>> t.nearest([-3.1, 0.0])      # 3.0 is 0.18 rad from -3.1 the short way round
+    1
+    >>> t.parent.tolist(), t.cost.tolist()
+    ([-1, 0], [0.0, 3.0])
+    """
+
+    def __init__(self, arm, roots):
+        self.arm = arm
+        roots = np.atleast_2d(np.asarray(roots, float))
+        cap = max(256, 2 * len(roots))
+        self._nodes = np.empty((cap, arm.n))
+        self._parent = np.empty(cap, dtype=int)
+        self._cost = np.empty(cap)
+        self.m = 0
+        for r in roots:
+            self.add(r, -1, 0.0)
+
+    nodes = property(lambda self: self._nodes[: self.m], doc="Nodes ``(m, n)``, wrapped.")
+    parent = property(lambda self: self._parent[: self.m], doc="Parent index, -1 for a root.")
+    cost = property(lambda self: self._cost[: self.m], doc="Path length from the root (rad).")
+
+    def add(self, q, parent_index: int, cost: float = 0.0) -> int:
+        """Append a node; returns its index."""
+        if self.m == len(self._nodes):
+            self._nodes = np.concatenate((self._nodes, np.empty_like(self._nodes)))
+            self._parent = np.concatenate((self._parent, np.empty_like(self._parent)))
+            self._cost = np.concatenate((self._cost, np.empty_like(self._cost)))
+        self._nodes[self.m] = self.arm.wrap(q)
+        self._parent[self.m] = parent_index
+        self._cost[self.m] = cost
+        self.m += 1
+        return self.m - 1
+
+    def deltas(self, q) -> np.ndarray:
+        """``q - node`` for every node, the short way round: ``(m, n)``."""
+        return self.arm.joint_delta(self.nodes, q)
+
+    def nearest(self, q) -> int:
+        """Index of the node nearest ``q`` (wrap-aware Euclidean distance)."""
+        d = self.deltas(q)
+        return int(np.argmin(np.einsum("ij,ij->i", d, d)))
+
+    def set_parent(self, i: int, parent_index: int, cost: float) -> None:
+        self._parent[i] = parent_index
+        self._cost[i] = cost
+
+
+class Budget:
+    """Iterations and an optional wall-clock budget; ``spent()`` says when either ran out.
+
+    A time budget makes a run depend on the machine; without one, the same seed gives the same
+    result everywhere.
+
+    Examples
+    --------
+    >>> b = Budget(3, None)
+    >>> [b.spent() for _ in range(4)]
+    [False, False, False, True]
+    """
+
+    def __init__(self, max_iterations, time_budget):
+        self.max_iterations = positive_integer(max_iterations, "max_iterations")
+        self.time_budget = None if time_budget is None else finite_number(
+            time_budget, "time_budget", above=0.0)
+        self.t0 = time.perf_counter()
+        self.iterations = 0
+
+    def spent(self) -> bool:
+        """Count one iteration; True when none is left (the iteration must not run)."""
+        if self.iterations >= self.max_iterations:
+            return True
+        if self.time_budget is not None and time.perf_counter() - self.t0 > self.time_budget:
+            return True
+        self.iterations += 1
+        return False
+
+
+def check_start_and_goals(arm, start, goal, obstacles):
+    """Validated start ``(n,)`` and goals ``(g, n)``; NoPathFound if the start or every goal collides.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> s, g = check_start_and_goals(Arm([1.0, 1.0]), [0, 0], [1, 0], [])
+    >>> s.tolist(), g.tolist()
+    ([0.0, 0.0], [[1.0, 0.0]])
+    """
+    start = arm.check_q(start, "start").reshape(arm.n)
+    goals = arm.check_q(np.atleast_2d(goal), "goal").reshape(-1, arm.n)
+    obstacles = list(obstacles)
+    if obstacles and collides(arm, start, obstacles):
+        raise NoPathFound("the start configuration collides")
+    if obstacles:
+        goals = goals[~collides(arm, goals, obstacles)]
+        if len(goals) == 0:
+            raise NoPathFound("every goal configuration collides")
+    return start, goals
+
+
+def uniform_samples(arm, rng, k: int) -> np.ndarray:
+    """``k`` configurations drawn uniformly within the joint bounds, ``(k, n)``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> q = uniform_samples(Arm([1.0, 1.0], [None, (0.0, 1.0)]), np.random.default_rng(0), 100)
+    >>> q.shape, bool((q[:, 1] >= 0).all() and (q[:, 1] <= 1).all())
+    ((100, 2), True)
+    """
+    return rng.uniform(arm.lower, arm.upper, (k, arm.n))
+
+
+def unwrapped_chain(arm, walk, start) -> np.ndarray:
+    """The waypoints ``walk`` (wrapped) as a path from the exact ``start``: each step the short way.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> unwrapped_chain(Arm([1.0]), [[3.0], [-3.0]], [3.0]).round(4).tolist()
+    [[3.0], [3.2832]]
+    """
+    walk = np.asarray(walk, float)
+    start = np.asarray(start, float)
+    steps = arm.joint_delta(walk[:-1], walk[1:])
+    return np.concatenate((start[None], start + np.cumsum(steps, axis=0)))

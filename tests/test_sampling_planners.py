@@ -1,0 +1,153 @@
+"""RRT-Connect, RRT* and lazy PRM: every path they return is collision-free by an independent
+check, the same seed gives the same result, failure is said honestly, and each plans from a
+scenario file and the command line."""
+
+import io
+from contextlib import redirect_stderr, redirect_stdout
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+import rapp
+from rapp import cli
+from rapp.collision import collides
+from rapp.errors import InvalidValue, NoPathFound
+from rapp.prm import prm
+from rapp.rrt_connect import rrt_connect
+from rapp.rrt_star import rrt_star
+
+PLANNERS = {
+    "rrt_connect": lambda arm, s, g, obs, seed: rrt_connect(arm, s, g, obs, step=0.15, seed=seed,
+                                                            raise_on_failure=False),
+    "rrt_star": lambda arm, s, g, obs, seed: rrt_star(arm, s, g, obs, step=0.3, seed=seed,
+                                                      max_iterations=400, goal_threshold=0.3,
+                                                      raise_on_failure=False),
+    "prm": lambda arm, s, g, obs, seed: prm(arm, s, g, obs, samples=200, seed=seed,
+                                            raise_on_failure=False),
+}
+
+
+def dense_free(arm, path, obstacles, per_rad=400):
+    """Independent, slow check: sample every segment densely and test each configuration."""
+    for a, b in zip(path[:-1], path[1:]):
+        k = max(2, int(np.linalg.norm(b - a) * per_rad))
+        q = a + np.linspace(0, 1, k)[:, None] * (b - a)
+        if collides(arm, q, obstacles).any():
+            return False
+    return True
+
+
+@st.composite
+def problems(draw):
+    n = draw(st.integers(2, 3))
+    arm = rapp.Arm(draw(st.lists(st.floats(0.4, 1.0), min_size=n, max_size=n)))
+    reach = sum(arm.link_lengths)
+    obstacles = []
+    for _ in range(draw(st.integers(1, 3))):
+        r = draw(st.floats(0.5, 1.1)) * reach
+        a = draw(st.floats(-np.pi, np.pi))
+        c = (r * np.cos(a), r * np.sin(a))
+        if draw(st.booleans()):
+            obstacles.append(rapp.Circle(c, draw(st.floats(0.1, 0.3))))
+        else:
+            obstacles.append(rapp.Polygon.rectangle(c, draw(st.floats(0.1, 0.4)),
+                                                    draw(st.floats(0.1, 0.4)), a))
+    start = np.array(draw(st.lists(st.floats(-3, 3), min_size=n, max_size=n)))
+    goal = np.array(draw(st.lists(st.floats(-3, 3), min_size=n, max_size=n)))
+    return arm, obstacles, start, goal
+
+
+@pytest.mark.parametrize("name", sorted(PLANNERS))
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(problem=problems(), seed=st.integers(0, 1000))
+def test_every_returned_path_is_collision_free_and_joins_start_to_goal(name, problem, seed):
+    arm, obstacles, start, goal = problem
+    if collides(arm, np.array([start, goal]), obstacles).any():
+        with pytest.raises(NoPathFound):
+            PLANNERS[name](arm, start, goal, obstacles, seed)
+        return
+    res = PLANNERS[name](arm, start, goal, obstacles, seed)
+    if not res.success:
+        assert res.path.shape == (0, arm.n) and res.cost == np.inf
+        return
+    assert np.array_equal(res.path[0], start)
+    assert np.allclose(arm.wrap(res.path[-1]), arm.wrap(goal), atol=1e-12)
+    assert rapp.path_collision_free(arm, res.path, obstacles)
+    assert dense_free(arm, res.path, obstacles)
+    assert res.cost == pytest.approx(np.linalg.norm(np.diff(res.path, axis=0), axis=1).sum())
+
+
+@pytest.mark.parametrize("name", sorted(PLANNERS))
+def test_same_seed_same_result(name):
+    s = rapp.load_scenario("rectangles")
+    runs = [PLANNERS[name](s.arm, s.start_array, s.goal_q, s.obstacles, 7) for _ in range(2)]
+    assert runs[0].success
+    assert np.array_equal(runs[0].path, runs[1].path)
+    assert np.array_equal(runs[0].nodes, runs[1].nodes)
+
+
+@pytest.mark.parametrize("name", sorted(PLANNERS))
+def test_failure_is_honest_when_the_goal_is_walled_off(name):
+    s = rapp.load_scenario("no_solution")   # no path exists (chapter 7)
+    res = PLANNERS[name](s.arm, s.start_array, s.goal_q, s.obstacles, 0)
+    assert not res.success and res.path.shape == (0, 2)
+
+
+def test_a_colliding_start_is_no_path():
+    arm, obs = rapp.Arm([1.0, 1.0]), [rapp.Circle((1.0, 0.0), 0.2)]
+    for f in (rrt_connect, rrt_star, prm):
+        with pytest.raises(NoPathFound, match="start"):
+            f(arm, [0.0, 0.0], [2.0, 0.0], obs)
+
+
+def test_the_time_budget_stops_a_run():
+    s = rapp.load_scenario("no_solution")
+    res = rrt_star(s.arm, s.start_array, s.goal_q, s.obstacles, max_iterations=10**7,
+                   time_budget=0.2, raise_on_failure=False)
+    assert not res.success and 0 < res.iterations < 10**7
+
+
+def test_rrt_star_improves_with_more_iterations():
+    s = rapp.load_scenario("default")
+    goal = rapp.ik(s.arm, s.goal_xy, q0=s.start_array)[0]
+    short = rrt_star(s.arm, s.start_array, goal, s.obstacles, seed=2, max_iterations=300)
+    long = rrt_star(s.arm, s.start_array, goal, s.obstacles, seed=2, max_iterations=2000)
+    assert long.cost <= short.cost + 1e-12
+
+
+@pytest.mark.parametrize("name", ["rrt_connect", "rrt_star", "prm"])
+@pytest.mark.parametrize("scenario", ["default", "srs_typical", "rectangles", "three_link"])
+def test_every_embedded_scenario_plans_with_every_sampling_planner(name, scenario):
+    d = rapp.load_scenario(scenario).to_dict()
+    d["planner"] = {"algorithm": name, "seed": 1}
+    p = rapp.plan(d)
+    assert p.report.ok, str(p.report)
+
+
+def test_the_command_line_runs_them(tmp_path):
+    import json
+    d = rapp.load_scenario("default").to_dict()
+    d["planner"] = {"algorithm": "rrt_connect", "seed": 3}
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(d))
+    with redirect_stdout(io.StringIO()) as out, redirect_stderr(io.StringIO()):
+        assert cli.main(["plan", str(path)]) == 0
+    assert "rrt_connect" in out.getvalue() and "verified" in out.getvalue()
+
+
+@pytest.mark.parametrize("key,value", [("time_budget", -1.0), ("time_budget", 1e9), ("samples", 5),
+                                       ("neighbours", 0), ("max_iterations", 0)])
+def test_their_settings_are_validated(key, value):
+    d = rapp.load_scenario("default").to_dict()
+    d["planner"] = {"algorithm": "prm", key: value}
+    with pytest.raises(InvalidValue) as e:
+        rapp.load_scenario(d)
+    assert e.value.field == f"planner.{key}"
+
+
+def test_settings_an_algorithm_does_not_read_are_warned():
+    d = rapp.load_scenario("default").to_dict()
+    d["planner"] = {"algorithm": "prm", "step": 0.2}
+    s = rapp.load_scenario(d)
+    assert any(w.startswith("planner.step ") and "prm" in w for w in s.warnings)
