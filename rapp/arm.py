@@ -132,6 +132,16 @@ class Arm:
             limits = tuple(_joint_limit(i, lim) for i, lim in enumerate(joint_limits))
         object.__setattr__(self, "link_lengths", tuple(float(v) for v in lengths))
         object.__setattr__(self, "joint_limits", limits)
+        # Read-only arrays built once: planners ask for them per configuration.
+        cached = {
+            "_lengths": np.array(self.link_lengths),
+            "_limited": np.array([lim is not None for lim in limits]),
+            "_lower": np.array([-np.pi if lim is None else lim[0] for lim in limits]),
+            "_upper": np.array([np.pi if lim is None else lim[1] for lim in limits]),
+        }
+        for name, arr in cached.items():
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
 
     def __eq__(self, other):
         return (
@@ -150,23 +160,23 @@ class Arm:
 
     @property
     def lengths(self) -> np.ndarray:
-        """Link lengths as a float array of shape ``(n,)``."""
-        return np.array(self.link_lengths)
+        """Link lengths as a read-only float array of shape ``(n,)``."""
+        return self._lengths
 
     @property
     def limited(self) -> np.ndarray:
-        """Boolean ``(n,)``: True where a joint has limits (a bounded axis)."""
-        return np.array([lim is not None for lim in self.joint_limits])
+        """Boolean ``(n,)``, read-only: True where a joint has limits (a bounded axis)."""
+        return self._limited
 
     @property
     def lower(self) -> np.ndarray:
-        """Lower joint bounds, ``-pi`` for a free joint."""
-        return np.array([-np.pi if lim is None else lim[0] for lim in self.joint_limits])
+        """Lower joint bounds, ``-pi`` for a free joint (read-only)."""
+        return self._lower
 
     @property
     def upper(self) -> np.ndarray:
-        """Upper joint bounds, ``pi`` for a free joint."""
-        return np.array([np.pi if lim is None else lim[1] for lim in self.joint_limits])
+        """Upper joint bounds, ``pi`` for a free joint (read-only)."""
+        return self._upper
 
     @property
     def reach(self) -> tuple[float, float]:
@@ -276,7 +286,9 @@ class Arm:
     def _positions(self, q: np.ndarray) -> np.ndarray:
         """:meth:`joint_positions` of a float array already checked (or known to be in range)."""
         phi = np.cumsum(q, axis=-1)
-        steps = np.stack((np.cos(phi), np.sin(phi)), axis=-1) * self.lengths[:, None]
+        steps = np.empty(phi.shape + (2,))
+        np.multiply(np.cos(phi), self._lengths, out=steps[..., 0])
+        np.multiply(np.sin(phi), self._lengths, out=steps[..., 1])
         out = np.zeros(phi.shape[:-1] + (self.n + 1, 2))
         np.cumsum(steps, axis=-2, out=out[..., 1:, :])
         return out

@@ -58,6 +58,11 @@ _GROUP = 256
 _CHUNK = 4096
 
 
+#: Multiplying a row vector (x, y) by this gives (-y, x): a quarter turn, exactly.
+_QUARTER_TURN = np.array([[0.0, 1.0], [-1.0, 0.0]])
+_QUARTER_TURN.setflags(write=False)
+
+
 def _dot(u, v):
     return np.einsum("...i,...i->...", u, v)
 
@@ -94,10 +99,10 @@ def closest_point_on_segment(a, b, p) -> np.ndarray:
     ab = b - a
     den = _dot(ab, ab)
     num = _dot(p - a, ab)
-    # A very short segment far from p makes num / den overflow; clipping to 1 is then right.
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        t = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
-    t = np.clip(t, 0.0, 1.0)
+    # clip(num / den, 0, 1) computed as clip(num, 0, den) / den: the same numbers, but a very
+    # short segment far from p can no longer overflow, and a point segment (den = 0) gives a.
+    t = np.minimum(np.maximum(num, 0.0), den)  # np.clip's wrapper costs more than the work
+    t = np.divide(t, den, out=np.zeros(t.shape), where=den > 0)
     return a + t[..., None] * ab
 
 
@@ -202,14 +207,14 @@ def segment_hits_polygon(a, b, vertices) -> np.ndarray:
         pmin, pmax = pv.min(axis=0), pv.max(axis=0)
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
-    a, b = np.broadcast_arrays(a, b)
+    if a.shape != b.shape:
+        a, b = np.broadcast_arrays(a, b)
     sa, sb = a @ normals.T, b @ normals.T  # (..., k)
-    sep = np.any((np.maximum(sa, sb) < pmin) | (np.minimum(sa, sb) > pmax), axis=-1)
-    # Segment normal: the segment projects to one number.
-    ab = b - a
-    n = np.stack((-ab[..., 1], ab[..., 0]), axis=-1)
+    sep = ((np.maximum(sa, sb) < pmin) | (np.minimum(sa, sb) > pmax)).any(axis=-1)
+    # Segment normal (-ab_y, ab_x): the segment projects to one number.
+    n = (b - a) @ _QUARTER_TURN
     s = _dot(a, n)
-    proj = np.einsum("...i,ki->...k", n, v)
+    proj = n @ v.T
     sep |= (proj.max(axis=-1) < s) | (proj.min(axis=-1) > s)
     return ~sep
 
@@ -227,16 +232,20 @@ def segment_polygon_distance(a, b, vertices) -> np.ndarray:
     >>> segment_polygon_distance([0, 0], [[0.25, 0], [2, 0], [0, 3]], sq).tolist()
     [0.75, 0.0, 1.0]
     """
-    v, e = _polygon_arrays(vertices)
+    if isinstance(vertices, Polygon):
+        v, v2 = vertices.edge_ends
+    else:
+        v, e = _polygon_arrays(vertices)
+        v2 = v + e
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
     a, b = np.broadcast_arrays(a, b)
-    v2 = v + e
     da = segment_point_distance(v, v2, a[..., None, :]).min(axis=-1)
     db = segment_point_distance(v, v2, b[..., None, :]).min(axis=-1)
     dv = segment_point_distance(a[..., None, :], b[..., None, :], v).min(axis=-1)
     d = np.minimum(np.minimum(da, db), dv)
-    return np.where(segment_hits_polygon(a, b, v), 0.0, d)
+    return np.where(segment_hits_polygon(a, b, vertices if isinstance(vertices, Polygon) else v),
+                    0.0, d)
 
 
 def check_obstacle(ob):
@@ -284,12 +293,17 @@ def segment_clearances(a, b, obstacles) -> np.ndarray:
     0.5
     """
     out = np.full(np.broadcast_shapes(a.shape, b.shape)[:-1], np.inf)
+    circles = [ob for ob in obstacles if isinstance(check_obstacle(ob), Circle)]
+    if circles:
+        # Every disc in one broadcast (discs on a new last axis): the arithmetic of one disc at
+        # a time with a fixed number of numpy calls.
+        centers = np.array([c.center for c in circles])
+        radii = np.array([c.radius for c in circles])
+        d = segment_point_distance(a[..., None, :], b[..., None, :], centers) - radii
+        np.minimum(out, d.min(axis=-1), out=out)
     for ob in obstacles:
-        if isinstance(check_obstacle(ob), Circle):
-            d = segment_circle_distance(a, b, ob.center, ob.radius)
-        else:
-            d = segment_polygon_distance(a, b, ob)
-        np.minimum(out, d, out=out)
+        if not isinstance(ob, Circle):
+            np.minimum(out, segment_polygon_distance(a, b, ob), out=out)
     return out
 
 
@@ -414,12 +428,15 @@ def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
         # Touching counts as collision, and a clearance below the rounding of the arm's own
         # coordinates cannot be told from touching: without this, a link grazing a vertex
         # along a whole stretch would be bisected until the interval limit.
-        hit = np.any(d <= touch, axis=-1)
-        certified = np.all(bounds[owner] * half[:, None] < d, axis=-1)
+        hit = (d <= touch).any(axis=-1)
+        need = bounds[owner] * half[:, None]
+        certified = (need < d).all(axis=-1)
         stuck = ~certified & ~hit & (hi - lo < min_interval)
         free[owner[hit | stuck]] = False
         keep = ~certified & free[owner]
-        failed = np.where(bounds[owner] * half[:, None] >= d, d, np.inf).min(axis=-1)
+        if not keep.any():  # the common case for a short edge: settled at the first level
+            break
+        failed = np.where(need >= d, d, np.inf).min(axis=-1)
         np.minimum.at(worst, owner[keep], failed[keep])
         owner, lo, mid, hi = owner[keep], lo[keep], mid[keep], hi[keep]
         # Children interleaved so that owners stay sorted.

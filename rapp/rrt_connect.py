@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rapp.collision import segment_collision_free
+from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound
 from rapp.paths import path_length
 from rapp.rrt import RRTResult
@@ -42,12 +42,17 @@ def _extend(tree: Tree, target, step: float, obstacles, chain: bool):
     frac = np.minimum(np.arange(1, k + 1) * step / dist, 1.0)
     points = base + frac[:, None] * d  # unwrapped from base: the certified motion
     prev = np.vstack((base, points[:-1]))
-    free = segment_collision_free(arm, prev, points, obstacles)
-    ok = int(np.argmin(free)) if not free.all() else k  # the free prefix
+    # A step that ends in collision cannot be free: one cheap point test of the whole chain
+    # first, and only the steps before the first colliding point are certified.
+    hit = collides(arm, points, obstacles)
+    reach = int(np.argmax(hit)) if hit.any() else k
+    free = segment_collision_free(arm, prev[:reach], points[:reach], obstacles) if reach else hit[:0]
+    ok = int(np.argmin(free)) if not free.all() else reach  # the free prefix
     last = -1
     parent = i
     for j in range(ok):
-        parent = tree.add(points[j], parent, tree.cost[parent] + float(np.linalg.norm(points[j] - prev[j])))
+        step_len = float(np.linalg.norm(points[j] - prev[j]))
+        parent = tree.add(points[j], parent, tree.cost[parent] + step_len)
         last = parent
     return last, ok == k and frac[-1] == 1.0
 
