@@ -265,6 +265,21 @@ class Polygon:
             arr.setflags(write=False)
         return out
 
+    @cached_property
+    def edge_ends(self) -> tuple:
+        """``(starts, ends)``: each edge's two vertices, ``(k, 2)`` each, read-only.
+
+        Examples
+        --------
+        >>> Polygon([(0, 0), (1, 0), (0, 1)]).edge_ends[1].tolist()
+        [[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]
+        """
+        v = self.array
+        out = (v, np.roll(v, -1, axis=0))
+        for arr in out:
+            arr.setflags(write=False)
+        return out
+
     @property
     def array(self) -> np.ndarray:
         """Vertices as a ``(k, 2)`` float array (counter-clockwise).
