@@ -37,6 +37,9 @@ from rapp.scenario import Scenario, echo, list_scenarios, load_scenario
 from rapp.verify import Report, verify
 from rapp.results import Plan, load_result, save_result
 from rapp.rrt import RRTResult, rrt
+from rapp.rrt_connect import rrt_connect
+from rapp.rrt_star import rrt_star
+from rapp.prm import prm
 from rapp.planner import plan
 
 __all__ = [
@@ -55,7 +58,7 @@ __all__ = [
     # the application
     "Scenario", "load_scenario", "list_scenarios", "echo",
     "plan", "Plan", "verify", "Report", "save_result", "load_result",
-    "rrt", "RRTResult",
+    "rrt", "rrt_connect", "rrt_star", "prm", "RRTResult",
 ]
 
 __version__ = "0.1.0"

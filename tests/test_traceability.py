@@ -252,7 +252,8 @@ def test_boundary_link_lengths_are_fixed():
     with pytest.raises(dataclasses.FrozenInstanceError):
         arm.link_lengths = (2.0, 2.0)
     lengths = arm.lengths
-    lengths[:] = 5.0  # a caller's copy: the arm is unchanged
+    with pytest.raises(ValueError):
+        lengths[:] = 5.0  # read-only: no caller can change the arm through it
     assert arm.lengths.tolist() == [1.0, 0.5]
     assert np.allclose(arm.end_effector([0.0, 0.0]), [1.5, 0.0])
     for bad in ([1.0, 0.0], [1.0, -0.5]):
