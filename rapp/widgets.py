@@ -162,7 +162,7 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90):
     >>> from rapp import Arm, Circle
     >>> w = arm_explorer(Arm([1.0, 1.0]), [Circle((1.5, 0.0), 0.3)], cells=16)
     >>> list(sliders_of(w)), "collision" in w.children[2].value
-    (['q1 (rad)', 'q2 (rad)'], True)
+    (['θ1 (rad)', 'θ2 (rad)'], True)
     """
 
     obstacles = tuple(obstacles)
@@ -174,7 +174,7 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90):
         grid = JointGrid(arm, cells) if grid is None else grid
         occ = occupancy(arm, obstacles, grid)
     controls = {
-        f"q{i}": _slider(f"q{i + 1} (rad)", float(q0[i]), float(arm.lower[i]),
+        f"q{i}": _slider(f"θ{i + 1} (rad)", float(q0[i]), float(arm.lower[i]),
                          float(arm.upper[i]))
         for i in range(arm.n)
     }
@@ -298,7 +298,7 @@ def planner_playground(scenario):
         controls["g1"] = _slider("goal y (m)", float(scenario.goal_xy[1]), -r, r)
     else:
         for i in range(arm.n):
-            controls[f"g{i}"] = _slider(f"goal q{i + 1} (rad)", float(scenario.goal_q[i]),
+            controls[f"g{i}"] = _slider(f"goal θ{i + 1} (rad)", float(scenario.goal_q[i]),
                                         float(arm.lower[i]), float(arm.upper[i]))
     ngoal = len(controls) - 2
 

@@ -185,7 +185,7 @@ def test_plot_cspace_image_is_the_grid(limits):
     for (lo, hi), axis, m in (((x0, x1), grid.axes[0], 30), ((y0, y1), grid.axes[1], 20)):
         centres = lo + (np.arange(m) + 0.5) * (hi - lo) / m
         np.testing.assert_allclose(centres, axis, atol=1e-12)
-    assert ax.get_xlabel() == "q1 (rad)" and ax.get_ylabel() == "q2 (rad)"
+    assert ax.get_xlabel() == "θ1 (rad)" and ax.get_ylabel() == "θ2 (rad)"
     assert_readable(ax)
 
 
@@ -249,7 +249,7 @@ def test_plot_cspace_three_joints_projects_and_says_so():
     occ = occupancy(arm, OBSTACLES, grid)
     ax = P.plot_cspace(occ, grid)
     np.testing.assert_allclose(ax.images[0].get_array(), occ.mean(axis=2).T)
-    assert "projection over q3" in ax.get_title()
+    assert "projection over θ3" in ax.get_title()
     with pytest.raises(ValueError):
         P.plot_cspace(np.zeros(5, bool), grid)
 
@@ -292,7 +292,7 @@ def test_plot_profiles_draws_every_joint_and_xy():
             np.testing.assert_allclose(line.get_xydata(), np.stack((plan.t, values[:, j]), 1))
     np.testing.assert_allclose(fig.axes[3].lines[1].get_ydata(), plan.xy[:, 1])
     assert fig.axes[3].get_xlabel() == "t (s)"
-    assert [ax.get_ylabel() for ax in fig.axes] == ["q (rad)", "q' (rad/s)", "q'' (rad/s²)",
+    assert [ax.get_ylabel() for ax in fig.axes] == ["θ (rad)", "θ' (rad/s)", "θ'' (rad/s²)",
                                                      "x, y (m)"]
 
 

@@ -58,16 +58,16 @@ def test_arm_explorer_default_view_and_update():
     assert img.format == "PNG" and img.width > 2 * img.height * 0.9  # C-space beside workspace
     assert img.getpixel((2, 2))[:3] == (255, 255, 255)  # white background
     sliders = W.sliders_of(w)
-    assert list(sliders) == ["q1 (rad)", "q2 (rad)"]
+    assert list(sliders) == ["θ1 (rad)", "θ2 (rad)"]
     assert "free" in status_of(w) and bool(collides(ARM, [0.0, 0.0], OBS)) is False
     # Point the arm at the obstacle: the figure changes and the status says collision.
     q_hit = np.array([np.arctan2(0.9, 1.2), 0.0])
     assert bool(collides(ARM, q_hit, OBS))
-    sliders["q1 (rad)"].value = float(q_hit[0])
+    sliders["θ1 (rad)"].value = float(q_hit[0])
     raw2, _ = shown_png(w)
     assert raw2 != raw
     assert "collision" in status_of(w)
-    sliders["q1 (rad)"].value = 0.0
+    sliders["θ1 (rad)"].value = 0.0
     assert shown_png(w)[0] == raw  # the same state draws the same figure
 
 
@@ -78,8 +78,8 @@ def test_arm_explorer_three_links_shows_workspace_only():
     assert img.width < 1.3 * img.height
     sliders = W.sliders_of(w)
     assert len(sliders) == 3
-    assert sliders["q2 (rad)"].value == 2.0  # the default is clipped to the joint limit
-    assert (sliders["q2 (rad)"].min, sliders["q2 (rad)"].max) == (-2.0, 2.0)
+    assert sliders["θ2 (rad)"].value == 2.0  # the default is clipped to the joint limit
+    assert (sliders["θ2 (rad)"].min, sliders["θ2 (rad)"].max) == (-2.0, 2.0)
 
 
 def test_collision_explorer_flags_the_mis_false_collision():
