@@ -43,6 +43,8 @@ __all__ = [
     "plot_metrics",
     "plot_astar_step",
     "animate_astar",
+    "plot_rrt_step",
+    "animate_rrt",
     "plot_polynomials",
     "plot_segment_circle",
     "split_at_seam",
@@ -376,7 +378,7 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
     >>> grid = SimpleNamespace(axes=axes, shape=(8, 8), wraps=(True, True))
     >>> ax = plot_cspace(np.eye(8, dtype=bool), grid, path=[[3.0, 0.0], [-3.0, 0.0]])
     >>> len(ax.images), ax.get_xlabel()
-    (1, 'q1 (rad)')
+    (1, 'θ1 (rad)')
     >>> plt.close(ax.figure)
     """
     ax = _axes(ax)
@@ -391,7 +393,7 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
     else:
         img = occ.reshape(occ.shape[:2] + (-1,)).mean(axis=-1)
         cmap = matplotlib.colormaps["Greys"]
-        rest = ", ".join(f"q{i + 1}" for i in range(2, occ.ndim))
+        rest = ", ".join(f"θ{i + 1}" for i in range(2, occ.ndim))
         default_title = f"projection over {rest}: fraction in collision"
     # imshow puts the first array axis on y; the first joint belongs on x.
     ax.imshow(img.T, origin="lower", extent=ext, cmap=cmap, vmin=0.0, vmax=1.0,
@@ -400,8 +402,8 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
     ax.set_ylim(ext[2], ext[3])
     _pi_ticks(ax.xaxis, ext[0], ext[1])
     _pi_ticks(ax.yaxis, ext[2], ext[3])
-    ax.set_xlabel("q1 (rad)")
-    ax.set_ylabel("q2 (rad)")
+    ax.set_xlabel("θ1 (rad)")
+    ax.set_ylabel("θ2 (rad)")
     ax.set_title(default_title if title is None else title, fontsize="medium")
     lo = np.array([ext[0], ext[2]])
     span = np.array([ext[1] - ext[0], ext[3] - ext[2]])
@@ -477,8 +479,8 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m"):
         ax_c.set_xlim(lo[0], hi[0])
         ax_c.set_ylim(lo[1], hi[1])
         ax_c.set_aspect("equal")
-        ax_c.set_xlabel("q1 (rad)")
-        ax_c.set_ylabel("q2 (rad)")
+        ax_c.set_xlabel("θ1 (rad)")
+        ax_c.set_ylabel("θ2 (rad)")
         ax_c.set_title("joint space", fontsize="medium")
         _legend(ax_c, loc="upper right")
     plot_workspace(arm, ax_w, unit=unit)
@@ -522,8 +524,8 @@ def plot_profiles(plan, *, fig=None, unit="m"):
     fig.clear()
     axs = subplots(fig, 4, 1, sharex=True)
     t = np.asarray(plan.t, dtype=float)
-    rows = ((plan.q, "q (rad)", "q"), (plan.qd, "q' (rad/s)", "q'"),
-            (plan.qdd, "q'' (rad/s²)", "q''"))
+    rows = ((plan.q, "θ (rad)", "θ"), (plan.qd, "θ' (rad/s)", "θ'"),
+            (plan.qdd, "θ'' (rad/s²)", "θ''"))
     for ax, (values, ylabel, sym) in zip(axs, rows):
         values = np.asarray(values, dtype=float).reshape(len(t), -1)
         for j in range(values.shape[1]):
@@ -894,6 +896,240 @@ def plot_segment_circle(a, b, center, radius, ax=None, *, unit="m"):
     ax.set_ylabel(f"y ({unit})")
     ax.grid(True, color="#e6e6e6", linewidth=0.6)
     return _legend(ax, loc="lower left")
+
+
+def _check_rrt_step(result, trace, k):
+    if result.nodes.shape[1] < 2:
+        raise ValueError("plot_rrt_step draws the first two joints; the arm has one")
+    if not 0 <= k <= len(trace):
+        raise ValueError(f"step k must be in 0..{len(trace)} (the last shows the path), got {k}")
+    added = [s.node for s in trace if s.accepted]
+    if added != list(range(1, len(added) + 1)) or len(added) + 1 > len(result.nodes):
+        raise ValueError("trace is not the record of this result: pass the list that "
+                         "rapp.rrt(..., trace=...) filled")
+
+
+def _periodic_copies(seg, lo, span, wraps):
+    """``seg`` (k, 2, 2) and its copies shifted by whole periods of the wrapping axes.
+
+    An edge is drawn unwrapped from its first end; where it runs past a seam, a copy shifted by one
+    period enters from the opposite border. Only copies that reach into the frame are kept; the
+    axes clip the rest.
+    """
+    out = [seg]
+    for sx in ((-1, 0, 1) if wraps[0] else (0,)):
+        for sy in ((-1, 0, 1) if wraps[1] else (0,)):
+            if sx == sy == 0:
+                continue
+            copy = seg + np.array([sx * span[0], sy * span[1]])
+            inside = ((copy.max(1) > lo) & (copy.min(1) < lo + span)).all(-1)
+            out.append(copy[inside])
+    return np.concatenate(out)
+
+
+def plot_rrt_step(arm, result, trace, k, ax=None, *, occupancy=None, grid=None, goal=None,
+                  legend=True):
+    """One iteration of RRT in the plane of the first two joints: sample, nearest, new edge.
+
+    Parameters
+    ----------
+    arm : rapp.Arm
+        The arm the tree was grown for (its bounds and which joints wrap).
+    result : rapp.RRTResult
+        What :func:`rapp.rrt` returned.
+    trace : list of rapp.rrt.RRTStep
+        The list passed as ``rrt(..., trace=...)``.
+    k : int
+        ``0 <= k < len(trace)``: the tree as it stood before record ``k``
+        (sky blue), the target of that iteration (purple diamond; the goal
+        when goal-biased), the nearest node (orange ring), the line toward the
+        target (dotted) and the new edge, certified free and added (blue) or
+        blocked (black dashed, ending in a cross). ``k == len(trace)`` is the
+        end: the whole tree and the path (orange).
+    occupancy, grid : optional
+        A 2-joint occupancy grid and its :class:`rapp.JointGrid`, drawn
+        light grey (the C-space obstacles).
+    goal : array_like, shape (n,), optional
+        The goal configuration, drawn as a star. By default, the target of
+        the last record when that record joins the goal; else no star.
+    legend : bool
+        A legend outside the frame, on the right.
+
+    Edges are drawn unwrapped from their parent; an edge that crosses the
+    seam of a wrapping joint leaves the frame and re-enters on the other side.
+    For more than two joints this is the projection on the first two.
+
+    Returns
+    -------
+    Axes
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, rrt
+    >>> arm, steps = Arm([1.0, 1.0]), []
+    >>> res = rrt(arm, [0.0, 0.0], [2.0, 1.0], [Circle((1.2, 1.2), 0.3)], step=0.4, seed=0, trace=steps)
+    >>> ax = plot_rrt_step(arm, res, steps, 0)
+    >>> ax.get_xlabel(), ax.get_legend() is not None
+    ('θ1 (rad)', True)
+    >>> plt.close(ax.figure)
+    """
+    from matplotlib.lines import Line2D
+
+    _check_rrt_step(result, trace, k)
+    ax = _axes(ax, figsize=(8.4, 5.6))
+    lo = np.array([arm.lower[0], arm.lower[1]])
+    hi = np.array([arm.upper[0], arm.upper[1]])
+    span = hi - lo
+    wraps = ~np.asarray(arm.limited[:2], dtype=bool)
+    end = k == len(trace)
+    m = 1 + sum(s.accepted for s in trace[:k]) if not end else len(result.nodes)
+    blocked = sum(s.status == "blocked" for s in trace[:k])
+    nodes, parent = result.nodes[:m], result.parent[:m]
+    cspace_colour = "#cfcfcf"
+    handles = []
+    if occupancy is not None:
+        occ = np.asarray(occupancy)
+        if occ.ndim != 2 or grid is None:
+            raise ValueError("occupancy must be a 2-joint grid, given with its grid")
+        ax.imshow(occ.T.astype(float), origin="lower", extent=_extent(grid),
+                  cmap=ListedColormap(["white", cspace_colour]), vmin=0.0, vmax=1.0,
+                  interpolation="nearest", aspect="equal", zorder=0)
+        handles.append(patches.Patch(facecolor=cspace_colour, edgecolor=TEXT,
+                                     label="C-space obstacle"))
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal")
+    _pi_ticks(ax.xaxis, lo[0], hi[0])
+    _pi_ticks(ax.yaxis, lo[1], hi[1])
+    ax.set_xlabel("θ1 (rad)")
+    ax.set_ylabel("θ2 (rad)")
+    seam = dict(color=TEXT, ls="--", lw=1.2, zorder=1)
+    for axis in (0, 1):
+        if wraps[axis]:
+            for x in (lo[axis], hi[axis]):
+                (ax.axvline if axis == 0 else ax.axhline)(x, **seam)
+    if wraps.any():
+        handles.append(Line2D([], [], label="seam (wraps round)", **seam))
+
+    def draw(a, b, **kw):  # a -> b, both (k, n); b unwrapped from a
+        seg = np.stack((np.asarray(a, dtype=float)[..., :2], np.asarray(b, dtype=float)[..., :2]),
+                       axis=-2).reshape(-1, 2, 2)
+        ax.add_collection(LineCollection(_periodic_copies(seg, lo, span, wraps), **kw))
+
+    if m > 1:
+        base = nodes[parent[1:]]
+        draw(base, base + arm.joint_delta(base, nodes[1:]), colors=COLORS["sky"], linewidths=1.4,
+             zorder=2)
+    ax.plot(*nodes[:, :2].T, "o", color=COLORS["sky"], mec=COLORS["blue"], mew=0.5, ms=4.5,
+            zorder=3)
+    handles.append(Line2D([], [], color=COLORS["sky"], lw=1.4, marker="o", ms=4.5,
+                          mec=COLORS["blue"], mew=0.5, label=f"tree ({m} nodes)"))
+    if goal is None and trace and trace[-1].join:
+        goal = trace[-1].target
+    if end:
+        if result.success:
+            p = split_at_seam(result.path[:, :2], lo, span, wraps)
+            ax.plot(p[:, 0], p[:, 1], "-", color=PATH, lw=3, zorder=4)
+            handles.append(Line2D([], [], color=PATH, lw=3,
+                                  label=f"path ({len(result.path)} nodes)"))
+            title = (f"end: goal reached after {result.iterations} iterations; path of "
+                     f"{result.cost:.2f} rad\nread back from the parent map "
+                     f"({m} nodes, {blocked} edges blocked)")
+        else:
+            title = f"end: no path in {result.iterations} iterations ({m} nodes)"
+    else:
+        s = trace[k]
+        near = nodes[s.nearest]
+        target = arm.wrap(s.target)
+        draw(near[None], (near + arm.joint_delta(near, target))[None], colors=COLORS["purple"],
+             linewidths=1.8, linestyles=(0, (1.5, 2.0)), zorder=4)
+        ax.plot(*target[:2], "D", color=COLORS["purple"], mec=TEXT, mew=0.8, ms=8, zorder=7)
+        ax.plot(*near[:2], "o", mfc="none", mec=COLORS["orange"], mew=2.5, ms=14, zorder=6)
+        ok = s.accepted
+        colour = COLORS["blue"] if ok else TEXT
+        draw(near[None], s.new[None], colors=colour, linewidths=3.0,
+             linestyles="-" if ok else "--", zorder=5)
+        shown = split_at_seam(np.asarray(s.new, dtype=float)[:2], lo, span, wraps)[0]
+        ax.plot(*shown, "o" if ok else "X", color=colour, mec="white" if ok else TEXT, ms=9,
+                zorder=6)
+        what = ("the last edge, to the goal" if s.join else
+                "target: the goal (goal bias)" if s.goal_biased else "target: a random sample")
+        verdict = {"added": f"edge certified free, node {s.node} added",
+                   "blocked": "edge not certified free: rejected",
+                   "no move": "target is the nearest node: no move"}[s.status]
+        title = (f"iteration {s.iteration}, {what}\nnearest node {s.nearest}; {verdict} "
+                 f"({blocked + (s.status == 'blocked')} blocked so far)")
+    if not end:
+        handles += [
+            Line2D([], [], ls=(0, (1.5, 2.0)), lw=1.8, marker="D", color=COLORS["purple"], mec=TEXT,
+                   ms=7, label="target, and the way to it"),
+            Line2D([], [], ls="", marker="o", mfc="none", mec=COLORS["orange"], mew=2.5, ms=11,
+                   label="nearest node"),
+            Line2D([], [], color=COLORS["blue"], lw=3, marker="o", mec="white",
+                   label="new edge: added"),
+            Line2D([], [], color=TEXT, lw=2.5, ls="--", marker="X", label="new edge: blocked"),
+        ]
+    q0 = result.nodes[0]
+    ax.plot(*q0[:2], "o", color=START, ms=12, mec=TEXT, mew=1.0, zorder=8)
+    handles.append(Line2D([], [], ls="", marker="o", color=START, mec=TEXT, ms=10, label="start"))
+    if goal is not None:
+        g = arm.wrap(np.asarray(goal, dtype=float))
+        ax.plot(*g[:2], "*", color=GOAL, ms=18, mec=TEXT, mew=0.8, zorder=8)
+        handles.append(Line2D([], [], ls="", marker="*", color=GOAL, mec=TEXT, ms=14,
+                              label="goal"))
+    ax.set_title(title, fontsize="medium")
+    if legend:
+        _legend(ax, handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                borderaxespad=0.0, fontsize="small")
+    return style_axes(ax)
+
+
+def animate_rrt(arm, result, trace, *, occupancy=None, grid=None, goal=None, ax=None,
+                interval=900, dpi=80):
+    """Animate :func:`plot_rrt_step` over every record of a trace, then the path.
+
+    Parameters
+    ----------
+    arm, result, trace, occupancy, grid, goal
+        As for :func:`plot_rrt_step`.
+    ax : Axes, optional
+        Drawn on; by default a new 8.4 x 5.6 inch figure at ``dpi`` (672 x 448
+        pixels at 80 dpi), the C-space on the left and the legend on the right.
+    interval : float
+        Milliseconds per frame.
+
+    Returns
+    -------
+    matplotlib.animation.FuncAnimation
+        ``len(trace) + 1`` frames. Show it with :func:`animation_html`.
+
+    Examples
+    --------
+    >>> from rapp import Arm, rrt
+    >>> arm, steps = Arm([1.0, 1.0]), []
+    >>> res = rrt(arm, [0.0, 0.0], [0.5, 0.0], [], step=0.3, seed=0, trace=steps)
+    >>> anim = animate_rrt(arm, res, steps)
+    >>> anim._save_count == len(steps) + 1
+    True
+    >>> close_animation(anim)
+    """
+    _check_rrt_step(result, trace, 0)
+    if ax is None:
+        # A fixed layout: constrained layout would re-place the axes as the title changes.
+        with plt.rc_context(_LIGHT):
+            fig = plt.figure(figsize=(8.4, 5.6), dpi=dpi)
+            ax = fig.add_axes((0.09, 0.09, 0.56, 0.78))
+        style_axes(ax)
+    fig = ax.figure
+
+    def update(i):
+        ax.clear()
+        plot_rrt_step(arm, result, trace, i, ax, occupancy=occupancy, grid=grid, goal=goal)
+        return ()
+
+    update(0)
+    return animation.FuncAnimation(fig, update, frames=len(trace) + 1, interval=interval,
+                                   blit=False, repeat=True, cache_frame_data=False)
 
 
 def animate(arm, q, obstacles=(), t=None, trail=True, *, max_frames=60, interval=None, ax=None,

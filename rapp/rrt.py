@@ -42,6 +42,12 @@ steered from the tree as it stands and all those edges are checked in one
 vectorized call; a target whose nearest node was added later in the same batch
 gets its own check. The tree is exactly the one grown edge by edge.
 
+Recording. Pass a list as ``trace`` and :func:`rrt` appends one
+:class:`RRTStep` per iteration (the target, the nearest node, the steered
+configuration, whether the edge was added or blocked), plus one for the last
+edge to a joint goal; :func:`rapp.plotting.plot_rrt_step` draws them. The
+recording changes nothing: the same seed gives the same tree and path.
+
 Failure. :func:`rrt` raises :class:`rapp.NoPathFound` when ``max_iterations``
 pass without reaching the goal (the planner relies on this); with
 ``raise_on_failure=False`` it returns a result with ``success=False`` instead,
@@ -66,7 +72,7 @@ from rapp.errors import NoPathFound
 from rapp.ik import jacobian
 from rapp.paths import path_length
 
-__all__ = ["RRTResult", "rrt", "plan_rrt"]
+__all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt"]
 
 _BATCH = 32  # random targets drawn, and edges certified together, per batch
 
@@ -100,6 +106,54 @@ class RRTResult:
     cost: float
 
 
+@dataclass(frozen=True, eq=False)
+class RRTStep:
+    """One recorded iteration of :func:`rrt` (what ``trace`` receives).
+
+    Attributes
+    ----------
+    iteration : int
+        The iteration, from 1 (a ``join`` record carries the iteration that
+        reached the goal region; 0 when the start already lies in it).
+    target : ndarray, shape (n,)
+        The configuration the tree was extended toward: a uniform sample, the
+        goal when ``goal_biased`` (with ``goal_xy`` alone: the Gauss-Newton
+        target), the exact goal for a ``join``.
+    goal_biased : bool
+        The target is the goal (drawn with probability beta), or a ``join``.
+    nearest : int
+        Index in ``RRTResult.nodes`` of the tree node nearest to ``target``
+        (wrapped joint-space distance).
+    new : ndarray, shape (n,)
+        The steered configuration, unwrapped from the nearest node: the edge
+        certified is the straight segment ``nodes[nearest] -> new``.
+    status : {"added", "blocked", "no move"}
+        ``"added"``: the edge was certified collision-free and ``new`` became
+        node ``node``; ``"blocked"``: the edge could not be certified free
+        (:func:`rapp.collision.segment_collision_free` is False) and nothing
+        was added; ``"no move"``: the target was the nearest node itself.
+    node : int
+        Index of the node added, ``-1`` unless ``status == "added"``.
+    join : bool
+        The last edge, from the node that reached the goal region to the exact
+        goal configuration (joint goals only).
+    """
+
+    iteration: int
+    target: np.ndarray
+    goal_biased: bool
+    nearest: int
+    new: np.ndarray
+    status: str
+    node: int
+    join: bool = False
+
+    @property
+    def accepted(self) -> bool:
+        """True when the edge was certified free and a node added."""
+        return self.status == "added"
+
+
 def rrt(
     arm,
     start,
@@ -114,6 +168,7 @@ def rrt(
     seed=0,
     steer: str = "step",
     raise_on_failure: bool = True,
+    trace: list | None = None,
 ) -> RRTResult:
     """Grow an RRT in joint space from ``start`` until it reaches the goal.
 
@@ -142,6 +197,10 @@ def rrt(
     steer : {"step", "fraction"}
     raise_on_failure : bool
         Raise :class:`rapp.NoPathFound` (default) or return ``success=False``.
+    trace : list, optional
+        When a list is given, one :class:`RRTStep` per iteration is appended to
+        it (and one for the last edge to a joint goal). Off by default; it
+        never changes the result.
 
     Returns
     -------
@@ -162,6 +221,11 @@ def rrt(
     (True, [0.0, 0.0], True)
     >>> int(res.parent[0]), res.nodes.shape[0] == res.parent.shape[0]
     (-1, True)
+    >>> steps = []
+    >>> again = rrt(arm, [0.0, 0.0], [np.pi / 2, 0.0], [Circle((1.5, 1.5), 0.4)], step=0.2, seed=1,
+    ...             trace=steps)
+    >>> np.array_equal(again.path, res.path), sum(s.accepted for s in steps) == len(res.nodes) - 1
+    (True, True)
     """
     obstacles = list(obstacles)
     start, goals, gxy, step = _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias,
@@ -193,11 +257,11 @@ def rrt(
         if not reached(tree.nodes[i], tree.xy[i]):
             return -1
         if goals is not None and gxy is None:
-            return _join_goal(arm, obstacles, tree, i, goals)
+            return _join_goal(arm, obstacles, tree, i, goals, trace, grow.iteration)
         return i
 
     rng = np.random.default_rng(seed)
-    grow = _Grower(arm, obstacles, tree, goals, gxy, step, steer, goal_bias)
+    grow = _Grower(arm, obstacles, tree, goals, gxy, step, steer, goal_bias, trace)
     hit = arrive(0)
     it = 0
     while hit < 0 and it < max_iterations:
@@ -275,10 +339,12 @@ class _Grower:
     edge by edge.
     """
 
-    def __init__(self, arm, obstacles, tree, goals, gxy, step, steer, goal_bias):
+    def __init__(self, arm, obstacles, tree, goals, gxy, step, steer, goal_bias, trace=None):
         self.arm, self.obstacles, self.tree = arm, obstacles, tree
         self.goals, self.gxy, self.step, self.steer, self.goal_bias = goals, gxy, step, steer, goal_bias
         self.newton_goal = goals is None
+        self.trace = trace
+        self.iteration = 0  # extend() calls so far: rrt's iteration count
 
     def steer_from(self, base, target):
         """Nearest node(s) among ``base`` to each target and the steered new configuration."""
@@ -320,6 +386,7 @@ class _Grower:
         """Try target ``k`` of ``batch``; True when a node was added."""
         targets, to_goal, spec_i, spec_free, m0 = batch
         tree, arm = self.tree, self.arm
+        self.iteration += 1
         target = targets[k]
         if self.newton_goal and to_goal[k]:
             # The report's Algorithm 1: a Gauss-Newton step toward goal_xy from the node
@@ -331,27 +398,40 @@ class _Grower:
         i, q_new, dist = self.steer_from(tree.nodes, target[None])
         i, q_new, dist = int(i[0]), q_new[0], dist[0]
         if dist == 0.0:
+            self.record(target, to_goal[k], i, q_new, "no move")
             return False
         if i == spec_i[k] and i < m0:
             edge_free = spec_free[k]
         else:
             edge_free = bool(segment_collision_free(arm, tree.nodes[i], q_new, self.obstacles))
         if not edge_free:
+            self.record(target, to_goal[k], i, q_new, "blocked")
             return False
         tree.add(q_new, i)
+        self.record(target, to_goal[k], i, q_new, "added")
         return True
 
+    def record(self, target, goal_biased, nearest, new, status):
+        if self.trace is not None:
+            self.trace.append(RRTStep(self.iteration, np.array(target, dtype=float),
+                                      bool(goal_biased), nearest, np.array(new, dtype=float), status,
+                                      self.tree.m - 1 if status == "added" else -1))
 
-def _join_goal(arm, obstacles, tree, hit, goals) -> int:
+
+def _join_goal(arm, obstacles, tree, hit, goals, trace=None, iteration=0) -> int:
     """Join node ``hit`` to its nearest goal by a certified edge: the goal's node index, or -1."""
     gd = arm.joint_delta(tree.nodes[hit], goals)
     g = int(np.argmin(np.einsum("ij,ij->i", gd, gd)))
     if not np.any(gd[g] != 0):
         return hit
-    if segment_collision_free(arm, tree.nodes[hit], tree.nodes[hit] + gd[g], obstacles):
+    end = tree.nodes[hit] + gd[g]
+    free = bool(segment_collision_free(arm, tree.nodes[hit], end, obstacles))
+    if free:
         tree.add(goals[g], hit)
-        return tree.m - 1
-    return -1
+    if trace is not None:
+        trace.append(RRTStep(iteration, np.array(goals[g], dtype=float), True, int(hit), end.copy(),
+                             "added" if free else "blocked", tree.m - 1 if free else -1, join=True))
+    return tree.m - 1 if free else -1
 
 
 def _unwrapped_path(arm, tree, hit, start) -> np.ndarray:

@@ -51,13 +51,20 @@ __all__ = [
 ]
 
 THETA_LIMIT = 1.5
-"""Report §4.1: samples are drawn "within the boundaries, in this case -1.5 to 1.5" (radians)."""
+"""Report §4.1: samples are drawn "within the boundaries, in this case -1.5 to 1.5".
+
+Read as bounds on every report joint angle, in radians (Algorithm 2 draws a configuration,
+``q.RANDOM(LowLim, HighLim)``), not as a workspace box in metres. The tree moves only toward its
+samples, so every node stays in this box: for the planner it acts as joint limits
+(:func:`seed_arm`). The report's "-pi to pi" (§3.1) is the wider range it allows IK solutions.
+"""
 
 SQUARE_SIDE = 0.2
 """Report §5: "a 0.2 by 0.2 square obstacle in the plane"."""
 
 LINK_LENGTHS = (0.5, 0.5, 0.5)
-"""Not in the report (chosen: reach 1.5, the size of its sampling box)."""
+"""Not in the report (chosen: three equal links, reach 1.5 m; nothing depends on the reach
+matching :data:`THETA_LIMIT`, which bounds angles, not positions)."""
 
 SQUARE_CORNER = (-0.1, 1.1)
 """Not in the report (chosen: the square blocks the straight joint-space motion from start to goal)."""
@@ -253,9 +260,11 @@ def alpha_beta_experiment(
     -------
     dict of ndarray
         ``alpha`` (A,), ``beta`` (B,), and of shape (A, B): ``success_rate``,
-        ``mean_cost`` (over successful trials, ``nan`` if none),
-        ``mean_iterations`` (over all trials; a failure counts
-        ``max_iterations``).
+        ``successes`` (the number of successful trials), ``mean_cost`` (over
+        successful trials, ``nan`` if none), ``mean_iterations`` (over all
+        trials; a failure counts ``max_iterations``); and every trial, of
+        shape (A, B, trials): ``trial_success``, ``trial_cost`` (``nan`` on
+        failure), ``trial_iterations``.
 
     Examples
     --------
@@ -287,6 +296,10 @@ def alpha_beta_experiment(
         "alpha": alphas,
         "beta": betas,
         "success_rate": ok.mean(-1),
+        "successes": ok.sum(-1),
         "mean_cost": np.where(ok.any(-1), with_cost, np.nan),
         "mean_iterations": iters.mean(-1),
+        "trial_success": ok,
+        "trial_cost": cost,
+        "trial_iterations": iters,
     }
