@@ -148,6 +148,9 @@ _TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajector
 _PLANNER_KEYS = ("algorithm", "cells", "heuristic_weight", "max_expansions", "seed", "step",
                  "goal_bias", "goal_threshold", "max_iterations", "time_budget", "samples",
                  "neighbours")
+#: The settings only sampling planners read (A* validates them, then warns they are ignored).
+_SAMPLING_KEYS = ("step", "goal_bias", "goal_threshold", "max_iterations", "time_budget",
+                  "samples", "neighbours")
 
 
 @dataclass(frozen=True)
@@ -717,8 +720,8 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
                                field="planner.time_budget")
     samples = _integer(d.get("samples", defaults.samples), "planner.samples", 10, 100_000)
     neighbours = _integer(d.get("neighbours", defaults.neighbours), "planner.neighbours", 1, 100)
-    for key in _PLANNER_KEYS[4:]:  # every sampling setting: warn where it is not read
-        if key in d and key != "seed" and key not in SETTINGS_OF[algorithm]:
+    for key in _SAMPLING_KEYS:  # warn where the chosen algorithm does not read it
+        if key in d and key not in SETTINGS_OF[algorithm]:
             warnings.append(f"planner.{key} is not a setting of {algorithm} and is ignored")
     if algorithm == "rrt" and "algorithm" not in d:
         warnings.append(f"planner.algorithm: rrt, the default for more than "
