@@ -28,6 +28,9 @@ import matplotlib.pyplot as plt
 from matplotlib import animation, patches
 from matplotlib.collections import LineCollection
 from matplotlib.colors import ListedColormap, to_rgba
+from matplotlib.lines import Line2D
+from matplotlib.patheffects import withStroke
+from matplotlib.ticker import MaxNLocator
 
 from rapp.collision import closest_point_on_segment
 
@@ -610,10 +613,6 @@ def plot_astar_step(trace, k, ax=None, *, annotate=True, legend=True):
     ('joint 1 cell index (cells)', True)
     >>> plt.close(ax.figure)
     """
-    from matplotlib.lines import Line2D
-    from matplotlib.patheffects import withStroke
-    from matplotlib.ticker import MaxNLocator
-
     _check_astar_step(trace, k)
     ax = _axes(ax, figsize=(8.4, 5.6))
     occ = trace.occupied
@@ -973,8 +972,6 @@ def plot_rrt_step(arm, result, trace, k, ax=None, *, occupancy=None, grid=None, 
     ('θ1 (rad)', True)
     >>> plt.close(ax.figure)
     """
-    from matplotlib.lines import Line2D
-
     _check_rrt_step(result, trace, k)
     ax = _axes(ax, figsize=(8.4, 5.6))
     lo = np.array([arm.lower[0], arm.lower[1]])
