@@ -128,3 +128,19 @@ def test_reference_chapters_are_marked_and_notation_and_sources_are_in_the_book(
     marked = [files for cap, files in captions.items() if "reference" in cap.lower()]
     assert any({f"notebooks/{s}" for s in REFERENCE_CHAPTERS} <= set(f) for f in marked)
     assert "book/notation" in TOC and "book/sources" in TOC
+
+
+@pytest.mark.parametrize("path", CHAPTERS, ids=ids(CHAPTERS))
+def test_animations_are_large_enough_to_read(path):
+    import base64
+    import io
+
+    from PIL import Image
+
+    for c in load(path).cells:
+        for o in c.get("outputs", []):
+            html = "".join(o.get("data", {}).get("text/html", ""))
+            m = re.search(r"data:image/png;base64,([A-Za-z0-9+/=\\\n]+)", html)
+            if "anim" in html and m:
+                frame = base64.b64decode(re.sub(r"[\\\n]", "", m.group(1)) + "==")
+                assert Image.open(io.BytesIO(frame)).size[0] >= 480, c.source[:120]
