@@ -58,12 +58,11 @@ class NoPathFound(RappError):
     """The search space holds no collision-free path from start to goal."""
 
 
-class InvalidCell(NoPathFound, ValueError):
+class InvalidCell(RappError, ValueError):
     """A start or goal cell that is not a cell of the search grid (outside it, or malformed).
 
-    A bad argument, hence a ValueError; it is also a NoPathFound because the
-    grid searches raised that for a cell outside the grid before, and callers
-    may still catch it as such.
+    A bad argument, hence a ValueError, and not a NoPathFound: "no path" is a planning answer
+    about a grid, which a cell outside that grid cannot get.
     """
 
 

@@ -75,8 +75,8 @@ def _wraps(wraps, n):
 def _cell(index, shape, what):
     """Flat number of a cell; a ValueError naming ``what`` if it is not a cell of the grid.
 
-    A cell outside the grid raises :class:`~rapp.errors.InvalidCell`, a ValueError
-    that is also the NoPathFound these searches raised for it before.
+    A cell outside the grid raises :class:`~rapp.errors.InvalidCell`, a ValueError (before,
+    the searches called it NoPathFound, a planning answer).
     """
     try:
         if isinstance(index, (str, bytes)):
@@ -407,8 +407,7 @@ def astar_search(
     ------
     ValueError
         ``start`` or ``goal`` is not ``n`` integer indices, or lies outside
-        the grid (then an :class:`~rapp.errors.InvalidCell`, which is also a
-        NoPathFound); or another argument is invalid.
+        the grid (then an :class:`~rapp.errors.InvalidCell`); or another argument is invalid.
     NoPathFound
         The start or goal is blocked, the goal is unreachable, or the
         expansion limit was hit.

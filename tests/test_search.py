@@ -314,9 +314,9 @@ def test_blocked_or_outside_ends_raise(f):
         f(occ, (1, 1), (0, 0))
     with pytest.raises(NoPathFound, match="goal cell .* blocked"):
         f(occ, (0, 0), (1, 1))
-    with pytest.raises(NoPathFound, match="outside the grid"):
+    with pytest.raises(ValueError, match="outside the grid"):
         f(occ, (0, 5), (0, 0))
-    with pytest.raises(NoPathFound, match="outside the grid"):
+    with pytest.raises(ValueError, match="outside the grid"):
         f(occ, (0, 0), (-1, 0))
     assert issubclass(NoPathFound, RappError)
 
