@@ -45,6 +45,8 @@ from rapp import planner, results, scenario
 __all__ = ["main", "build_parser", "printable"]
 
 EXIT_OK, EXIT_NO_PLAN, EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+#: 128 + SIGPIPE: the exit status of a program whose output pipe was closed by its reader.
+EXIT_BROKEN_PIPE = 141
 
 #: Frames per second of a saved animation (GIF and MP4 alike).
 ANIMATION_FPS = 15
@@ -451,6 +453,16 @@ def _run(argv, out, err) -> int:
         return _cmd_plan(args, out, err, caught)
 
 
+def _silence(stream) -> None:
+    """Point a closed standard stream at /dev/null so that Python's exit flush cannot fail."""
+    try:
+        if stream is sys.stdout:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # not a real file (a test's StringIO)
+        pass
+
+
 def main(argv=None) -> int:
     """Run the command line; returns the exit code (see the module notes).
 
@@ -463,6 +475,11 @@ def main(argv=None) -> int:
     try:
         try:
             return _run(argv, out, err)
+        except BrokenPipeError:
+            # The reader went away (`rapp plan | head -1`): stop quietly, as a program killed
+            # by SIGPIPE would; nothing more can be said on a closed stream.
+            _silence(out)
+            return EXIT_BROKEN_PIPE
         except Exception as e:  # a bug too: still one line, never a traceback
             code, line = _failure(e)
         except KeyboardInterrupt:

@@ -424,3 +424,19 @@ def test_warning_as_error_is_one_internal_error_line(capsys, monkeypatch):
         warnings.simplefilter("error", RuntimeWarning)  # python -W error::RuntimeWarning
         code, out, err = run(capsys, "plan", "default", "-q")
     assert code == 3 and one_line(err).startswith("rapp: internal error: RuntimeWarning:")
+
+
+def test_a_closed_pipe_ends_quietly(tmp_path):
+    # `rapp plan | head -1`: the reader closes the pipe; before, this ended with
+    # "rapp: error: output: Broken pipe" and exit 2.
+    import subprocess
+    import sys
+
+    # -u: unbuffered, so the first line arrives before the rest is written.
+    proc = subprocess.Popen([sys.executable, "-u", "-m", "rapp", "plan", "default"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.readline()
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 141
+    assert err == ""
