@@ -742,21 +742,29 @@ def animate_astar(trace, *, ax=None, interval=800, annotate=True, dpi=80):
     >>> close_animation(anim)
     """
     _check_astar_step(trace, 0)
+    return _step_animation(lambda i, ax: plot_astar_step(trace, i, ax, annotate=annotate),
+                           trace.expansions + 1, ax, (0.08, 0.09, 0.58, 0.78), interval, dpi)
+
+
+def _step_animation(draw, frames, ax, box, interval, dpi):
+    """A FuncAnimation that redraws ``draw(i, ax)`` from scratch for frame ``i``.
+
+    Without ``ax``, a figure with a fixed layout is made: constrained layout would re-place
+    the axes as the title changes from frame to frame.
+    """
     if ax is None:
-        # A fixed layout: constrained layout would re-place the axes as the title changes.
         with plt.rc_context(_LIGHT):
             fig = plt.figure(figsize=(8.4, 5.6), dpi=dpi)
-            ax = fig.add_axes((0.08, 0.09, 0.58, 0.78))
+            ax = fig.add_axes(box)
         style_axes(ax)
-    fig = ax.figure
 
     def update(i):
         ax.clear()
-        plot_astar_step(trace, i, ax, annotate=annotate)
+        draw(i, ax)
         return ()
 
     update(0)
-    return animation.FuncAnimation(fig, update, frames=trace.expansions + 1, interval=interval,
+    return animation.FuncAnimation(ax.figure, update, frames=frames, interval=interval,
                                    blit=False, repeat=True, cache_frame_data=False)
 
 
@@ -1111,22 +1119,10 @@ def animate_rrt(arm, result, trace, *, occupancy=None, grid=None, goal=None, ax=
     >>> close_animation(anim)
     """
     _check_rrt_step(result, trace, 0)
-    if ax is None:
-        # A fixed layout: constrained layout would re-place the axes as the title changes.
-        with plt.rc_context(_LIGHT):
-            fig = plt.figure(figsize=(8.4, 5.6), dpi=dpi)
-            ax = fig.add_axes((0.09, 0.09, 0.56, 0.78))
-        style_axes(ax)
-    fig = ax.figure
-
-    def update(i):
-        ax.clear()
-        plot_rrt_step(arm, result, trace, i, ax, occupancy=occupancy, grid=grid, goal=goal)
-        return ()
-
-    update(0)
-    return animation.FuncAnimation(fig, update, frames=len(trace) + 1, interval=interval,
-                                   blit=False, repeat=True, cache_frame_data=False)
+    return _step_animation(
+        lambda i, ax: plot_rrt_step(arm, result, trace, i, ax, occupancy=occupancy, grid=grid,
+                                    goal=goal),
+        len(trace) + 1, ax, (0.09, 0.09, 0.56, 0.78), interval, dpi)
 
 
 def animate(arm, q, obstacles=(), t=None, trail=True, *, max_frames=60, interval=None, ax=None,

@@ -71,6 +71,7 @@ from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound
 from rapp.ik import jacobian
 from rapp.paths import path_length
+from rapp.sampling import Tree
 
 __all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt"]
 
@@ -302,30 +303,21 @@ def _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias, goal_thresh
     return start, goals, gxy, step
 
 
-class _Tree:
-    """The tree as growable arrays: wrapped nodes, parent map, end-effector positions."""
+class _Tree(Tree):
+    """A :class:`rapp.sampling.Tree` that also keeps each node's end-effector position, for
+    task-space goals and the report's Newton step toward ``goal_xy``."""
 
     def __init__(self, arm, root):
-        self.arm = arm
-        self._nodes = np.empty((256, arm.n))
-        self._parent = np.empty(256, dtype=int)
         self._xy = np.empty((256, 2))
-        self._nodes[0], self._parent[0], self._xy[0] = root, -1, arm.end_effector(root)
-        self.m = 1
+        super().__init__(arm, [root])
 
-    nodes = property(lambda self: self._nodes[: self.m])
-    parent = property(lambda self: self._parent[: self.m])
     xy = property(lambda self: self._xy[: self.m])
 
-    def add(self, q, parent_index, xy=None):
-        if self.m == len(self._nodes):
-            self._nodes = np.concatenate((self._nodes, np.empty_like(self._nodes)))
-            self._parent = np.concatenate((self._parent, np.empty_like(self._parent)))
+    def add(self, q, parent_index, cost=0.0):
+        if self.m == len(self._xy):
             self._xy = np.concatenate((self._xy, np.empty_like(self._xy)))
-        self._nodes[self.m] = self.arm.wrap(q)
-        self._parent[self.m] = parent_index
-        self._xy[self.m] = self.arm.end_effector(q) if xy is None else xy
-        self.m += 1
+        self._xy[self.m] = self.arm.end_effector(q)
+        return super().add(q, parent_index, cost)
 
 
 class _Grower:

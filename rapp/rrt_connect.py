@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rapp.checks import finite_number
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound
 from rapp.paths import path_length
@@ -96,9 +97,7 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     (True, [0.0, 0.0], True)
     """
     obstacles = list(obstacles)
-    step = float(step)
-    if not (np.isfinite(step) and step > 0):
-        raise ValueError(f"step must be a finite number > 0, got {step!r}")
+    step = finite_number(step, "step", above=0.0)
     budget = Budget(max_iterations, time_budget)
     start, goals = check_start_and_goals(arm, start, goal, obstacles)
     rng = np.random.default_rng(seed)

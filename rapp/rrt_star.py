@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from rapp.checks import finite_number
 from rapp.collision import segment_collision_free
 from rapp.errors import NoPathFound
 from rapp.paths import path_length
@@ -66,8 +67,7 @@ def _shift_subtree_cost(tree: Tree, root: int, delta: float) -> None:
     while todo:
         kids = np.flatnonzero(np.isin(parent, todo))
         kids = kids[kids != root]
-        for k in kids:
-            tree._cost[k] += delta
+        tree.shift_cost(kids, delta)
         todo = kids.tolist()
 
 
@@ -103,9 +103,7 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: fl
     (True, True)
     """
     obstacles = list(obstacles)
-    step = float(step)
-    if not (np.isfinite(step) and step > 0):
-        raise ValueError(f"step must be a finite number > 0, got {step!r}")
+    step = finite_number(step, "step", above=0.0)
     if not 0.0 <= goal_bias <= 1.0:
         raise ValueError(f"goal_bias must lie in [0, 1], got {goal_bias!r}")
     budget = Budget(max_iterations, time_budget)

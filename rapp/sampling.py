@@ -76,8 +76,13 @@ class Tree:
         return int(np.argmin(np.einsum("ij,ij->i", d, d)))
 
     def set_parent(self, i: int, parent_index: int, cost: float) -> None:
+        """Rewire node ``i`` under ``parent_index`` at path cost ``cost``."""
         self._parent[i] = parent_index
         self._cost[i] = cost
+
+    def shift_cost(self, indices, delta: float) -> None:
+        """Add ``delta`` to the cost of the (distinct) nodes ``indices``: a rewired branch."""
+        self._cost[np.asarray(indices, dtype=int)] += delta
 
 
 class Budget:

@@ -17,6 +17,7 @@ from hypothesis import strategies as st  # noqa: E402
 from rapp.errors import NoPathFound  # noqa: E402
 from rapp.plotting import animate_astar, plot_astar_step  # noqa: E402
 from rapp.search import astar_search, astar_steps, bfs, bfs_distances  # noqa: E402
+from test_search import neighbours  # noqa: E402  the slow oracle, defined once
 
 
 @st.composite
@@ -32,17 +33,6 @@ def grids(draw):
     goal = tuple(int(rng.integers(m)) for m in shape)
     occ[start] = occ[goal] = False
     return occ, wraps, start, goal
-
-
-def neighbours(cell, shape, wraps):
-    for axis, (m, w) in enumerate(zip(shape, wraps)):
-        for step in (1, -1):
-            x = cell[axis] + step
-            if w:
-                x %= m
-            elif not 0 <= x < m:
-                continue
-            yield cell[:axis] + (x,) + cell[axis + 1:]
 
 
 @settings(max_examples=150, deadline=None)
