@@ -163,7 +163,8 @@ def _route_on(arm, obstacles, grid, blocked, start, goal_qs, *, certified: bool,
               heuristic_weight: float, max_expansions):
     """Search ``blocked`` from the exact start to the nearest reachable goal.
 
-    Returns (full unwrapped path, metrics) or raises NoPathFound / GridTooCoarse.
+    Returns (full unwrapped path, metrics, closed set of the last search) or raises
+    NoPathFound / GridTooCoarse.
     With ``certified`` the grid moves are known to be free; otherwise each new
     move is checked and a failing one blocks its cell and the search repeats.
     """
@@ -220,7 +221,7 @@ def _route_on(arm, obstacles, grid, blocked, start, goal_qs, *, certified: bool,
         "certification_repairs": int(repairs),
         "goal_candidates": int(len(g_cells)),
     }
-    return full, metrics
+    return full, metrics, res.closed
 
 
 def grid_route(arm: Arm, obstacles, start, goal_qs, *, cells, heuristic_weight: float = 1.0,
@@ -268,12 +269,14 @@ def grid_route(arm: Arm, obstacles, start, goal_qs, *, cells, heuristic_weight: 
     t1 = time.perf_counter()
     kw = {"heuristic_weight": heuristic_weight, "max_expansions": max_expansions}
     try:
-        full, metrics = _route_on(arm, obstacles, grid, ~safe, start, goal_qs, certified=True, **kw)
+        full, metrics, closed = _route_on(arm, obstacles, grid, ~safe, start, goal_qs, certified=True,
+                                          **kw)
         metrics["search_grid"] = "certified cells"
     except GridTooCoarse:
-        full, metrics = _route_on(arm, obstacles, grid, occ, start, goal_qs, certified=False, **kw)
+        full, metrics, closed = _route_on(arm, obstacles, grid, occ, start, goal_qs, certified=False,
+                                          **kw)
         metrics["search_grid"] = "occupancy, moves checked"
     times = {"cspace": t1 - t0, "search": time.perf_counter() - t1}
     metrics.update({"grid_cells": int(occ.size), "free_fraction": float(1.0 - occ.mean()),
                     "certified_fraction": float(safe.mean())})
-    return Route(full, full[-1], grid, occ, metrics, times)
+    return Route(full, full[-1], grid, occ, metrics, times, expanded=closed)

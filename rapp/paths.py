@@ -35,6 +35,8 @@ class Route:
         Planner-specific counts (expansions, tree nodes, ...): deterministic.
     times : dict
         Wall-clock seconds of the planner's stages (``cspace``, ``search``).
+    expanded : ndarray of bool, optional
+        The cells the grid search expanded (its closed set), for figures of the search effort.
     """
 
     waypoints: np.ndarray
@@ -43,6 +45,7 @@ class Route:
     occupancy: np.ndarray | None = None
     metrics: dict = field(default_factory=dict)
     times: dict = field(default_factory=dict)
+    expanded: np.ndarray | None = None
 
 
 def unwrap_near(arm: Arm, q, ref) -> np.ndarray:

@@ -228,7 +228,8 @@ def plan(scenario) -> Plan:
     })
     result = Plan(t=t, q=q, qd=qd, qdd=qdd, xy=xy, waypoints=waypoints, shortcut=short,
                   goal_q=np.asarray(route.goal_q, float), scenario=scenario, grid=route.grid,
-                  occupancy=route.occupancy, profile=profile, metrics=metrics)
+                  occupancy=route.occupancy, profile=profile, metrics=metrics,
+                  expanded=route.expanded)
     t0 = time.perf_counter()
     report = verify(result, scenario)
     times["verify"] = time.perf_counter() - t0

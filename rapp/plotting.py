@@ -352,7 +352,8 @@ def split_at_seam(path, lo, span, wraps):
     return np.insert(p, np.repeat(jump + 1, 3), extra.reshape(-1, p.shape[1]), axis=0)
 
 
-def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, title=None):
+def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, title=None,
+                expanded=None):
     """Show the occupancy of a joint grid; optionally a path, start and goal in joint angles.
 
     Parameters
@@ -365,6 +366,8 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
         Joint angles (radians). Split where a free joint wraps, so the line
         never crosses the plot along the seam.
     start, goal : array_like, shape (n,), optional
+    expanded : bool array of ``grid.shape``, optional
+        Cells a search expanded (its closed set), shaded light blue; 2-joint grids.
 
     For three or more joints, the image is a projection over the joints
     after the second: the grey level is the fraction of their grid values in
@@ -393,6 +396,11 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
         img = occ.astype(float)
         cmap = ListedColormap(["white", OCCUPIED])
         default_title = "C-space: grey = collision"
+        if expanded is not None:
+            # 0 free, 1 collision, 0.5 expanded: one image, so the colours cannot disagree.
+            img = np.where(np.asarray(expanded, bool) & ~occ, 0.5, img)
+            cmap = ListedColormap(["white", COLORS["sky"], OCCUPIED])
+            default_title = "C-space: grey = collision, blue = expanded"
     else:
         img = occ.reshape(occ.shape[:2] + (-1,)).mean(axis=-1)
         cmap = matplotlib.colormaps["Greys"]
@@ -434,7 +442,7 @@ def _subsample(k, most):
     return np.unique(np.linspace(0, k - 1, min(k, most)).round().astype(int))
 
 
-def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m"):
+def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None):
     """C-space beside workspace, the plan drawn in both.
 
     Left: occupancy of ``plan.grid`` with the joint path, start and goal.
@@ -448,6 +456,8 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m"):
     scenario : rapp.Scenario
     fig : Figure, optional
         Drawn into (cleared); a new pyplot figure when None.
+    expanded : bool array of ``plan.grid.shape``, optional
+        The search's closed set, shaded in the C-space panel (see :func:`plot_cspace`).
 
     Returns
     -------
@@ -471,7 +481,7 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m"):
     grid = getattr(plan, "grid", None)
     occ = getattr(plan, "occupancy", None)
     if grid is not None and occ is not None and np.ndim(occ) >= 2:
-        plot_cspace(occ, grid, ax_c, path=q, start=q[0], goal=q[-1])
+        plot_cspace(occ, grid, ax_c, path=q, start=q[0], goal=q[-1], expanded=expanded)
     else:
         # No grid (for example a sampling planner): the joint path alone.
         lo, hi = arm.lower[:2], arm.upper[:2]

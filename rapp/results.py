@@ -65,6 +65,9 @@ class Plan:
         ``smoothing``, ``trajectory``, ``verify``, ``total``). They differ
         between runs, so a result file holds them only when asked
         (``save_result(..., timings=True)``).
+    expanded : ndarray of bool, optional
+        The cells the grid search expanded, the search's closed set (grid planner only; figures
+        use it, result files do not hold it: ``metrics["expansions"]`` counts it).
     """
 
     t: np.ndarray
@@ -82,6 +85,7 @@ class Plan:
     report: Report | None = None
     metrics: dict = dc_field(default_factory=dict)
     timings: dict = dc_field(default_factory=dict)
+    expanded: np.ndarray | None = None
 
     def to_dict(self, *, timings: bool = False) -> dict:
         """A JSON-ready mapping of everything (see :func:`save_result`); :meth:`from_dict` inverts it.

@@ -136,3 +136,45 @@ def test_planner_playground_default_is_the_given_plan():
     sliders["goal y (m)"].value = sliders["goal y (m)"].max
     assert "NoIKSolution" in status_of(w)
     shown_png(w)
+
+
+def test_planner_playground_weight_changes_the_figure_and_the_expanded_cells():
+    from rapp.scenario import load_scenario
+
+    s = load_scenario("default")
+    w = W.planner_playground(s)
+    raw, _ = shown_png(w)
+
+    def expanded():
+        text = status_of(w)
+        return int(text.split(" cells expanded")[0].rsplit(">", 1)[1])
+
+    before = expanded()
+    W.sliders_of(w)["heuristic w"].value = 3.0
+    after = expanded()
+    # Weighted A* expands fewer cells, and the figure shades what it expanded.
+    assert 0 < after < before
+    assert shown_png(w)[0] != raw
+
+
+def test_plan_expanded_is_the_search_closed_set():
+    from rapp.planner import plan
+    from rapp.scenario import load_scenario
+
+    p = plan(load_scenario("default"))
+    assert p.expanded.shape == p.occupancy.shape
+    assert int(p.expanded.sum()) == p.metrics["expansions"]
+    assert not (p.expanded & p.occupancy).any()
+
+
+@pytest.mark.parametrize("value, lo, hi, step", [
+    (0.8, -np.pi, np.pi, 0.05), (0.6, -np.pi, np.pi, 0.01), (-3.2, -np.pi, np.pi, 0.01),
+    (1.234, -2.0, 2.0, 0.02), (0.45, -2.6, 2.6, 0.1)])
+def test_slider_defaults_lie_on_the_step_grid(value, lo, hi, step):
+    s = W._slider("x", value, lo, hi, step)
+    # The browser snaps to min + k * step; a value already there is never re-sent.
+    for v in (s.value, s.max):
+        k = (v - s.min) / step
+        assert abs(k - round(k)) < 1e-9
+    assert lo <= s.min <= s.value <= s.max <= hi
+    assert abs(s.value - value) <= step / 2 + 1e-12 or s.value in (s.min, s.max)
