@@ -5,7 +5,8 @@ Call :func:`check` with the id and your answer: a number for a *numeric* exercis
 function for an *implement* exercise, the artefact your argument produces (a counterexample, a
 heuristic, a bound) for an *argue* exercise. The verdict is truthy when the answer is right, and
 its message says what is right, or what is wrong with a hint; it never gives the answer away.
-:func:`catalog` lists the exercises.
+:func:`catalog` lists the exercises; :func:`grade` checks many answers at once, for an
+instructor grading a class.
 
 Examples
 --------
@@ -30,7 +31,7 @@ import pkgutil
 
 from rapp.exercises.core import KINDS, Exercise, Verdict
 
-__all__ = ["check", "catalog", "Verdict", "Exercise", "KINDS"]
+__all__ = ["check", "grade", "catalog", "Verdict", "Exercise", "KINDS"]
 
 # One module per chapter, ``chNN``, each with a tuple EXERCISES in book order.
 _CHAPTERS = tuple(
@@ -101,3 +102,45 @@ def check(exercise_id: Any, answer: Any) -> Verdict:
     if message == "no answer yet.":
         message = f"no answer yet: expected {ex.expects}."
     return Verdict(key, judgement.correct, message)
+
+
+def grade(answers: Any, exercises: Any = None) -> tuple[Verdict, ...]:
+    """Check many answers at once: what an instructor runs over each student's submission.
+
+    Parameters
+    ----------
+    answers : mapping of str to object
+        Exercise id to answer, e.g. a dict a student's module defines.
+    exercises : iterable of str, optional
+        The exercises assigned. A missing answer is checked as ``None`` (not yet answered).
+        Default: the ids in ``answers``.
+
+    Returns
+    -------
+    tuple of Verdict
+        In the order of ``exercises`` (or of ``answers``); ``sum(map(bool, verdicts))`` is the score.
+        Never raises: a malformed ``answers`` gives one verdict that says what is wrong with it.
+
+    Examples
+    --------
+    >>> verdicts = grade({"5.1": 71, "5.3": 5}, exercises=["5.1", "5.3", "5.4"])
+    >>> [bool(v) for v in verdicts], sum(map(bool, verdicts))
+    ([True, False, False], 1)
+    >>> print(grade([71])[0])
+    Exercise ?: not yet. answers must be a mapping of exercise id to answer, such as {"5.1": 71}; got list.
+    """
+    if not hasattr(answers, "get") or not hasattr(answers, "keys"):
+        return (Verdict("?", False, "answers must be a mapping of exercise id to answer, such as "
+                                    f'{{"5.1": 71}}; got {type(answers).__name__}.'),)
+    try:
+        ids = list(answers.keys() if exercises is None else exercises)
+    except TypeError:
+        return (Verdict("?", False, "exercises must be an iterable of exercise ids such as \"5.2\"."),)
+    return tuple(check(ex_id, _lookup(answers, ex_id)) for ex_id in ids)
+
+
+def _lookup(answers: Any, ex_id: Any) -> Any:
+    try:
+        return answers.get(ex_id)
+    except Exception:  # an unhashable id, or a mapping whose get raises: no answer
+        return None

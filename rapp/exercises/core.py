@@ -202,6 +202,8 @@ def numeric(expected: Callable[[], Any], *, tol: float, relative: bool = False,
                 return Judgement(False, f"{describe(answer)}: {why}")
         return Judgement(False, f"{describe(answer)} is not it" + (f"; {hint}" if hint else "."))
 
+    # For the tests that prove no message gives the value away (the source is public anyway).
+    judge.expected = expected
     return judge
 
 
