@@ -442,7 +442,7 @@ def _subsample(k, most):
     return np.unique(np.linspace(0, k - 1, min(k, most)).round().astype(int))
 
 
-def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None):
+def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None, axes=None):
     """C-space beside workspace, the plan drawn in both.
 
     Left: occupancy of ``plan.grid`` with the joint path, start and goal.
@@ -458,6 +458,9 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None):
         Drawn into (cleared); a new pyplot figure when None.
     expanded : bool array of ``plan.grid.shape``, optional
         The search's closed set, shaded in the C-space panel (see :func:`plot_cspace`).
+    axes : pair of Axes, optional
+        The C-space and workspace axes to draw into as they are; else ``fig`` is cleared
+        and given two.
 
     Returns
     -------
@@ -472,10 +475,14 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None):
     ['C-space: grey = collision', 'workspace']
     >>> plt.close(fig)
     """
-    fig = _figure(fig, (10.5, 5.0))
-    fig.clear()
-    fig.patch.set_facecolor("white")
-    ax_c, ax_w = subplots(fig, 1, 2)
+    if axes is None:
+        fig = _figure(fig, (10.5, 5.0))
+        fig.clear()
+        fig.patch.set_facecolor("white")
+        ax_c, ax_w = subplots(fig, 1, 2)
+    else:
+        ax_c, ax_w = axes
+        fig = ax_c.figure
     q = np.asarray(plan.q, dtype=float)
     arm = scenario.arm
     grid = getattr(plan, "grid", None)
@@ -825,7 +832,7 @@ def plot_metrics(metrics, ax=None, *, keys=None, unit="s"):
     return style_axes(ax)
 
 
-def plot_polynomials(coefficients, t0, tf, *, fig=None, samples=200):
+def plot_polynomials(coefficients, t0, tf, *, fig=None, samples=200, axes=None):
     """Position, velocity and acceleration of polynomial segments on ``[t0, tf]``.
 
     Parameters
@@ -833,6 +840,8 @@ def plot_polynomials(coefficients, t0, tf, *, fig=None, samples=200):
     coefficients : dict of name -> array_like
         Coefficients in ascending powers of absolute time ``t`` (what
         :func:`rapp.cubic` and :func:`rapp.quintic` return).
+    axes : sequence of three Axes, optional
+        Drawn into as they are (not cleared); else ``fig`` is cleared and given three.
 
     Returns
     -------
@@ -847,9 +856,13 @@ def plot_polynomials(coefficients, t0, tf, *, fig=None, samples=200):
     >>> plt.close(fig)
     """
     P = np.polynomial.polynomial
-    fig = _figure(fig, (6.5, 6.0))
-    fig.clear()
-    axs = subplots(fig, 3, 1, sharex=True)
+    if axes is None:
+        fig = _figure(fig, (6.5, 6.0))
+        fig.clear()
+        axs = subplots(fig, 3, 1, sharex=True)
+    else:
+        axs = list(axes)
+        fig = axs[0].figure
     t = np.linspace(t0, tf, samples)
     styles = ["-", "--", ":", "-."]
     for i, (name, c) in enumerate(coefficients.items()):
