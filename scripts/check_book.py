@@ -14,6 +14,12 @@ page fails when:
 - a matplotlib animation (to_jshtml) has no controls or no frame shown;
 - a saved widget view rendered nothing (no widget DOM next to its view script).
 
+Then every page with sliders is opened in Chromium driven by playwright (offline: requests to
+any host but the local server are refused), and each slider, of a widget or of an animation
+player, is pressed with the arrow keys: the page fails when the figure the slider belongs to
+does not change. The time until every widget on the page is rendered (interactive) and the
+page's weight are reported; a page over 8 MB or a book over 80 MB fails.
+
 Prints one line per page and a summary line; exit status 1 when any page fails.
 """
 
@@ -28,6 +34,7 @@ import subprocess
 import sys
 import tempfile
 import threading
+import time
 from pathlib import Path
 from urllib.parse import unquote, urljoin, urlparse
 
@@ -176,6 +183,82 @@ def check_dom(dom: str, page_url: str, root: Path, base_url: str) -> tuple[list[
     return problems, stats
 
 
+PAGE_BUDGET_MB = 8.0
+BOOK_BUDGET_MB = 80.0
+
+# The figure a slider drives: for a widget, the visible images and SVGs of its explorer; for an
+# animation player, its frame. A signature of what is shown, to compare before and after a key.
+_SHOWN = """(el) => {
+    const root = el.closest('.animation') || el.closest('.widget-subarea') || document.body;
+    const shown = [...root.querySelectorAll('img, svg')].filter(e => e.getClientRects().length > 0
+        && getComputedStyle(e).visibility !== 'hidden');
+    let h = 0;
+    for (const e of shown) {
+        const s = e.tagName === 'IMG' ? e.src : e.outerHTML;
+        for (let i = 0; i < s.length; i += 7) { h = (h * 31 + s.charCodeAt(i)) | 0; }
+        h = (h * 31 + s.length) | 0;
+    }
+    return shown.length + ':' + h;
+}"""
+
+
+def check_sliders(base_url: str, pages: list[tuple[str, int]]) -> dict[str, tuple[list[str], dict]]:
+    """Press the arrow keys on every slider of every page; report what did not change.
+
+    ``pages`` are (relative URL, number of saved widget views). Returns, per page, the problems
+    and the numbers measured: sliders pressed, seconds until every widget view rendered.
+    """
+    from playwright.sync_api import sync_playwright
+
+    host = urlparse(base_url).netloc
+    results: dict[str, tuple[list[str], dict]] = {}
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
+                                     args=["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"])
+        for rel, views in pages:
+            page = browser.new_page(viewport={"width": 1280, "height": 900})
+            page.route("**/*", lambda route: route.continue_() if urlparse(route.request.url).netloc
+                       == host or route.request.url.startswith("data:") else route.abort())
+            problems: list[str] = []
+            t0 = time.monotonic()
+            page.goto(base_url + rel, wait_until="load")
+            try:
+                page.wait_for_function(
+                    "(n) => document.querySelectorAll('.widget-subarea').length >= n "
+                    "&& [...document.querySelectorAll('.widget-subarea')].every(a => a.children.length)",
+                    arg=views, timeout=30_000)
+            except Exception:
+                problems.append("widgets did not render within 30 s")
+            ready = time.monotonic() - t0
+            handles = page.locator(".widget-slider .noUi-handle, .animation input[type=range]")
+            pressed = 0
+            for i in range(handles.count()):
+                handle = handles.nth(i)
+                if not handle.is_visible():
+                    continue
+                handle.scroll_into_view_if_needed()
+                name = page.evaluate("(el) => { const w = el.closest('.widget-slider');"
+                                     " const l = w && w.querySelector('.widget-label');"
+                                     " return l ? l.textContent : 'animation frame'; }",
+                                     handle.element_handle())
+                before = handle.evaluate(_SHOWN)
+                changed = False
+                for key in ("ArrowRight", "ArrowLeft", "ArrowLeft"):
+                    handle.focus()
+                    page.keyboard.press(key)
+                    page.wait_for_timeout(120)
+                    if handle.evaluate(_SHOWN) != before:
+                        changed = True
+                        break
+                pressed += 1
+                if not changed:
+                    problems.append(f"slider {name!r}: the arrow keys move it, the figure stays")
+            results[rel] = (problems, {"slider": pressed, "ready_s": ready})
+            page.close()
+        browser.close()
+    return results
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("build", nargs="?", default="_build/html", type=Path)
@@ -214,8 +297,14 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
             results = list(pool.map(visit, pages))
+        with_widgets = [(p.relative_to(root).as_posix(), p.read_text(encoding="utf-8").count(WIDGET_VIEW))
+                        for p in pages]
+        sliders = check_sliders(base_url, [(rel, n) for rel, n in with_widgets
+                                           if n or "animation" in (root / rel).read_text(encoding="utf-8")])
     finally:
         server.shutdown()
+    book_mb = sum(f.stat().st_size for f in root.rglob("*") if f.is_file()) / 1e6
+    totals["slider"] = 0
     # Pages are opened in parallel, so a failed request is reported under every page whose HTML
     # names the file; one nothing names (e.g. a font a stylesheet asked for) fails on its own line.
     missing = sorted({path for path, code in log if code >= 400 and path != "/favicon.ico"})
@@ -223,9 +312,17 @@ def main(argv: list[str] | None = None) -> int:
         rel = page.relative_to(root).as_posix()
         html = page.read_text(encoding="utf-8")
         problems += [f"not served: {path}" for path in missing if Path(path).name in html]
+        slider_problems, measured = sliders.get(rel, ([], {"slider": 0}))
+        problems += slider_problems
+        stats = dict(stats, slider=measured["slider"])
+        mb = page.stat().st_size / 1e6
+        if mb > PAGE_BUDGET_MB:
+            problems.append(f"page weighs {mb:.1f} MB, over the {PAGE_BUDGET_MB:g} MB budget")
         for key in totals:
             totals[key] += stats[key]
-        summary = ", ".join(f"{v} {k}" for k, v in stats.items())
+        summary = ", ".join(f"{v} {k}" for k, v in stats.items()) + f"; {mb:.2f} MB"
+        if "ready_s" in measured:
+            summary += f", interactive in {measured['ready_s']:.1f} s"
         if problems:
             failed += 1
             print(f"FAIL {rel} ({summary})")
@@ -237,7 +334,10 @@ def main(argv: list[str] | None = None) -> int:
     if unattributed:
         failed += 1
         print("FAIL requests not served: " + ", ".join(unattributed))
-    checked = ", ".join(f"{v} {k}" for k, v in totals.items())
+    if book_mb > BOOK_BUDGET_MB:
+        failed += 1
+        print(f"FAIL the book weighs {book_mb:.1f} MB, over the {BOOK_BUDGET_MB:g} MB budget")
+    checked = ", ".join(f"{v} {k}" for k, v in totals.items()) + f"; book {book_mb:.1f} MB"
     print(
         f"check_book: {len(pages) - failed} of {len(pages)} pages ok; "
         f"checked {checked}; {len(log)} requests served locally"
