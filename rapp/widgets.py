@@ -38,6 +38,8 @@ __all__ = [
     "collision_explorer",
     "planner_playground",
     "trajectory_explorer",
+    "astar_explorer",
+    "rrt_explorer",
     "sliders_of",
     "selected",
 ]
@@ -82,9 +84,9 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
     q : array_like, shape (n,), optional
         The configuration shown first (the nearest slider values; all zeros when None).
     steps : int, optional
-        Values per slider, from each joint's lower to upper limit. Default: 25 for two joints
-        (15 degrees apart on a free joint), fewer for more joints so that the ``steps ** n``
-        views stay about 600.
+        Values per slider, from each joint's lower to upper limit. Default: 19 for two joints
+        (20 degrees apart on a free joint), fewer for more joints so that the ``steps ** n``
+        views stay under about 400 (the page stays light and becomes interactive quickly).
 
     Returns
     -------
@@ -100,7 +102,7 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
     """
     obstacles = tuple(obstacles)
     n = arm.n
-    steps = int(steps) if steps is not None else max(3, int(np.floor(625 ** (1.0 / n) + 1e-9)))
+    steps = int(steps) if steps is not None else max(3, int(np.floor(361 ** (1.0 / n) + 1e-9)))
     q0 = np.zeros(n) if q is None else np.asarray(q, dtype=float)
     controls = {f"q{i}": Control(f"θ{i + 1} (rad)", _steps(arm.lower[i], arm.upper[i], steps),
                                  default=float(q0[i])) for i in range(n)}
@@ -306,3 +308,109 @@ def trajectory_explorer(t0=0.0, tf=2.0, p0=0.0, pf=1.0, v0=0.0, vf=0.0, a0=0.0, 
                 f" &nbsp;|&nbsp; quintic {acc5[0]:.3f}, {acc5[1]:.3f} (set: {a0:.3f}, {af:.3f})")
 
     return view_stack(fig, controls, view, title="Cubic vs quintic")
+
+
+def astar_explorer(occupied, start, goal, *, weights=(1.0,), wraps=True, step=None):
+    """Step through A* one expansion at a time, for one or several heuristic weights.
+
+    One trace (:func:`rapp.search.astar_steps`) per weight; the step slider runs over the
+    longest, and a search that ended earlier shows its final state with its path. Drawn with
+    :func:`rapp.plotting.plot_astar_step`: closed set, open list, the cell being expanded, and
+    the path at the end.
+
+    Parameters
+    ----------
+    occupied : bool array, 2-D
+    start, goal : pair of int
+    weights : sequence of float
+        Heuristic weights ``w >= 1`` to compare (a slider when more than one).
+    step : int, optional
+        The step shown first (1-based); the last when None.
+
+    Returns
+    -------
+    ipywidgets.VBox
+
+    Examples
+    --------
+    >>> grid = np.zeros((6, 6), bool); grid[1:5, 3] = True
+    >>> w = astar_explorer(grid, (2, 1), (2, 5), weights=(1.0, 3.0), step=1)
+    >>> list(sliders_of(w)), "step 1 of" in selected(w)[1]
+    (['heuristic w', 'step'], True)
+    """
+    from rapp.search import astar_steps
+
+    traces = {float(w): astar_steps(occupied, start, goal, wraps=wraps, heuristic_weight=float(w))
+              for w in weights}
+    last = max(t.expansions for t in traces.values()) + 1
+    controls = {}
+    if len(traces) > 1:
+        controls["weight"] = Control("heuristic w", list(traces), default=min(traces), fmt="{:g}")
+    controls["step"] = Control("step", list(range(1, last + 1)), default=last if step is None else step,
+                               fmt="{}")
+    fig = _figure(8.4, 5.6)
+    ax = subplots(fig)
+
+    def view(step, weight=min(traces)):
+        trace = traces[weight]
+        k = min(step - 1, trace.expansions)
+        plotting.plot_astar_step(trace, k, ax)
+        if k == trace.expansions:
+            return (f"w = {weight:g}: step {step} of {last}: done after {trace.expansions} "
+                    f"expansions, path of {trace.cost} steps")
+        cell = tuple(int(i) for i in trace.current[k])
+        g = int(trace.g[k][cell])
+        return (f"w = {weight:g}: step {step} of {last}: expand {cell}, g = {g}, "
+                f"f = g + w h = {g + float(trace.h[cell]):g}; {int(trace.closed[k].sum())} closed, "
+                f"{int(trace.frontier[k].sum())} open")
+
+    return view_stack(fig, controls, view, title="A*, one expansion at a time")
+
+
+def rrt_explorer(arm, result, trace, *, occupancy=None, grid=None, goal=None, step=None):
+    """Step through the growth of an RRT, one iteration at a time.
+
+    Parameters
+    ----------
+    arm : rapp.Arm
+    result : rapp.RRTResult
+        What :func:`rapp.rrt` returned ...
+    trace : list of rapp.rrt.RRTStep
+        ... with this ``trace``; each step is drawn with :func:`rapp.plotting.plot_rrt_step`.
+    occupancy, grid, goal : optional
+        As for :func:`rapp.plotting.plot_rrt_step`.
+    step : int, optional
+        The iteration shown first (1-based); the end when None.
+
+    Returns
+    -------
+    ipywidgets.VBox
+
+    Examples
+    --------
+    >>> from rapp import Arm, rrt
+    >>> arm = Arm([1.0, 1.0]); steps = []
+    >>> r = rrt(arm, [0.0, 0.0], [1.0, 1.0], [], step=0.5, seed=1, trace=steps)
+    >>> w = rrt_explorer(arm, r, steps, step=1)
+    >>> "iteration 1 of" in selected(w)[1]
+    True
+    """
+    last = len(trace) + 1
+    controls = {"step": Control("iteration", list(range(1, last + 1)),
+                                default=last if step is None else step, fmt="{}")}
+    fig = _figure(8.4, 5.6)
+    ax = subplots(fig)
+
+    def view(step):
+        k = step - 1
+        plotting.plot_rrt_step(arm, result, trace, k, ax, occupancy=occupancy, grid=grid, goal=goal)
+        if k == len(trace):
+            return (f"iteration {step} of {last}: the end, {len(result.nodes)} nodes"
+                    + (f", path cost {result.cost:.3f} rad" if result.success else ", no path"))
+        record = trace[k]
+        toward = "the goal (goal bias)" if record.goal_biased else "a random sample"
+        what = {"added": "the new edge is free: added", "blocked": "the new edge is blocked",
+                "no move": "the target is the nearest node: no move"}.get(record.status, record.status)
+        return f"iteration {step} of {last}: extend toward {toward}; {what}"
+
+    return view_stack(fig, controls, view, title="RRT, one iteration at a time")

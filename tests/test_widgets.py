@@ -66,7 +66,7 @@ def test_arm_explorer_three_links_keeps_limits_and_about_600_views():
     s2 = sliders["θ2 (rad)"]
     assert (float(s2.options[0]), float(s2.options[-1])) == (-2.0, 2.0)
     assert values_of(w)["q1"] == 2.0  # the default is the nearest value inside the limit
-    assert np.prod([len(s.options) for s in sliders.values()]) <= 625
+    assert np.prod([len(s.options) for s in sliders.values()]) <= 400
 
 
 def test_collision_explorer_flags_the_mis_false_collision():
