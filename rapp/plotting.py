@@ -957,6 +957,34 @@ def _periodic_copies(seg, lo, span, wraps):
     return np.concatenate(out)
 
 
+_LIGHT_CSPACE = "#cfcfcf"
+
+
+def plot_light_cspace(occupancy, grid, ax):
+    """A 2-joint occupancy grid in light grey, under a tree or a trace; drawn once per axes.
+
+    A second call on the same axes draws nothing, so a step-through that redraws its tree on
+    every step keeps one image (and a view stack keeps it in its static background).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> grid = SimpleNamespace(axes=[np.linspace(-np.pi, np.pi, 4, endpoint=False)] * 2)
+    >>> ax = plot_light_cspace(np.eye(4, dtype=bool), grid, plt.figure().add_subplot())
+    >>> len(plot_light_cspace(np.eye(4, dtype=bool), grid, ax).images)
+    1
+    >>> plt.close(ax.figure)
+    """
+    occ = np.asarray(occupancy)
+    if occ.ndim != 2 or grid is None:
+        raise ValueError("occupancy must be a 2-joint grid, given with its grid")
+    if not any(im.get_gid() == "light-cspace" for im in ax.images):
+        ax.imshow(occ.T.astype(float), origin="lower", extent=_extent(grid),
+                  cmap=ListedColormap(["white", _LIGHT_CSPACE]), vmin=0.0, vmax=1.0,
+                  interpolation="nearest", aspect="equal", zorder=0, gid="light-cspace")
+    return ax
+
+
 def plot_rrt_step(arm, result, trace, k, ax=None, *, occupancy=None, grid=None, goal=None,
                   legend=True):
     """One iteration of RRT in the plane of the first two joints: sample, nearest, new edge.
@@ -1013,16 +1041,10 @@ def plot_rrt_step(arm, result, trace, k, ax=None, *, occupancy=None, grid=None, 
     m = 1 + sum(s.accepted for s in trace[:k]) if not end else len(result.nodes)
     blocked = sum(s.status == "blocked" for s in trace[:k])
     nodes, parent = result.nodes[:m], result.parent[:m]
-    cspace_colour = "#cfcfcf"
     handles = []
     if occupancy is not None:
-        occ = np.asarray(occupancy)
-        if occ.ndim != 2 or grid is None:
-            raise ValueError("occupancy must be a 2-joint grid, given with its grid")
-        ax.imshow(occ.T.astype(float), origin="lower", extent=_extent(grid),
-                  cmap=ListedColormap(["white", cspace_colour]), vmin=0.0, vmax=1.0,
-                  interpolation="nearest", aspect="equal", zorder=0)
-        handles.append(patches.Patch(facecolor=cspace_colour, edgecolor=TEXT,
+        plot_light_cspace(occupancy, grid, ax)
+        handles.append(patches.Patch(facecolor=_LIGHT_CSPACE, edgecolor=TEXT,
                                      label="C-space obstacle"))
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])

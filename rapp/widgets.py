@@ -400,6 +400,8 @@ def rrt_explorer(arm, result, trace, *, occupancy=None, grid=None, goal=None, st
                                 default=last if step is None else step, fmt="{}")}
     fig = _figure(8.4, 5.6)
     ax = subplots(fig)
+    if occupancy is not None:  # the same in every view: drawn once, in the background
+        plotting.plot_light_cspace(occupancy, grid, ax)
 
     def view(step):
         k = step - 1
