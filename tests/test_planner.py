@@ -233,8 +233,8 @@ def test_search_on_the_plain_occupancy_repairs_uncertified_moves():
     grid = JointGrid(s.arm, 40)
     occ = occupancy(s.arm, s.obstacles, grid)
     goals = np.array([s.goal_q])
-    full, metrics = _route_on(s.arm, s.obstacles, grid, occ, s.start_array, goals,
-                              certified=False, heuristic_weight=1.0, max_expansions=None)
+    full, metrics, _ = _route_on(s.arm, s.obstacles, grid, occ, s.start_array, goals,
+                                 certified=False, heuristic_weight=1.0, max_expansions=None)
     assert metrics["certification_repairs"] > 0
     assert segment_collision_free(s.arm, full[:-1], full[1:], s.obstacles).all()
     assert np.array_equal(full[0], s.start_array)
