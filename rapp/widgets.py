@@ -133,7 +133,7 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
 
 
 def collision_explorer(a=(0.0, 0.0), b=(1.0, 0.0), center=(1.6, 0.1), radius=0.3, *,
-                       extent=2.0, steps=25):
+                       extent=2.0, steps=17):
     """Segment against disc: move the disc and watch the closest point of the segment follow.
 
     Two sliders move the disc's centre over ``[-extent, extent]``; the segment ``ab`` and the
