@@ -9,7 +9,7 @@ overlay. The overlays sit in nested ``Stack`` widgets whose ``selected_index`` i
 the sliders' ``index``: the browser switches views itself, offline, in the book as in JupyterLab.
 
 Each overlay holds only what changed, through matplotlib's own SVG renderer, so a 2-joint explorer
-with 19 x 19 views costs a few hundred kilobytes and a second or two to build.
+with 19 x 19 views costs about a megabyte of page and a second or two to build.
 
 Examples
 --------
