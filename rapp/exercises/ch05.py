@@ -165,13 +165,13 @@ EXERCISES = (
                 hint="on each axis take min(|a_i - b_i|, M - |a_i - b_i|), then add the axes."),
     ),
     Exercise(
-        "5.2", 5, "implement", "The toroidal heuristic GD1", 2,
+        "5.2", 5, "implement", "Implement GD1", 2,
         "a function h(a, b, shape) returning the number of steps (an int)",
         implement(_gd1, _cell_pairs, call="h(a, b, shape)", names=("a", "b", "shape"),
                   compare=_compare_distance, seed=52),
     ),
     Exercise(
-        "5.3", 5, "numeric", "A* with a wrap-blind heuristic on a ring", 1,
+        "5.3", 5, "numeric", "A wrap-blind heuristic on a ring", 1,
         "an integer: the length of the path A* returns",
         numeric(_ring_wrap_blind, tol=0, exact_integer=True,
                 mistakes=[(lambda: 5, "5 steps is the shortest path, through the seam; but does A* with the "
@@ -184,7 +184,7 @@ EXERCISES = (
         _judge_king_heuristic,
     ),
     Exercise(
-        "5.5", 5, "argue", "Why greedy best-first is not optimal", 2,
+        "5.5", 5, "argue", "Greedy best-first is not optimal", 2,
         "a tuple (occupied, start, goal) on which greedy best-first returns a longer path than A*",
         _judge_greedy_counterexample,
     ),
