@@ -154,8 +154,8 @@ def check_dom(dom: str, page_url: str, root: Path, base_url: str) -> tuple[list[
         src = img.get("src", "")
         if not src:
             problems.append(f"<img> without src (alt={img.get('alt', '')!r})")
-        elif src.startswith("data:"):
-            continue
+        elif src.startswith(("data:", "blob:")):
+            continue  # inline, or made in the page (an ipywidgets Image)
         elif is_remote(src) and not src.startswith(base_url):
             problems.append(f"<img> from the network: {src}")
         else:
