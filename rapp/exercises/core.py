@@ -62,7 +62,7 @@ class Verdict:
 
     def __repr__(self) -> str:
         # Shown under the reader's check cell: wrapped to the width of a book page.
-        return "\n".join(textwrap.wrap(str(self), width=88, subsequent_indent="  ",
+        return "\n".join(textwrap.wrap(str(self), width=80, subsequent_indent="  ",
                                         break_long_words=False, break_on_hyphens=False))
 
 
