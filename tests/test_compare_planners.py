@@ -1,0 +1,68 @@
+"""The planner comparison harness (benchmarks/compare_planners.py) on a few scenarios.
+
+The full run (30 scenarios x 20 seeds) is a benchmark, not a test; here a small run proves the
+harness: scenarios are valid and reproducible, every run of every planner gives a record, a
+success is a verified plan, any Executor works, and the intervals are right.
+"""
+
+import json
+import math
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rapp
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+import compare_planners as cp  # noqa: E402
+
+
+def test_scenarios_are_valid_reproducible_and_varied():
+    first, again = cp.make_scenarios(8, seed=5), cp.make_scenarios(8, seed=5)
+    assert first == again and first != cp.make_scenarios(8, seed=6)
+    kinds = {(len(s["arm"]["link_lengths"]), "position" in s["goal"]) for s in first}
+    assert {n for n, _ in kinds} == {2, 3, 4} and {c for _, c in kinds} == {True, False}
+    assert sum("narrow" in s["description"] for s in first) == 2
+    types = {o["type"] for s in first for o in s["obstacles"]}
+    assert types == {"circle", "polygon"}
+    for s in first:
+        scenario = rapp.load_scenario(s)  # valid input: start free, goal reachable
+        assert not rapp.collides(scenario.arm, scenario.start_array, scenario.obstacles)
+
+
+def test_a_small_run_on_a_thread_pool_records_every_task():
+    with ThreadPoolExecutor(2) as pool:
+        result = cp.run(scenarios=2, seeds=2, executor=pool, planners=["astar_24", "astar_16", "rrt_connect"])
+    records = result["records"]
+    # scenario 0 has 2 links (A* 24: once), scenario 1 has 3 links (A* 16: once); RRT-Connect twice each.
+    assert sorted((r["scenario_index"], r["planner"]) for r in records) == [
+        (0, "astar_24"), (0, "rrt_connect"), (0, "rrt_connect"), (1, "astar_16"), (1, "rrt_connect"),
+        (1, "rrt_connect")]
+    for r in records:
+        if r["success"]:
+            assert math.isfinite(r["time_s"]) and r["shortcut_length_rad"] <= r["length_rad"] + 1e-9
+        else:
+            assert r["error"]
+    json.dumps(result)  # the result is what the harness writes
+    summary = result["summary"]["rrt_connect"]["all"]
+    assert summary["runs"] == 4 and 0.0 <= summary["success_interval"][0] <= summary["success_rate"]
+
+
+def test_same_seed_same_path_length():
+    task = cp.tasks(cp.make_scenarios(1), seeds=1, planners=["rrt_connect"])[0]
+    a, b = cp.run_task(task), cp.run_task(task)
+    assert a.success == b.success and (a.length_rad == b.length_rad or not a.success)
+
+
+def test_intervals():
+    lo, hi = cp.wilson(0, 20)
+    assert lo == 0.0 and hi == pytest.approx(0.1611, abs=1e-4)
+    lo, hi = cp.wilson(10, 20)
+    assert (lo, hi) == pytest.approx((0.2993, 0.7007), abs=1e-4)
+    m = cp.mean_interval([1.0, 2.0, 3.0, math.nan])
+    assert m["mean"] == 2.0 and m["n"] == 3
+    assert (m["low"], m["high"]) == pytest.approx((2.0 - 4.303 / math.sqrt(3), 2.0 + 4.303 / math.sqrt(3)))
+    assert math.isnan(cp.mean_interval([])["mean"])
