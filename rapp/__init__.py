@@ -23,6 +23,7 @@ from rapp.errors import (
     MissingParameter,
     NoIKSolution,
     NoPathFound,
+    PathNotFollowable,
     RappError,
     ScenarioError,
 )
@@ -32,6 +33,7 @@ from rapp.collision import clearance, collides, path_collision_free, segment_col
 from rapp.cspace import JointGrid, occupancy
 from rapp.search import astar, bfs_distances
 from rapp.ik import ik, ik_2link, ik_numeric, jacobian
+from rapp.manipulability import condition_number, manipulability, manipulability_ellipse
 from rapp.trajectory import PiecewisePolynomial, cubic, quintic, time_path, via_points
 from rapp.scenario import Scenario, echo, list_scenarios, load_scenario
 from rapp.verify import Report, verify
@@ -45,7 +47,7 @@ from rapp.planner import plan
 __all__ = [
     # errors
     "RappError", "ScenarioError", "FileNotFound", "InvalidFormat", "MissingParameter",
-    "InvalidValue", "NoPathFound", "GridTooCoarse", "NoIKSolution",
+    "InvalidValue", "NoPathFound", "GridTooCoarse", "NoIKSolution", "PathNotFollowable",
     # the arm and its world
     "Arm", "wrap_angle", "Circle", "Polygon",
     "collides", "clearance", "segment_collision_free", "path_collision_free",
@@ -53,6 +55,7 @@ __all__ = [
     "JointGrid", "occupancy", "astar", "bfs_distances",
     # kinematics
     "ik", "ik_2link", "ik_numeric", "jacobian",
+    "manipulability", "condition_number", "manipulability_ellipse",
     # trajectories
     "cubic", "quintic", "via_points", "time_path", "PiecewisePolynomial",
     # the application

@@ -94,3 +94,17 @@ class NoIKSolution(RappError):
     def __init__(self, message: str, reason: str = "out of reach"):
         self.reason = reason
         super().__init__(message)
+
+
+class PathNotFollowable(RappError):
+    """The end effector cannot follow the requested workspace path (:func:`rapp.cartesian.line_path`).
+
+    The message is one line saying what goes wrong and where. ``reason`` is
+    ``"workspace"``, ``"singularity"``, ``"joint limits"`` or ``"obstacle"``;
+    ``s`` is the line parameter in ``[0, 1]`` at which it happens.
+    """
+
+    def __init__(self, message: str, reason: str | None = None, s: float | None = None):
+        self.reason = reason
+        self.s = s
+        super().__init__(message)

@@ -21,6 +21,7 @@ __all__ = [
     "fk_symbolic",
     "joint_positions_symbolic",
     "jacobian_symbolic",
+    "manipulability_symbolic",
     "ik_2link_symbolic",
     "cubic_coefficients_symbolic",
     "quintic_coefficients_symbolic",
@@ -90,6 +91,35 @@ def jacobian_symbolic(n: int):
     """
     f, q, lengths = fk_symbolic(n)
     return f.jacobian(sp.Matrix(q)), q, lengths
+
+
+def manipulability_symbolic(n: int):
+    """Yoshikawa's manipulability ``w = sqrt(det(J J^T))`` of an n-link arm, simplified.
+
+    By the Cauchy-Binet formula ``det(J J^T)`` is the sum of the squares of
+    the 2 x 2 minors of ``J`` (pairs of columns ``i < j``); each minor
+    simplifies to a sum of ``L_a L_b sin(q_{a+1} + ... + q_b)`` terms, which
+    is how :mod:`rapp.manipulability` computes ``w`` numerically too. For two
+    links the single minor is ``L1 L2 sin q2``.
+
+    Returns
+    -------
+    w : sympy expression
+        ``0`` for one link (``J`` has rank one).
+    q, L : tuples of sympy symbols ``q1..qn`` and ``L1..Ln``
+
+    Examples
+    --------
+    >>> w, q, L = manipulability_symbolic(2)
+    >>> w
+    L1*L2*Abs(sin(q2))
+    """
+    J, q, lengths = jacobian_symbolic(n)
+    minors = [
+        sp.simplify(sp.expand_trig(J[0, i] * J[1, j] - J[0, j] * J[1, i]))
+        for i in range(n) for j in range(i + 1, n)
+    ]
+    return sp.sqrt(sum((m**2 for m in minors), sp.Integer(0))), q, lengths
 
 
 def ik_2link_symbolic():
