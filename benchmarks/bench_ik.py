@@ -1,4 +1,4 @@
-"""Batch numerical IK vs the classic per-target loop.
+"""Batch numerical IK vs the classic per-target loop; batched analytic 2-link IK vs a loop.
 
 Times ``rapp.ik_numeric`` on 10,000 random reachable targets of the 3-link arm
 [1.0, 0.8, 0.5] against the baseline of classic demos: a Python loop over
@@ -6,6 +6,10 @@ targets, each solved by plain Newton-Raphson with ``np.linalg.pinv`` from a
 random start (restarted from a new random start when it fails). Both run in
 this one process on the same targets; the ratio is the number to quote, since
 absolute times depend on the machine and its load.
+
+The second comparison: ``rapp.ik_2link(arm, targets)`` on 10,000 targets of the 2-link arm
+[1.0, 0.8] at once, against a loop of ``rapp.ik(arm, target)`` over them (what a user without
+the batched call writes); every solution must put the tip within 1e-9 m of its target.
 
 Run: ``python benchmarks/bench_ik.py`` -> prints a table, writes
 ``benchmarks/results/ik.json``.
@@ -22,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rapp import Arm, ik_numeric
+from rapp import Arm, ik, ik_2link, ik_numeric
 
 N_TARGETS = 10_000
 TOL = 1e-10
@@ -55,6 +59,30 @@ def best_of(fn, repeat):
         out = fn()
         times.append(time.perf_counter() - t)
     return min(times), out
+
+
+def analytic_2link() -> dict:
+    """``ik_2link`` on a batch against a loop of ``rapp.ik``, same targets, same run."""
+    arm = Arm([1.0, 0.8])
+    rng = np.random.default_rng(7)
+    targets = arm.end_effector(rng.uniform(-np.pi, np.pi, (N_TARGETS, 2)))
+    ik_2link(arm, targets[:10])  # warm-up
+    t_batch, q = best_of(lambda: ik_2link(arm, targets), repeat=7)
+    t_loop, sols = best_of(lambda: [ik(arm, tt) for tt in targets], repeat=1)
+    err_batch = np.linalg.norm(arm.end_effector(q) - targets[:, None, :], axis=-1)
+    err_loop = max(float(np.linalg.norm(arm.end_effector(s) - tt, axis=-1).max())
+                   for s, tt in zip(sols, targets))
+    out = {"arm": list(arm.link_lengths), "targets": N_TARGETS,
+           "batch_us_per_target": 1e6 * t_batch / N_TARGETS,
+           "loop_us_per_target": 1e6 * t_loop / N_TARGETS,
+           "speedup": t_loop / t_batch,
+           "batch_max_error_m": float(err_batch.max()), "loop_max_error_m": err_loop,
+           "goal": "speedup >= 100 and batch_max_error_m <= 1e-9"}
+    out["goal_met"] = bool(out["speedup"] >= 100 and out["batch_max_error_m"] <= 1e-9)
+    print(f"2-link analytic IK, {N_TARGETS} targets: batch {out['batch_us_per_target']:.3f} us/target, "
+          f"loop of rapp.ik {out['loop_us_per_target']:.1f} us/target, speed-up {out['speedup']:.0f}x, "
+          f"max error {out['batch_max_error_m']:.1e} m")
+    return out
 
 
 def main():
@@ -108,6 +136,7 @@ def main():
         },
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
     }
+    result["analytic_2link"] = analytic_2link()
     out = Path(__file__).resolve().parent / "results" / "ik.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(result, indent=2) + "\n")
