@@ -1,7 +1,7 @@
 """Command line: ``python -m rapp plan|check|list``.
 
-Exit codes: 0 done; 1 a planning answer (no path, no IK solution), said in one
-line; 2 bad input, one line on stderr naming the field or option and what is
+Exit codes: 0 done; 1 a planning answer (no path, no IK solution, a straight
+line the end effector cannot follow), said in one line; 2 bad input, one line on stderr naming the field or option and what is
 wrong; 3 a failed verification or an unexpected internal error (still one
 line, never a traceback); 130 interrupted (Ctrl-C, wherever it lands).
 
@@ -35,7 +35,8 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from rapp.errors import InvalidValue, NoIKSolution, NoPathFound, RappError, ScenarioError
+from rapp.errors import (InvalidValue, NoIKSolution, NoPathFound, PathNotFollowable, RappError,
+                         ScenarioError)
 from rapp.files import atomic_output
 from rapp import planner, results, scenario
 
@@ -375,7 +376,7 @@ def _cmd_plan(args, out, err, caught) -> int:
         _say_notes(out, caught)
     m = p.metrics
     status = "verified" if p.report.ok else "VERIFICATION FAILED"
-    _say(out, f"planned {len(p.t)} samples over {s.trajectory.duration:g} s, "
+    _say(out, f"planned {len(p.t)} samples over {float(p.t[-1]):g} s, "
               f"joint path {m.get('joint_length_rad', 0):.3f} rad, end effector "
               f"{m.get('ee_length_m', 0):.3f} m: {status}")
     if not p.report.ok:
@@ -415,6 +416,8 @@ def _failure(e: BaseException) -> tuple:
         return EXIT_NO_PLAN, f"rapp: no IK solution ({_one_line(e.reason)}): {_one_line(e)}"
     if isinstance(e, NoPathFound):
         return EXIT_NO_PLAN, f"rapp: no path: {_one_line(e)}"
+    if isinstance(e, PathNotFollowable):
+        return EXIT_NO_PLAN, f"rapp: no straight line: {_one_line(e)}"
     if isinstance(e, RappError):
         return EXIT_BAD_INPUT, f"rapp: error: {_one_line(e)}"
     if isinstance(e, OSError):

@@ -68,6 +68,10 @@ class Plan:
     expanded : ndarray of bool, optional
         The cells the grid search expanded, the search's closed set (grid planner only; figures
         use it, result files do not hold it: ``metrics["expansions"]`` counts it).
+    motion : PiecewisePolynomial, optional
+        The timed motion ``q(t)`` itself, which ``t, q, qd, qdd`` sample, when the plan has
+        one (always under joint velocity or acceleration limits): :func:`rapp.verify` takes
+        the exact peak speeds and accelerations from it. Result files do not hold it.
     """
 
     t: np.ndarray
@@ -86,6 +90,7 @@ class Plan:
     metrics: dict = dc_field(default_factory=dict)
     timings: dict = dc_field(default_factory=dict)
     expanded: np.ndarray | None = None
+    motion: Any = None
 
     def to_dict(self, *, timings: bool = False) -> dict:
         """A JSON-ready mapping of everything (see :func:`save_result`); :meth:`from_dict` inverts it.

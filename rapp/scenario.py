@@ -60,6 +60,10 @@ __all__ = [
     "MAX_ANGLE",
     "MIN_DURATION",
     "MAX_DURATION",
+    "MIN_RATE_LIMIT",
+    "MAX_RATE_LIMIT",
+    "PROFILES",
+    "GOAL_PATHS",
     "MAX_LINKS",
     "ALGORITHMS",
     "SETTINGS_OF",
@@ -75,6 +79,9 @@ MIN_LENGTH, MAX_LENGTH = 1e-3, 1e3
 MAX_COORDINATE = 1e4
 MAX_ANGLE = 100.0
 MIN_DURATION, MAX_DURATION = 1e-3, 1e6
+#: Range (errors) of every joint speed limit (rad/s) and acceleration limit (rad/s^2), after
+#: conversion from degrees: slow or fast enough for any arm, and far from overflow.
+MIN_RATE_LIMIT, MAX_RATE_LIMIT = 1e-6, 1e6
 MAX_LINKS = 16
 MAX_HEURISTIC_WEIGHT = 100.0
 MAX_GOAL_THRESHOLD = 1.0
@@ -141,10 +148,16 @@ def default_cells(n: int) -> int:
     (100, 126, 11)
     """
     return 100 if n <= 2 else max(8, int(round(2e6 ** (1.0 / n))))
-PROFILES = ("cubic", "quintic", "spline")
+#: The time profiles of ``trajectory.profile``: the three of :func:`rapp.trajectory.time_path`
+#: and the trapezoid (LSPB) of :func:`rapp.time_scaling.trapezoidal_path`.
+PROFILES = ("cubic", "quintic", "spline", "trapezoidal")
+#: The values of ``goal.path``: ``"line"`` moves the end effector along the straight segment
+#: from its start position to ``goal.position`` (:func:`rapp.cartesian.line_path`).
+GOAL_PATHS = ("line",)
 
 _TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
              "description")
+_TRAJECTORY_KEYS = ("duration", "profile", "samples", "max_velocity", "max_acceleration")
 _PLANNER_KEYS = ("algorithm", "cells", "heuristic_weight", "max_expansions", "seed", "step",
                  "goal_bias", "goal_threshold", "max_iterations", "time_budget", "samples",
                  "neighbours")
@@ -173,11 +186,30 @@ class PlannerSettings:
 
 @dataclass(frozen=True)
 class TrajectorySettings:
-    """How to time the path: total ``duration`` (s), ``profile``, number of ``samples``."""
+    """How to time the path: total ``duration`` (s), ``profile``, number of ``samples``, and
+    optional joint limits ``max_velocity`` (rad/s) and ``max_acceleration`` (rad/s^2), one
+    per joint (``None``: unbounded).
 
-    duration: float = 5.0
+    ``duration`` is ``None`` when limits are given without it: the plan then takes the
+    shortest duration within the limits (:func:`rapp.plan`).
+    """
+
+    duration: float | None = 5.0
     profile: str = "quintic"
     samples: int = 200
+    max_velocity: tuple | None = None
+    max_acceleration: tuple | None = None
+
+    @property
+    def limited(self) -> bool:
+        """Whether a velocity or an acceleration limit is given.
+
+        Examples
+        --------
+        >>> TrajectorySettings().limited, TrajectorySettings(max_velocity=(1.0,)).limited
+        (False, True)
+        """
+        return self.max_velocity is not None or self.max_acceleration is not None
 
 
 @dataclass(frozen=True, eq=False)
@@ -185,7 +217,8 @@ class Scenario:
     """A validated scenario, every angle in radians and every length in metres.
 
     Exactly one of ``goal_q`` (joint goal) and ``goal_xy`` (Cartesian goal,
-    solved by IK in :func:`rapp.plan`) is set.
+    solved by IK in :func:`rapp.plan`) is set. ``goal_path`` is ``"line"`` when
+    the end effector must follow the straight segment to ``goal_xy``, else ``None``.
 
     Examples
     --------
@@ -208,6 +241,7 @@ class Scenario:
     angle_unit: str = "rad"
     warnings: tuple = ()
     source: str = "<mapping>"
+    goal_path: str | None = None
 
     def __eq__(self, other):
         # The source and the declared unit say where the values came from, not what they are.
@@ -259,12 +293,29 @@ class Scenario:
             },
             "obstacles": obs,
             "start": list(self.start),
-            "goal": {"joints": list(self.goal_q)} if self.goal_q is not None
-            else {"position": list(self.goal_xy)},
+            "goal": self._goal_dict(),
             "units": {"angle": "rad", "length": "m"},
             "planner": planner,
-            "trajectory": {"duration": t.duration, "profile": t.profile, "samples": t.samples},
+            "trajectory": self._trajectory_dict(),
         }
+
+    def _goal_dict(self) -> dict:
+        if self.goal_q is not None:
+            return {"joints": list(self.goal_q)}
+        goal = {"position": list(self.goal_xy)}
+        if self.goal_path is not None:
+            goal["path"] = self.goal_path
+        return goal
+
+    def _trajectory_dict(self) -> dict:
+        t = self.trajectory
+        out = {} if t.duration is None else {"duration": t.duration}
+        out.update(profile=t.profile, samples=t.samples)
+        if t.max_velocity is not None:
+            out["max_velocity"] = list(t.max_velocity)
+        if t.max_acceleration is not None:
+            out["max_acceleration"] = list(t.max_acceleration)
+        return out
 
 
 # --------------------------------------------------------------------------- reading
@@ -607,13 +658,20 @@ def _parse_joints(r: _Reader, v, arm: Arm, field: str) -> tuple:
 
 
 def _parse_goal(r: _Reader, v, arm: Arm):
-    """``(goal_q, goal_xy)``, exactly one of them set."""
-    goal_d = _object(v, "goal", optional=("joints", "position"))
+    """``(goal_q, goal_xy, goal_path)``, exactly one of the first two set."""
+    goal_d = _object(v, "goal", optional=("joints", "position", "path"))
     if ("joints" in goal_d) == ("position" in goal_d):
         raise (InvalidFormat if goal_d else MissingParameter)(
             "give exactly one of 'joints' or 'position'", field="goal")
+    path = None
+    if "path" in goal_d:
+        path = _string(goal_d["path"], "goal.path", GOAL_PATHS)
+        if "joints" in goal_d:
+            raise InvalidValue(f"{path!r} needs a Cartesian goal 'position' (the end effector "
+                               "follows a straight line to a point); a joint goal is planned "
+                               "in joint space", field="goal.path")
     if "joints" in goal_d:
-        return _parse_joints(r, goal_d["joints"], arm, "goal.joints"), None
+        return _parse_joints(r, goal_d["joints"], arm, "goal.joints"), None, None
     goal_xy = r.point(goal_d["position"], "goal.position")
     dist = math.hypot(*goal_xy)
     r_in, r_out = arm.reach
@@ -622,19 +680,56 @@ def _parse_goal(r: _Reader, v, arm: Arm):
             f"({goal_xy[0]:g}, {goal_xy[1]:g}) is out of reach: its distance {dist:.4g} m from "
             f"the base is outside the workspace annulus [{r_in:g}, {r_out:g}] m",
             field="goal.position")
-    return None, tuple(goal_xy)
+    return None, tuple(goal_xy), path
 
 
-def _parse_trajectory(v) -> TrajectorySettings:
-    d = _object(v, "trajectory", optional=("duration", "profile", "samples"))
-    duration = _number(d.get("duration", 5.0), "trajectory.duration")
-    if not MIN_DURATION <= duration <= MAX_DURATION:
-        raise InvalidValue(f"must lie in [{MIN_DURATION:g}, {MAX_DURATION:g}] s, got {duration:g}",
-                           field="trajectory.duration")
+def _rate(r: _Reader, v, field: str, unit: str) -> float:
+    """One positive joint limit in the file's unit, returned in radians."""
+    x = _number(v, field)
+    shown = unit.replace("rad", "deg") if r.k != 1.0 else unit
+    if x <= 0:
+        raise InvalidValue(f"must be > 0 {shown}, got {x:g}", field=field)
+    if not MIN_RATE_LIMIT <= x * r.k <= MAX_RATE_LIMIT:
+        rng = f"[{MIN_RATE_LIMIT:g}, {MAX_RATE_LIMIT:g}] {unit}"
+        raise InvalidValue(f"must lie in {rng}" + (f" (converted from {shown})" if r.k != 1.0
+                                                   else "") + f", got {x:g} {shown}", field=field)
+    return x * r.k
+
+
+def _rate_limits(r: _Reader, v, field: str, n: int, unit: str):
+    """``None`` (absent or null), or one limit per joint (rad/s or rad/s^2) from a number
+    (every joint) or a list of ``n`` numbers."""
+    if v is None:
+        return None
+    if isinstance(v, (list, tuple)):
+        items = _list(v, field, n, f"numbers (one per joint; the arm has {n} joints)")
+        return tuple(_rate(r, x, f"{field}[{i}]", unit) for i, x in enumerate(items))
+    return (_rate(r, v, field, unit),) * n
+
+
+def _parse_trajectory(r: _Reader, v, n: int) -> TrajectorySettings:
+    d = _object(v, "trajectory", optional=_TRAJECTORY_KEYS)
+    vmax = _rate_limits(r, d.get("max_velocity"), "trajectory.max_velocity", n, "rad/s")
+    amax = _rate_limits(r, d.get("max_acceleration"), "trajectory.max_acceleration", n,
+                        "rad/s^2")
+    profile = _string(d.get("profile", "quintic"), "trajectory.profile", PROFILES)
+    if profile == "trapezoidal":
+        for key, value in (("max_velocity", vmax), ("max_acceleration", amax)):
+            if value is None:
+                raise MissingParameter(
+                    "the trapezoidal profile is the fastest motion within both limits: give "
+                    "max_velocity and max_acceleration", field=f"trajectory.{key}")
+    if "duration" in d or (vmax is None and amax is None):
+        duration = _number(d.get("duration", 5.0), "trajectory.duration")
+        if not MIN_DURATION <= duration <= MAX_DURATION:
+            raise InvalidValue(f"must lie in [{MIN_DURATION:g}, {MAX_DURATION:g}] s, got "
+                               f"{duration:g}", field="trajectory.duration")
+    else:
+        duration = None   # the shortest within the limits, found by rapp.plan
     return TrajectorySettings(
-        duration=duration,
-        profile=_string(d.get("profile", "quintic"), "trajectory.profile", PROFILES),
+        duration=duration, profile=profile,
         samples=_integer(d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES),
+        max_velocity=vmax, max_acceleration=amax,
     )
 
 
@@ -647,14 +742,23 @@ def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
     arm = _parse_arm(r, top["arm"])
     obstacles = _parse_obstacles(r, top.get("obstacles", []), arm)
     start = _parse_joints(r, top["start"], arm, "start")
-    goal_q, goal_xy = _parse_goal(r, top["goal"], arm)
+    goal_q, goal_xy, goal_path = _parse_goal(r, top["goal"], arm)
     planner = _planner(top.get("planner", {}), arm.n, r.warnings)
-    trajectory = _parse_trajectory(top.get("trajectory", {}))
+    trajectory = _parse_trajectory(r, top.get("trajectory", {}), arm.n)
+    if goal_path == "line":
+        if trajectory.profile == "spline":
+            raise InvalidValue(
+                "a line goal is timed rest-to-rest along the waypoints that keep the end "
+                "effector on the line; a spline through them would cut their corners and leave "
+                "it: use 'cubic', 'quintic' or 'trapezoidal'", field="trajectory.profile")
+        if "planner" in top:
+            r.warnings.append("planner is not used: a line goal (goal.path 'line') is followed "
+                              "by rapp.cartesian.line_path, not searched")
     scenario = Scenario(
         arm=arm, obstacles=obstacles, start=start, goal_q=goal_q, goal_xy=goal_xy,
         planner=planner, trajectory=trajectory, name=_string(top.get("name", ""), "name"),
         description=_string(top.get("description", ""), "description"),
-        angle_unit=angle_unit, warnings=tuple(r.warnings), source=source,
+        angle_unit=angle_unit, warnings=tuple(r.warnings), source=source, goal_path=goal_path,
     )
     if preflight_checks:
         preflight(scenario)
@@ -859,10 +963,15 @@ def echo(scenario: Scenario) -> str:
     if s.goal_q is not None:
         rows.append(("goal (joints)", ang(s.goal_q)))
     else:
-        rows.append(("goal (x, y)", f"({_fmt(s.goal_xy[0])}, {_fmt(s.goal_xy[1])}) m"))
+        rows.append(("goal (x, y)", f"({_fmt(s.goal_xy[0])}, {_fmt(s.goal_xy[1])}) m"
+                     + (", along a straight line from the start" if s.goal_path == "line"
+                        else "")))
     p = s.planner
-    rows.append(("planner", p.algorithm))
-    if p.algorithm == "astar":
+    rows.append(("planner", "none: the line is followed, not searched"
+                 if s.goal_path == "line" else p.algorithm))
+    if s.goal_path == "line":
+        pass   # no search, so no search settings
+    elif p.algorithm == "astar":
         rows.append(("  cells", " x ".join(map(str, p.cells)) + f" = {math.prod(p.cells)}"))
         rows.append(("  weight", _fmt(p.heuristic_weight)))
         rows.append(("  max expand", "none" if p.max_expansions is None else str(p.max_expansions)))
@@ -879,7 +988,20 @@ def echo(scenario: Scenario) -> str:
                  "seed": ("seed", str(p.seed))}
         rows.extend(("  " + shown[k][0], shown[k][1]) for k in shown if k in uses)
     t = s.trajectory
-    rows.append(("trajectory", f"{t.profile}, {_fmt(t.duration)} s, {t.samples} samples"))
+    length = ("the shortest duration within the limits" if t.duration is None
+              else f"{_fmt(t.duration)} s")
+    rows.append(("trajectory", f"{t.profile}, {length}, {t.samples} samples"))
+
+    def rates(values, unit):
+        txt = "[" + ", ".join(_fmt(v) for v in values) + f"] rad/{unit}"
+        if deg:
+            txt += "  = [" + ", ".join(_fmt(math.degrees(v)) for v in values) + f"] deg/{unit}"
+        return txt
+
+    if t.max_velocity is not None:
+        rows.append(("  max speed", rates(t.max_velocity, "s")))
+    if t.max_acceleration is not None:
+        rows.append(("  max accel", rates(t.max_acceleration, "s^2")))
     width = max(len(k) for k, _ in rows) + 2
     lines = [f"{k:<{width}}{v}" for k, v in rows]
     for w in s.warnings:

@@ -14,7 +14,20 @@ passing report is evidence and a failing one says by how much:
 * ``continuity``: no jump between samples larger than the motion the sampled
   velocity and acceleration allow, and finite derivatives;
 * ``time``: the sample times increase from 0 to the duration;
-* ``FK consistency``: the reported Cartesian path is ``FK(q)`` to 1e-9 m.
+* ``FK consistency``: the reported Cartesian path is ``FK(q)`` to 1e-9 m;
+* ``peak velocity`` and ``peak acceleration`` (only when ``trajectory.max_velocity``
+  or ``trajectory.max_acceleration`` is given): the largest ``|q'|`` and ``|q''|``
+  of each joint against its limit, exact when the plan carries its motion
+  (:func:`rapp.time_scaling.peak_rates` over every piece), else over the samples;
+  the joint nearest its limit is reported, and a peak above its limit by more
+  than the relative rounding ``RATE_TOL`` fails;
+* ``on the line`` (only for a goal with ``"path": "line"``): the end effector's
+  distance from the segment from its start position to the goal, bounded over
+  the whole straight joint-space chord between consecutive samples (the largest
+  distance at 17 even points of the chord plus the curvature term ``K / 2048``,
+  the bound of :func:`rapp.cartesian.edge_deviation_bound` on 16 intervals
+  instead of 4), at most 1 mm. The bound covers the motion itself when the arm
+  moves along each chord between samples, as a plan of a line goal does.
 
 References
 ----------
@@ -29,9 +42,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rapp.collision import clearance, collides, segment_collision_free
+from rapp.collision import clearance, collides, segment_collision_free, segment_point_distance
+from rapp.time_scaling import peak_rates
+from rapp.trajectory import PiecewisePolynomial
 
-__all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL"]
+__all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL", "RATE_TOL"]
 
 #: NFR1: joint angles within 0.01 rad, Cartesian positions within 0.1 cm.
 JOINT_TOL = 0.01
@@ -40,6 +55,8 @@ POSITION_TOL = 0.001
 FK_TOL = 1e-9
 START_TOL = 1e-9
 LIMIT_TOL = 1e-9
+#: A peak speed or acceleration may exceed its limit by this relative amount (rounding).
+RATE_TOL = 1e-9
 
 
 def _num(v):
@@ -227,6 +244,55 @@ def _check_time(t, duration) -> Check:
                  f"times increase from 0 to the duration {duration:g} s")
 
 
+def _check_rates(plan, qd, qdd, trajectory) -> list:
+    """Peak speed and acceleration of every joint against its limit (where one is given)."""
+    motion = getattr(plan, "motion", None)
+    if isinstance(motion, PiecewisePolynomial):
+        v, a = peak_rates(motion)
+        how = "exact peak over the whole motion"
+    else:
+        v, a = np.abs(qd).max(axis=0), np.abs(qdd).max(axis=0)
+        how = "largest value at the samples"
+    checks = []
+    for name, peak, limit, unit in (("peak velocity", v, trajectory.max_velocity, "rad/s"),
+                                    ("peak acceleration", a, trajectory.max_acceleration,
+                                     "rad/s^2")):
+        if limit is None:
+            continue
+        limit = np.asarray(limit, float)
+        ratio = peak / limit
+        j = int(np.argmax(ratio))
+        checks.append(Check(name, bool(np.all(ratio <= 1.0 + RATE_TOL)), float(peak[j]),
+                            float(limit[j]), unit, f"joint {j}, the nearest its limit "
+                            f"({ratio[j]:.10g} of it); {how}"))
+    return checks
+
+
+#: The points of a chord at which ``on the line`` measures the distance: 16 intervals.
+_CHORD_T = np.linspace(0.0, 1.0, 17)
+
+
+def _check_line(arm, q, xy, scenario) -> Check:
+    """Distance of the end effector from the segment start -> goal, over the chords between
+    samples: 17 points of each chord plus ``K h^2 / 8 = K / 2048`` (``h = 1/16``),
+    ``K = sum_i L_i Phi_i^2``: the bound of :func:`rapp.cartesian.edge_deviation_bound`,
+    proved in :mod:`rapp.cartesian`, on a finer partition."""
+    a = arm.end_effector(np.asarray(scenario.start, float))
+    b = np.asarray(scenario.goal_xy, float)
+    sampled = float(segment_point_distance(a, b, xy).max())
+    if len(q) >= 2:
+        dq = np.diff(q, axis=0)
+        phi = np.cumsum(dq, axis=1)
+        curve = (phi * phi) @ arm.lengths / 2048.0
+        pts = arm.end_effector(q[:-1, None, :] + _CHORD_T[None, :, None] * dq[:, None, :])
+        bound = float((segment_point_distance(a, b, pts).max(axis=1) + curve).max())
+    else:
+        bound = sampled
+    return Check("on the line", bound <= POSITION_TOL, bound, POSITION_TOL, "m",
+                 f"end effector's distance from the straight segment to the goal, bounded "
+                 f"between samples along each joint-space chord ({sampled:.3g} m at the samples)")
+
+
 def verify(plan, scenario) -> Report:
     """Check a plan's timed trajectory against the scenario.
 
@@ -269,8 +335,13 @@ def verify(plan, scenario) -> Report:
               *_check_ends(arm, q, scenario)]
     if k >= 2:
         checks.append(_check_continuity(t, q, qd, qdd))
-    checks.append(_check_time(t, scenario.trajectory.duration))
+    tr = scenario.trajectory
+    # Without a duration the plan took the shortest within the limits: its own last time.
+    checks.append(_check_time(t, tr.duration if tr.duration is not None else float(t[-1])))
     fk = float(np.abs(arm.end_effector(q) - xy).max())
     checks.append(Check("FK consistency", fk <= FK_TOL, fk, FK_TOL, "m",
                         "reported Cartesian path against FK of the joint samples"))
+    if getattr(scenario, "goal_path", None) == "line":
+        checks.append(_check_line(arm, q, xy, scenario))
+    checks.extend(_check_rates(plan, qd, qdd, tr))
     return Report.from_checks(checks)
