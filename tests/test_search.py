@@ -356,3 +356,85 @@ def test_tie_breaking_dives_straight_on_an_open_torus():
     free = np.zeros((360, 360), bool)
     r = astar_search(free, (0, 0), (180, 180))
     assert r.cost == 360 and r.expansions == 360
+
+
+# ----------------------------------------------------------------- compiled A* (numba) = teaching A*
+
+
+@st.composite
+def grids_1_to_4d(draw):
+    n = draw(st.integers(1, 4))
+    side = {1: 40, 2: 14, 3: 7, 4: 5}[n]
+    shape = tuple(draw(st.lists(st.integers(1, side), min_size=n, max_size=n)))
+    wraps = tuple(draw(st.lists(st.booleans(), min_size=n, max_size=n)))
+    density = draw(st.sampled_from([0.0, 0.15, 0.3, 0.45, 0.6]))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    occ = rng.random(shape) < density
+    start = tuple(int(rng.integers(m)) for m in shape)
+    goal = start if draw(st.integers(0, 9)) == 0 else tuple(int(rng.integers(m)) for m in shape)
+    occ[start] = occ[goal] = False
+    return occ, wraps, start, goal
+
+
+@settings(max_examples=300, deadline=None)
+@given(grids_1_to_4d(), st.sampled_from([1.0, 1.0, 1.5, 2.5]))
+def test_compiled_astar_equals_teaching_astar_and_bfs_optimum(case, w):
+    occ, wraps, start, goal = case
+    opt = bfs_distances(occ, start, wraps)[goal]
+    if opt < 0:
+        for f in (astar, astar_search):
+            with pytest.raises(NoPathFound, match="cannot be reached"):
+                f(occ, start, goal, wraps=wraps, heuristic_weight=w)
+        return
+    path = astar(occ, start, goal, wraps=wraps, heuristic_weight=w)
+    r = astar_search(occ, start, goal, wraps=wraps, heuristic_weight=w)
+    # Same keys (f, -g, cell), same order: the very same path, not only the same length.
+    assert path == [tuple(c) for c in r.path.tolist()]
+    assert_valid_path(path, occ, start, goal, wraps)
+    if w == 1.0:
+        assert len(path) - 1 == opt
+    else:
+        assert opt <= len(path) - 1 <= w * opt
+    # The expansion limit stops at the same expansion as the teaching version.
+    assert astar(occ, start, goal, wraps=wraps, heuristic_weight=w, max_expansions=r.expansions) == path
+    if r.expansions > 0:
+        with pytest.raises(NoPathFound, match=f"limit of {r.expansions - 1} expansions"):
+            astar(occ, start, goal, wraps=wraps, heuristic_weight=w, max_expansions=r.expansions - 1)
+
+
+def test_astar_is_compiled_when_numba_is_installed():
+    pytest.importorskip("numba")
+    from rapp import search
+
+    assert search._compiled_astar() is not None
+
+
+def test_astar_falls_back_to_the_teaching_version_without_numba(monkeypatch):
+    from rapp import search
+
+    occ = np.zeros((12, 12), bool)
+    occ[:, 6] = True
+    occ[3, 6] = False
+    fast = astar(occ, (0, 0), (11, 11))
+    monkeypatch.setattr(search, "_COMPILED", [None])
+    assert search._compiled_astar() is None
+    slow = astar(occ, (0, 0), (11, 11))
+    assert slow == fast and len(fast) - 1 == bfs_distances(occ, (0, 0))[11, 11]
+    with pytest.raises(NoPathFound, match="limit of 0"):
+        astar(occ, (0, 0), (11, 11), max_expansions=0)
+
+
+def test_compiled_astar_on_a_4d_torus_and_an_open_plateau():
+    rng = np.random.default_rng(11)
+    occ = rng.random((9, 8, 7, 6)) < 0.3
+    occ[0, 0, 0, 0] = occ[4, 4, 3, 3] = False
+    opt = bfs_distances(occ, (0, 0, 0, 0))[4, 4, 3, 3]
+    assert opt > 0
+    path = astar(occ, (0, 0, 0, 0), (4, 4, 3, 3))
+    assert len(path) - 1 == opt
+    assert path == [tuple(c) for c in astar_search(occ, (0, 0, 0, 0), (4, 4, 3, 3)).path.tolist()]
+    # Ties toward the larger g: on an open torus the compiled search dives straight too.
+    free = np.zeros((360, 360), bool)
+    path = astar(free, (0, 0), (180, 180))
+    assert path == [tuple(c) for c in astar_search(free, (0, 0), (180, 180)).path.tolist()]
+    assert len(path) - 1 == 360
