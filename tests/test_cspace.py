@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, occupancy
-from rapp.cspace import grid_q
+from rapp.cspace import _occupancy_reference, grid_q
 
 
 def tm_hits_circle(a, b, c, r):
@@ -109,7 +109,11 @@ def test_occupancy_of_the_book_scenario_matches_slow_loop():
     obs = [Circle((1.75, 0.75), 0.6), Circle((0.55, 1.5), 0.5), Circle((0.0, -1.0), 0.25)]
     grid = JointGrid(arm, 60)
     occ = occupancy(arm, obs, grid)
-    assert np.array_equal(occ, slow_occupancy(arm, obs, grid))
+    # Cell (45, 15) is exactly tangent (link 2 from (0, 1) to (1, 1), disc (0.55, 1.5) r 0.5):
+    # the slow loop's rounded cosines miss it, the interval includes it; both are rounding.
+    touching = np.abs(clearance(arm, grid_q(grid), obs)) <= 1e-9
+    assert np.array_equal(occ[~touching], slow_occupancy(arm, obs, grid)[~touching])
+    assert touching.sum() <= 2
     assert 0 < occ.sum() < occ.size
     assert np.array_equal(occupancy(arm, [], grid), np.zeros((60, 60), bool))
 
@@ -165,3 +169,103 @@ def test_index_clips_bounded_axis_and_angles_rejects_out_of_range():
 def test_grid_for_another_arm_rejected():
     with pytest.raises(ValueError):
         occupancy(Arm([1.0, 1.0]), [], JointGrid(Arm([1.0, 2.0]), 4))
+
+
+# --- occupancy by direction intervals (issue "Speed toward the limit") -------------------------
+# occupancy() paints, per prefix cell, the interval of the link's own joint angle that hits each
+# obstacle. The obviously-correct check is rapp.collides on every grid configuration; the
+# previous implementation (_occupancy_reference) must agree as well. Only cells touching an
+# obstacle to within rounding (|clearance| <= 1e-9) may differ.
+
+
+@st.composite
+def interval_scenes(draw):
+    n = draw(st.integers(1, 4))
+    lengths = draw(st.lists(st.floats(0.2, 1.5), min_size=n, max_size=n))
+    limits = []
+    for _ in range(n):
+        kind = draw(st.sampled_from(["free", "free", "limited", "wide"]))
+        if kind == "free":
+            limits.append(None)
+        else:
+            lo = draw(st.floats(-7.0, 3.0))
+            # "wide": more than a turn, so an interval lands on the axis more than once.
+            span = draw(st.floats(0.2, 3.0) if kind == "limited" else st.floats(6.0, 14.0))
+            limits.append((lo, lo + span))
+    arm = Arm(lengths, limits)
+    top = {1: 40, 2: 18, 3: 9, 4: 6}[n]
+    grid = JointGrid(arm, draw(st.lists(st.integers(2, top), min_size=n, max_size=n)))
+    # Obstacles near the base or on the circle joint 1 sweeps, so that polygons and discs
+    # contain the base or a joint in some cells; others anywhere (also across the -x axis,
+    # where the intervals cross the +-pi seam).
+    def centre():
+        where = draw(st.sampled_from(["any", "base", "joint1", "seam"]))
+        if where == "base":
+            return (draw(st.floats(-0.3, 0.3)), draw(st.floats(-0.3, 0.3)))
+        if where == "joint1":
+            a = draw(st.floats(-np.pi, np.pi))
+            return (lengths[0] * np.cos(a), lengths[0] * np.sin(a))
+        if where == "seam":
+            return (draw(st.floats(-3.0, -0.2)), draw(st.floats(-0.2, 0.2)))
+        return (draw(coord), draw(coord))
+
+    obstacles = []
+    for _ in range(draw(st.integers(1, 4))):
+        c = centre()
+        r = draw(st.floats(0.05, 1.0))
+        if draw(st.booleans()):
+            obstacles.append(Circle(c, r))
+        else:
+            k = draw(st.integers(3, 6))
+            gaps = np.array(draw(st.lists(st.floats(0.5, 1.0), min_size=k, max_size=k)))
+            t = draw(st.floats(0, 6.3)) + 2 * np.pi * np.cumsum(gaps) / gaps.sum()
+            obstacles.append(Polygon(np.c_[c[0] + r * np.cos(t), c[1] + r * np.sin(t)]))
+    return grid, obstacles
+
+
+@settings(max_examples=200, deadline=None)
+@given(interval_scenes())
+def test_interval_occupancy_equals_collides_and_previous_grid(scene):
+    grid, obstacles = scene
+    arm = grid.arm
+    q = grid_q(grid)
+    occ = occupancy(arm, obstacles, grid)
+    assert occ.shape == grid.shape and occ.dtype == bool
+    touching = np.abs(clearance(arm, q, obstacles)) <= 1e-9
+    exact = collides(arm, q, obstacles)
+    assert np.array_equal(occ[~touching], exact[~touching])
+    assert np.array_equal(occ[~touching], _occupancy_reference(arm, obstacles, grid)[~touching])
+
+
+def test_interval_occupancy_on_the_3link_benchmark_scene():
+    arm = Arm([1.0, 0.8, 0.5])
+    obs = [Circle((1.4, 0.9), 0.35), Circle((-0.4, 1.5), 0.3), Circle((0.2, -1.3), 0.3),
+           Circle((1.0, -1.0), 0.3), Polygon.rectangle((-1.9, -0.6), 0.5, 1.0)]
+    grid = JointGrid(arm, (24, 20, 16))
+    occ = occupancy(arm, obs, grid)
+    touching = np.abs(clearance(arm, grid_q(grid), obs)) <= 1e-9
+    assert np.array_equal(occ[~touching], collides(arm, grid_q(grid), obs)[~touching])
+    assert 0 < occ.sum() < occ.size
+
+
+def test_interval_crossing_the_seam_and_polygon_around_the_base():
+    arm = Arm([1.0])
+    grid = JointGrid(arm, 16)               # angles -pi, -7pi/8, ..., 7pi/8
+    # A disc straight along -x: the hitting interval is centred on the seam at +-pi.
+    # Half-width asin(0.5 / 0.9) = 0.59 rad > one step (0.39): cells 15, 0 and 1.
+    occ = occupancy(arm, [Circle((-0.9, 0.0), 0.5)], grid)
+    assert np.flatnonzero(occ).tolist() == [0, 1, 15]
+    # A polygon containing the base: every angle hits; one just out of reach: none.
+    assert occupancy(arm, [Polygon.rectangle((-0.1, -0.1), 0.2, 0.2)], grid).all()
+    assert not occupancy(arm, [Polygon.rectangle((1.01, -0.1), 0.2, 0.2)], grid).any()
+
+
+def test_interval_occupancy_on_a_limited_joint_spanning_many_turns():
+    # 5 cells over 200 rad: more turns than cells, so every cell is tested on its own.
+    arm = Arm([1.0, 0.7], [(-100.0, 100.0), (-7.0, 7.0)])
+    grid = JointGrid(arm, (5, 12))
+    obs = [Circle((0.5, 1.2), 0.4), Polygon.rectangle((-1.5, -0.4), 0.3, 0.8)]
+    q = grid_q(grid)
+    touching = np.abs(clearance(arm, q, obs)) <= 1e-9
+    occ = occupancy(arm, obs, grid)
+    assert np.array_equal(occ[~touching], collides(arm, q, obs)[~touching])
