@@ -237,15 +237,15 @@ def test_grid_functions_refuse_what_is_not_a_joint_grid():
     for f in (lambda g: occupancy(ARM, OBS, g), lambda g: certified_free(ARM, OBS, g), grid_q):
         with pytest.raises(ValueError, match=r"^grid must be a rapp.JointGrid"):
             f((30000, 30000))
-    with pytest.raises(ValueError, match=r"^chunk"):
-        certified_free(ARM, OBS, JointGrid(ARM, 8), chunk=0)
 
 
-def test_certified_free_in_small_chunks_matches_one_chunk():
+def test_certified_free_painted_matches_the_clearance_reference():
+    from rapp.cspace import _certified_free_reference
+
     arm = Arm([1.0, 0.7, 0.5], [None, (-2.0, 2.5), None])
     grid = JointGrid(arm, (12, 9, 10))
     obs = [Circle((1.2, 0.3), 0.3), Polygon.rectangle((-1.5, -1.0), 0.5, 0.8, 0.3)]
-    assert np.array_equal(certified_free(arm, obs, grid, chunk=7), certified_free(arm, obs, grid))
+    assert np.array_equal(certified_free(arm, obs, grid), _certified_free_reference(arm, obs, grid))
 
 
 # ----------------------------------------------------------------- 4. start and goal cells

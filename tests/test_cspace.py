@@ -2,6 +2,7 @@
 
 import itertools
 import math
+import os
 
 import numpy as np
 import pytest
@@ -269,3 +270,31 @@ def test_interval_occupancy_on_a_limited_joint_spanning_many_turns():
     touching = np.abs(clearance(arm, q, obs)) <= 1e-9
     occ = occupancy(arm, obs, grid)
     assert np.array_equal(occ[~touching], collides(arm, q, obs)[~touching])
+
+
+@settings(max_examples=60 if os.environ.get("CI") else 40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 3))
+def test_certified_free_equals_the_clearance_threshold(seed, n):
+    """Painting the grown obstacles certifies exactly the cells whose link clearances exceed half a
+    step's motion bound (the definition), except where a clearance equals that bound to rounding."""
+    from rapp.collision import link_clearances, motion_bounds
+    from rapp.cspace import certified_free, grid_q
+
+    rng = np.random.default_rng(seed)
+    lengths = rng.uniform(0.3, 1.2, n)
+    arm = Arm(lengths, [None if rng.random() < 0.7 else (-2.0, 2.5) for _ in range(n)])
+    reach = lengths.sum()
+    obs = []
+    for _ in range(int(rng.integers(1, 4))):
+        c = rng.uniform(-reach, reach, 2)
+        if rng.random() < 0.5:
+            obs.append(Circle(c, rng.uniform(0.05, 0.4)))
+        else:
+            obs.append(Polygon.rectangle(c, *rng.uniform(0.1, 0.6, 2), rng.uniform(0, np.pi)))
+    grid = JointGrid(arm, tuple(int(m) for m in rng.integers(6, 16, n)))
+    need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)
+    margin = link_clearances(arm, grid_q(grid), obs) - need
+    want = (margin > 0).all(axis=-1)
+    got = certified_free(arm, obs, grid)
+    borderline = (np.abs(margin) <= 1e-9 * reach).any(axis=-1)
+    assert np.array_equal(got[~borderline], want[~borderline])
