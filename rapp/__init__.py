@@ -66,5 +66,20 @@ __all__ = [
 
 __version__ = "0.1.0"
 
-# The readers' answer checks (rapp.exercises.check); by module path, outside the contract.
-from rapp import exercises  # noqa: E402
+
+
+def __getattr__(name):
+    """``rapp.exercises`` (the readers' answer checks) is imported on first use.
+
+    Its chapter modules import the case studies, and those import sympy: loading them with
+    ``import rapp`` would cost every user, the command line included, about half a second.
+    """
+    if name == "exercises":
+        import importlib
+
+        return importlib.import_module("rapp.exercises")
+    raise AttributeError(f"module 'rapp' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | {"exercises"})

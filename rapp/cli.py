@@ -291,7 +291,10 @@ def _save_plot(p, s, path: str) -> None:
     try:
         with _writing("--plot"), atomic_output(path, suffix=ext) as tmp:
             # The target's name decides the format, whatever the temporary file is called.
-            fig.savefig(tmp, dpi=100, format=ext[1:].lower())
+            fmt = ext[1:].lower()
+            # zlib level 1 instead of 6: the PNG is a few per cent larger and written ~3x faster.
+            extra = {"pil_kwargs": {"compress_level": 1}} if fmt == "png" else {}
+            fig.savefig(tmp, dpi=100, format=fmt, **extra)
     finally:
         plt.close(fig)
 
