@@ -124,7 +124,7 @@ def _plan_rrt(scenario: Scenario, goal_qs: np.ndarray) -> Route:
     """RRT from the exact start to the goal configurations; its path is certified edge by edge."""
     p = scenario.planner
     settings = {"step": p.step, "goal_bias": p.goal_bias, "goal_threshold": p.goal_threshold,
-                "max_iterations": p.max_iterations, "seed": p.seed}
+                "max_iterations": p.max_iterations, "seed": p.seed, "time_budget": p.time_budget}
     return _sampled_route(scenario, goal_qs, lambda arm, obs, start, goals: plan_rrt(
         arm, obs, start, goals, settings=settings))
 

@@ -62,6 +62,7 @@ SRS of 2D-RAPP (seed 000): LC3 (other planners).
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Mapping
 
@@ -71,7 +72,7 @@ from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound
 from rapp.ik import jacobian
 from rapp.paths import path_length
-from rapp.sampling import Tree
+from rapp.sampling import Budget, Tree
 
 __all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt"]
 
@@ -170,6 +171,7 @@ def rrt(
     steer: str = "step",
     raise_on_failure: bool = True,
     trace: list | None = None,
+    time_budget: float | None = None,
 ) -> RRTResult:
     """Grow an RRT in joint space from ``start`` until it reaches the goal.
 
@@ -202,6 +204,9 @@ def rrt(
         When a list is given, one :class:`RRTStep` per iteration is appended to
         it (and one for the last edge to a joint goal). Off by default; it
         never changes the result.
+    time_budget : float, optional
+        Seconds at most (as for the other sampling planners); a run cut short
+        by it depends on the machine, a run without it does not.
 
     Returns
     -------
@@ -261,11 +266,15 @@ def rrt(
             return _join_goal(arm, obstacles, tree, i, goals, trace, grow.iteration)
         return i
 
+    budget = Budget(max_iterations, time_budget)  # validates both
     rng = np.random.default_rng(seed)
     grow = _Grower(arm, obstacles, tree, goals, gxy, step, steer, goal_bias, trace)
     hit = arrive(0)
     it = 0
     while hit < 0 and it < max_iterations:
+        if budget.time_budget is not None and time.perf_counter() - budget.t0 > budget.time_budget:
+            return fail(f"RRT reached no goal within its time budget of {budget.time_budget:g} s "
+                        f"({it} iterations)", it)
         batch = grow.draw(rng)
         for k in range(_BATCH):
             if hit >= 0 or it >= max_iterations:
@@ -436,7 +445,7 @@ def _unwrapped_path(arm, tree, hit, start) -> np.ndarray:
     return np.concatenate((start[None], start + np.cumsum(steps, axis=0)))
 
 
-_SETTINGS = ("step", "goal_bias", "goal_threshold", "max_iterations", "seed", "steer")
+_SETTINGS = ("step", "goal_bias", "goal_threshold", "max_iterations", "seed", "steer", "time_budget")
 
 
 def plan_rrt(arm, obstacles, start, goal_qs=None, *, goal_xy=None, settings: Mapping | None = None):

@@ -213,3 +213,29 @@ def test_alpha_beta_experiment_aggregates_seeded_runs():
     assert out["mean_iterations"][0, 0] == pytest.approx(np.mean([r.iterations for r in runs]))
     if any(ok):
         assert out["mean_cost"][0, 0] == pytest.approx(np.mean([r.cost for r in runs if r.success]))
+
+
+def test_rrt_stops_at_its_time_budget_and_the_planner_passes_it():
+    """A budget far too short for the problem ends the run early, as a planning failure."""
+    import time as _time
+
+    import rapp
+    from rapp.errors import NoPathFound as _NoPath
+
+    arm = rapp.Arm([1.0, 1.0])
+    walls = [rapp.Circle((0.0, 1.5), 0.45), rapp.Circle((0.0, -1.5), 0.45)]
+    t0 = _time.perf_counter()
+    res = rapp.rrt(arm, [0.0, 0.0], [np.pi, 0.0], walls, step=0.01, goal_bias=0.0,
+                   max_iterations=10**9, time_budget=0.2, raise_on_failure=False)
+    assert not res.success and _time.perf_counter() - t0 < 5.0
+    with pytest.raises(ValueError, match="time_budget"):
+        rapp.rrt(arm, [0.0, 0.0], [1.0, 0.0], [], time_budget=-1.0)
+    scenario = {"arm": {"link_lengths": [1.0, 1.0]}, "start": [0.0, 0.0], "goal": {"joints": [3.14, 0.0]},
+                "units": {"angle": "rad"}, "obstacles": [{"type": "circle", "center": [0.0, 1.5], "radius": 0.45},
+                                                        {"type": "circle", "center": [0.0, -1.5], "radius": 0.45}],
+                "planner": {"algorithm": "rrt", "step": 0.01, "goal_bias": 0.0, "max_iterations": 1000000,
+                            "time_budget": 0.2}}
+    t0 = _time.perf_counter()
+    with pytest.raises(_NoPath, match="time budget"):
+        rapp.plan(scenario)
+    assert _time.perf_counter() - t0 < 10.0

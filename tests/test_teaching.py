@@ -29,6 +29,8 @@ ALGORITHMS = {
     "06_inverse_kinematics": ["Newton", "damped"],
     "07_path_planning": ["shortcut"],
     "12_case_rrt": ["RRT"],
+    "14_completeness": ["RRT-Connect", "RRT*", "PRM"],
+    "15_motion": ["trapezoid", "scaling", "line"],
 }
 
 
