@@ -26,7 +26,7 @@ from rapp.collision import check_obstacle, motion_bounds, segment_clearances
 from rapp.obstacles import Circle, Polygon
 from rapp.checks import positive_integer
 
-__all__ = ["JointGrid", "occupancy", "grid_q", "certified_free", "MAX_GRID_CELLS"]
+__all__ = ["JointGrid", "occupancy", "grid_q", "certified_free", "cell_extent", "MAX_GRID_CELLS"]
 
 #: Most cells (the product of the cells per joint) a :class:`JointGrid` accepts.
 #: At this size :func:`occupancy` and :func:`certified_free` return 50 MB bool
@@ -701,3 +701,27 @@ def _certified_free_reference(arm, obstacles, grid, *, chunk: int = 200_000) -> 
             ok[lo:lo + chunk] = d > need[j]
         out &= ok.reshape(prefix + (1,) * (n - j - 1))
     return out
+
+
+def cell_extent(grid) -> list:
+    """Cell edges ``[x0, x1, y0, y1]`` of the first two axes, to draw the grid as an image.
+
+    Each sample angle sits at the centre of its cell (pixel), so the image
+    reaches half a step beyond the first and last samples.
+
+    Parameters
+    ----------
+    grid : JointGrid, or any object with ``axes`` (the sample angles of each joint)
+
+    Examples
+    --------
+    >>> g = JointGrid(Arm([1.0, 1.0], [None, (-1.0, 1.0)]), (4, 3))
+    >>> np.round(cell_extent(g), 4).tolist()
+    [-3.927, 2.3562, -1.5, 1.5]
+    """
+    ext = []
+    for a in grid.axes[:2]:
+        a = np.asarray(a, dtype=float)
+        d = (a[-1] - a[0]) / (len(a) - 1) if len(a) > 1 else 2 * np.pi
+        ext += [a[0] - d / 2, a[-1] + d / 2]
+    return ext

@@ -3,7 +3,8 @@
 A path is an array ``(k, n)`` of configurations joined by straight joint-space
 segments. On a free joint the angle is *unwrapped* along a path (it may leave
 ``[-pi, pi)``) so that the straight segment between two waypoints is the short
-way round, the motion the collision check certified.
+way round, the motion the collision check certified. To be drawn, it is wrapped back
+into the plot's range and broken where it crosses a seam (:func:`split_at_seam`).
 """
 
 from __future__ import annotations
@@ -16,7 +17,8 @@ import numpy as np
 from rapp.arm import Arm
 from rapp.collision import segment_collision_free
 
-__all__ = ["Route", "unwrap_near", "unwrap_path", "drop_repeats", "path_length", "shortcut"]
+__all__ = ["Route", "unwrap_near", "unwrap_path", "drop_repeats", "path_length", "shortcut",
+           "split_at_seam", "even_indices"]
 
 
 @dataclass(frozen=True)
@@ -133,3 +135,57 @@ def shortcut(arm: Arm, path, obstacles) -> np.ndarray:
         i = i + 1 + (int(ahead[-1]) if ahead.size else 0)
         keep.append(i)
     return path[keep]
+
+
+def split_at_seam(path, lo, span, wraps):
+    """Polyline of joint angles, broken with a NaN row where a wrapping joint crosses the seam.
+
+    Angles of wrapping joints are wrapped into ``[lo, lo + span)``. At a
+    crossing the line runs on past the border to where the unwrapped step
+    ends, stops (NaN), and resumes from the matching point beyond the opposite
+    border, so no drawn segment jumps across the plot. Both
+    :mod:`rapp.plotting` and :mod:`rapp.raster` draw joint paths with it.
+
+    Parameters
+    ----------
+    path : array_like, shape (k, m)
+    lo, span : array_like, shape (m,)
+        Lower plot bound and period of each axis.
+    wraps : array_like of bool, shape (m,)
+
+    Examples
+    --------
+    >>> p = split_at_seam([[3.0, 0.0], [-3.0, 0.0]], [-np.pi] * 2, [2 * np.pi] * 2, [True, True])
+    >>> np.round(p, 3).tolist()
+    [[3.0, 0.0], [3.283, 0.0], [nan, nan], [-3.283, 0.0], [-3.0, 0.0]]
+    """
+    p = np.array(path, dtype=float, ndmin=2)
+    lo = np.asarray(lo, dtype=float)
+    span = np.asarray(span, dtype=float)
+    wraps = np.asarray(wraps, dtype=bool)
+    p = np.where(wraps, (p - lo) % span + lo, p)
+    if len(p) < 2:
+        return p
+    step = np.diff(p, axis=0)
+    short = np.where(wraps, (step + span / 2) % span - span / 2, step)
+    jump = np.flatnonzero(np.any(np.abs(short - step) > 1e-9, axis=1))
+    if jump.size == 0:
+        return p
+    nan = np.full((jump.size, p.shape[1]), np.nan)
+    extra = np.stack((p[jump] + short[jump], nan, p[jump + 1] - short[jump]), axis=1)
+    return np.insert(p, np.repeat(jump + 1, 3), extra.reshape(-1, p.shape[1]), axis=0)
+
+
+def even_indices(k: int, most: int) -> np.ndarray:
+    """At most ``most`` indices from ``0 .. k-1``, evenly spread, first and last included.
+
+    The samples of a path a figure shows (ghost arms, animation frames).
+
+    Examples
+    --------
+    >>> even_indices(10, 4).tolist()
+    [0, 3, 6, 9]
+    >>> even_indices(3, 8).tolist()
+    [0, 1, 2]
+    """
+    return np.unique(np.linspace(0, k - 1, min(k, most)).round().astype(int))

@@ -33,6 +33,14 @@ from matplotlib.patheffects import withStroke
 from matplotlib.ticker import MaxNLocator
 
 from rapp.collision import closest_point_on_segment
+from rapp.cspace import cell_extent as _extent
+# The colours live in rapp.palette, split_at_seam in rapp.paths and the pi ticks in rapp.raster
+# (no matplotlib there), so that rapp.raster draws the same figure without it; the colours and
+# split_at_seam stay importable from here.
+from rapp.palette import (ARM, COLORS, EFFECTOR, GOAL, JOINT_COLORS, OBSTACLE, OCCUPIED, PATH,
+                          START, TEXT)
+from rapp.paths import even_indices as _subsample, split_at_seam
+from rapp.raster import pi_ticks
 
 __all__ = [
     "COLORS",
@@ -56,29 +64,6 @@ __all__ = [
     "animation_html",
     "close_animation",
 ]
-
-# Okabe & Ito (2008), "Color Universal Design". Read-only, so no caller can recolour the book.
-COLORS = MappingProxyType({
-    "black": "#000000",
-    "orange": "#E69F00",
-    "sky": "#56B4E9",
-    "green": "#009E73",
-    "yellow": "#F0E442",
-    "blue": "#0072B2",
-    "vermillion": "#D55E00",
-    "purple": "#CC79A7",
-    "grey": "#999999",
-})
-TEXT = "#222222"
-ARM = COLORS["blue"]
-EFFECTOR = COLORS["vermillion"]
-START = COLORS["green"]
-GOAL = COLORS["vermillion"]
-PATH = COLORS["orange"]
-OBSTACLE = "#8c8c8c"
-OCCUPIED = "#5a5a5a"
-JOINT_COLORS = tuple(COLORS[k] for k in ("blue", "orange", "green", "purple", "sky", "vermillion",
-                                          "black"))
 
 _LIGHT = MappingProxyType({
     "figure.facecolor": "white",
@@ -295,61 +280,10 @@ def plot_workspace(arm, ax=None, *, unit="m", color=COLORS["sky"]):
 
 
 def _pi_ticks(axis, lo, hi):
-    """Ticks at multiples of pi/2 within [lo, hi], labelled with pi."""
-    k = np.arange(np.ceil(lo / (np.pi / 2) - 1e-9), np.floor(hi / (np.pi / 2) + 1e-9) + 1)
-    names = {-4: "−2π", -3: "−3π/2", -2: "−π", -1: "−π/2", 0: "0", 1: "π/2", 2: "π",
-             3: "3π/2", 4: "2π"}
-    if len(k) < 2:
-        return
-    axis.set_ticks(k * np.pi / 2, [names.get(int(i), f"{i / 2:g}π") for i in k])
-
-
-def _extent(grid):
-    """Cell edges of the first two axes: each sample angle sits at the centre of its pixel."""
-    ext = []
-    for a in grid.axes[:2]:
-        a = np.asarray(a, dtype=float)
-        d = (a[-1] - a[0]) / (len(a) - 1) if len(a) > 1 else 2 * np.pi
-        ext += [a[0] - d / 2, a[-1] + d / 2]
-    return ext
-
-
-def split_at_seam(path, lo, span, wraps):
-    """Polyline of joint angles, broken with a NaN row where a wrapping joint crosses the seam.
-
-    Angles of wrapping joints are wrapped into ``[lo, lo + span)``. At a
-    crossing the line runs on past the border to where the unwrapped step
-    ends, stops (NaN), and resumes from the matching point beyond the opposite
-    border, so no drawn segment jumps across the plot.
-
-    Parameters
-    ----------
-    path : array_like, shape (k, m)
-    lo, span : array_like, shape (m,)
-        Lower plot bound and period of each axis.
-    wraps : array_like of bool, shape (m,)
-
-    Examples
-    --------
-    >>> p = split_at_seam([[3.0, 0.0], [-3.0, 0.0]], [-np.pi] * 2, [2 * np.pi] * 2, [True, True])
-    >>> np.round(p, 3).tolist()
-    [[3.0, 0.0], [3.283, 0.0], [nan, nan], [-3.283, 0.0], [-3.0, 0.0]]
-    """
-    p = np.array(path, dtype=float, ndmin=2)
-    lo = np.asarray(lo, dtype=float)
-    span = np.asarray(span, dtype=float)
-    wraps = np.asarray(wraps, dtype=bool)
-    p = np.where(wraps, (p - lo) % span + lo, p)
-    if len(p) < 2:
-        return p
-    step = np.diff(p, axis=0)
-    short = np.where(wraps, (step + span / 2) % span - span / 2, step)
-    jump = np.flatnonzero(np.any(np.abs(short - step) > 1e-9, axis=1))
-    if jump.size == 0:
-        return p
-    nan = np.full((jump.size, p.shape[1]), np.nan)
-    extra = np.stack((p[jump] + short[jump], nan, p[jump + 1] - short[jump]), axis=1)
-    return np.insert(p, np.repeat(jump + 1, 3), extra.reshape(-1, p.shape[1]), axis=0)
+    """Ticks at multiples of pi/2 within [lo, hi], labelled with pi (as rapp.raster's figure)."""
+    ticks = pi_ticks(lo, hi)
+    if ticks:
+        axis.set_ticks([v for v, _ in ticks], [label for _, label in ticks])
 
 
 def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, title=None,
@@ -435,11 +369,6 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
     if labelled:
         _legend(ax, loc="upper right")
     return style_axes(ax)
-
-
-def _subsample(k, most):
-    """At most ``most`` indices from 0..k-1, evenly spread, first and last included."""
-    return np.unique(np.linspace(0, k - 1, min(k, most)).round().astype(int))
 
 
 def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None, axes=None):

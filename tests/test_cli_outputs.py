@@ -118,10 +118,13 @@ def test_two_outputs_through_a_symlink_are_refused(capsys, tmp_path, no_planning
 # --------------------------------------------------------------------------- 2. atomic, Ctrl-C
 
 
-def test_plot_interrupted_while_writing_keeps_the_old_file(capsys, tmp_path, monkeypatch):
+@pytest.mark.parametrize("name", ["f.png", "f.svg"])
+def test_plot_interrupted_while_writing_keeps_the_old_file(capsys, tmp_path, monkeypatch, name):
+    # A PNG is written by Pillow (rapp.raster), any other format by matplotlib.
     from matplotlib.figure import Figure
+    from PIL import Image
 
-    fig = tmp_path / "f.png"
+    fig = tmp_path / name
     fig.write_bytes(b"the previous figure")
 
     def half_written(self, fname, *a, **k):
@@ -129,6 +132,7 @@ def test_plot_interrupted_while_writing_keeps_the_old_file(capsys, tmp_path, mon
             fh.write(b"\x89PNG half")
         raise KeyboardInterrupt
 
+    monkeypatch.setattr(Image.Image, "save", half_written)
     monkeypatch.setattr(Figure, "savefig", half_written)
     code, out, err = run(capsys, "plan", "default", "--plot", str(fig), "-q")
     assert code == 130 and one_line(err) == "rapp: interrupted"
@@ -168,9 +172,11 @@ def test_interrupt_inside_the_animation_writer_is_130(capsys, tmp_path, monkeypa
     assert os.listdir(tmp_path) == []
 
 
-@pytest.mark.parametrize("where", ["rapp.planner.plan", "rapp.plotting.plot_plan",
-                                   "rapp.scenario.load_scenario"])
-def test_an_error_raised_while_handling_an_interrupt_is_130(capsys, tmp_path, monkeypatch, where):
+@pytest.mark.parametrize("where,name", [
+    ("rapp.planner.plan", "f.png"), ("rapp.raster.render_plan", "f.png"),
+    ("rapp.plotting.plot_plan", "f.svg"), ("rapp.scenario.load_scenario", "f.png")])
+def test_an_error_raised_while_handling_an_interrupt_is_130(capsys, tmp_path, monkeypatch, where,
+                                                            name):
     def cleanup_fails(*a, **k):
         try:
             raise KeyboardInterrupt
@@ -178,23 +184,26 @@ def test_an_error_raised_while_handling_an_interrupt_is_130(capsys, tmp_path, mo
             raise ValueError("cleanup after Ctrl-C failed") from None
 
     monkeypatch.setattr(where, cleanup_fails)
-    code, out, err = run(capsys, "plan", "default", "--plot", str(tmp_path / "f.png"), "-q")
+    code, out, err = run(capsys, "plan", "default", "--plot", str(tmp_path / name), "-q")
     assert code == 130 and one_line(err) == "rapp: interrupted"
     assert os.listdir(tmp_path) == []
 
 
-def test_a_failed_write_names_the_option_and_leaves_nothing(capsys, tmp_path, monkeypatch):
+@pytest.mark.parametrize("name", ["f.png", "f.svg"])
+def test_a_failed_write_names_the_option_and_leaves_nothing(capsys, tmp_path, monkeypatch, name):
     import errno
 
     from matplotlib.figure import Figure
+    from PIL import Image
 
     def disk_full(self, fname, *a, **k):
         with open(fname, "wb") as fh:
             fh.write(b"\x89PNG half")
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), fname)
 
-    monkeypatch.setattr(Figure, "savefig", disk_full)
-    code, out, err = run(capsys, "plan", "default", "--plot", str(tmp_path / "f.png"), "-q")
+    monkeypatch.setattr(Image.Image, "save", disk_full)  # a PNG: rapp.raster, with Pillow
+    monkeypatch.setattr(Figure, "savefig", disk_full)  # other formats: matplotlib
+    code, out, err = run(capsys, "plan", "default", "--plot", str(tmp_path / name), "-q")
     assert code == 2
     assert one_line(err) == f"rapp: error: --plot: cannot write: {os.strerror(errno.ENOSPC)}"
     assert os.listdir(tmp_path) == []
