@@ -14,6 +14,8 @@ tests compare them with the hand-written numeric code of :mod:`rapp.arm`,
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import sympy as sp
 
@@ -161,6 +163,8 @@ def ik_2link_symbolic():
     return out
 
 
+# Solved once per degree: sympy expressions are immutable, so every caller may share them.
+@functools.lru_cache(maxsize=None)
 def _boundary_value(degree: int):
     t, t0, tf = sp.symbols("t t0 tf", real=True)
     names = ["p0", "pf", "v0", "vf", "a0", "af"][: degree + 1]
@@ -175,7 +179,7 @@ def _boundary_value(degree: int):
         eqs.append(sp.Eq(derivs[k].subs(t, tf), vals[2 * k + 1]))
     sol = sp.solve(eqs, a, dict=True)[0]
     coeffs = [sp.factor(sol[ai]) for ai in a]
-    return coeffs, (t0, tf) + tuple(vals)
+    return tuple(coeffs), (t0, tf) + tuple(vals)
 
 
 def cubic_coefficients_symbolic():
@@ -196,7 +200,8 @@ def cubic_coefficients_symbolic():
     >>> [sp.simplify(c.subs({t0: 0, v0: 0, vf: 0})) for c in a]
     [p0, 0, 3*(-p0 + pf)/tf**2, 2*(p0 - pf)/tf**3]
     """
-    return _boundary_value(3)
+    coeffs, symbols = _boundary_value(3)
+    return list(coeffs), symbols  # a fresh list: the cached solution stays as solved
 
 
 def quintic_coefficients_symbolic():
@@ -213,7 +218,8 @@ def quintic_coefficients_symbolic():
     >>> len(a), [str(v) for v in s]
     (6, ['t0', 'tf', 'p0', 'pf', 'v0', 'vf', 'a0', 'af'])
     """
-    return _boundary_value(5)
+    coeffs, symbols = _boundary_value(5)
+    return list(coeffs), symbols
 
 
 # --------------------------------------------------------------------------- numeric

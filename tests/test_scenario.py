@@ -41,7 +41,14 @@ def mutate(path, value):
     return d
 
 
-DEL = object()
+class _Deleted:
+    """The marker for "remove this key"; its repr is stable, so test ids match across workers."""
+
+    def __repr__(self):
+        return "DEL"
+
+
+DEL = _Deleted()
 
 
 def test_every_embedded_scenario_loads_and_round_trips():

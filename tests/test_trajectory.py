@@ -1,5 +1,7 @@
 """Cubic/quintic segments, via points and timed paths: boundary conditions and continuity."""
 
+import functools
+
 import mpmath
 import numpy as np
 import pytest
@@ -48,10 +50,11 @@ def _eval_bound(c, t, derivative=0):
     return 1e-14 * (1 + terms.sum())
 
 
-CUBIC_EXACT = sp.lambdify(cubic_coefficients_symbolic()[1], cubic_coefficients_symbolic()[0],
-                          modules="mpmath")
-QUINTIC_EXACT = sp.lambdify(quintic_coefficients_symbolic()[1],
-                            quintic_coefficients_symbolic()[0], modules="mpmath")
+@functools.cache
+def _exact_coefficients(solve):
+    """The symbolic solution as an mpmath function, made on first use (not at collection)."""
+    coeffs, symbols = solve()
+    return sp.lambdify(symbols, coeffs, modules="mpmath")
 
 
 @settings(max_examples=150, deadline=None)
@@ -61,7 +64,7 @@ def test_cubic_boundary_conditions_and_symbolic_solution(t0, dur, p0, pf, v0, vf
     c = cubic(t0, tf, p0, pf, v0, vf)
     assert c.shape == (4,)
     # the sympy solution of seed 002's absolute-time system, exactly and in floats
-    exact = _exact(CUBIC_EXACT, t0, tf, p0, pf, v0, vf)
+    exact = _exact(_exact_coefficients(cubic_coefficients_symbolic), t0, tf, p0, pf, v0, vf)
     assert np.abs(c - exact).max() <= 1e-13 * np.abs(exact).max()
     assert np.allclose(c, CUBIC_REF(t0, tf, p0, pf, v0, vf), rtol=1e-6, atol=1e-6)
     # boundary conditions: within the rounding of evaluating absolute powers ...
@@ -81,7 +84,7 @@ def test_quintic_boundary_conditions_and_symbolic_solution(t0, dur, p0, pf, v0, 
     tf = t0 + dur
     c = quintic(t0, tf, p0, pf, v0, vf, a0, af)
     assert c.shape == (6,)
-    exact = _exact(QUINTIC_EXACT, t0, tf, p0, pf, v0, vf, a0, af)
+    exact = _exact(_exact_coefficients(quintic_coefficients_symbolic), t0, tf, p0, pf, v0, vf, a0, af)
     assert np.abs(c - exact).max() <= 1e-13 * np.abs(exact).max()
     ref = QUINTIC_REF(t0, tf, p0, pf, v0, vf, a0, af)
     assert np.abs(ref - exact).max() <= 1e-6 * np.abs(exact).max()
