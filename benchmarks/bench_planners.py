@@ -28,6 +28,7 @@ from rapp.rrt_connect import rrt_connect
 
 sys.path.insert(0, str(Path(__file__).parent))
 from bench_core import LINKS3, OBSTACLES3  # noqa: E402  the problem is defined once
+from ompl_torus import state, torus_setup  # noqa: E402  OMPL's side, shared with compare_planners
 
 START, GOAL, STEP, TOLERANCE, SEEDS = (0.0, 0.0, 0.0), (-2.0, 0.5, 0.5), 0.1, 0.05, 20
 
@@ -51,27 +52,12 @@ def time_rapp(arm, obstacles):
 
 
 def time_ompl(arm, obstacles):
-    from ompl import base as ob, geometric as og, util as ou
-
-    ou.setLogLevel(ou.LOG_NONE)
-    space = ob.CompoundStateSpace()
-    for _ in range(arm.n):
-        space.addSubspace(ob.SO2StateSpace(), 1.0)
-    q = np.empty(arm.n)
-
-    def valid(state):
-        for i in range(arm.n):
-            q[i] = state[i].value
-        return not bool(rapp.collides(arm, q, obstacles))
+    from ompl import geometric as og
 
     times, ok = [], 0
     for seed in range(SEEDS):
-        ou.RNG.setSeed(seed + 1)  # OMPL refuses seed 0
-        ss = og.SimpleSetup(space)
-        ss.setStateValidityChecker(valid)
-        start, goal = space.allocState(), space.allocState()
-        for i in range(arm.n):
-            start[i].value, goal[i].value = START[i], GOAL[i]
+        ss, space = torus_setup(arm, obstacles, seed)
+        start, goal = state(space, START), state(space, GOAL)
         ss.setStartAndGoalStates(start, goal, TOLERANCE)
         planner = og.RRTConnect(ss.getSpaceInformation())
         planner.setRange(STEP)

@@ -45,6 +45,9 @@ from rapp.errors import NoIKSolution, NoPathFound, RappError
 from rapp.ik import free_ik_solutions
 from rapp.paths import path_length, shortcut, unwrap_path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ompl_torus import path_of, state, torus_setup  # noqa: E402  OMPL's side, shared
+
 #: A* resolutions (cells per joint) by number of joints: coarse, medium, fine.
 ASTAR_CELLS = {2: (24, 48, 96), 3: (16, 32, 48), 4: (8, 14, 20)}
 SAMPLING = ("rrt", "rrt_connect", "rrt_star", "prm")
@@ -214,37 +217,19 @@ def run_task(task: Task) -> Record:
 
 
 def _run_ompl(task: Task) -> Record:
-    from ompl import base as ob, geometric as og, util as ou
+    from ompl import base as ob, geometric as og
 
-    ou.setLogLevel(ou.LOG_NONE)
     scenario = rapp.load_scenario(task.scenario)
     arm, obstacles = scenario.arm, scenario.obstacles
     if scenario.goal_q is not None:
         goals = np.array([scenario.goal_q], float)
     else:
         goals, _ = free_ik_solutions(arm, scenario.goal_xy, obstacles, q0=scenario.start_array)
-    space = ob.CompoundStateSpace()
-    for _ in range(arm.n):
-        space.addSubspace(ob.SO2StateSpace(), 1.0)
-    q = np.empty(arm.n)
-
-    def valid(state):
-        for i in range(arm.n):
-            q[i] = state[i].value
-        return not bool(rapp.collides(arm, q, obstacles))
-
-    ou.RNG.setSeed(task.seed + 1)  # OMPL refuses seed 0
-    ss = og.SimpleSetup(space)
-    ss.setStateValidityChecker(valid)
-    start = space.allocState()
-    for i in range(arm.n):
-        start[i].value = float(scenario.start_array[i])
+    ss, space = torus_setup(arm, obstacles, task.seed)
+    start = state(space, scenario.start_array)
     goal_states = ob.GoalStates(ss.getSpaceInformation())
     for g in goals:
-        state = space.allocState()
-        for i in range(arm.n):
-            state[i].value = float(rapp.wrap_angle(g[i]))
-        goal_states.addState(state)
+        goal_states.addState(state(space, g))
     ss.addStartState(start)
     ss.setGoal(goal_states)
     planner = (og.RRTConnect if task.planner == "ompl_rrt_connect" else og.RRTstar)(ss.getSpaceInformation())
@@ -258,9 +243,7 @@ def _run_ompl(task: Task) -> Record:
     if not (solved and ss.haveExactSolutionPath()):
         return Record(task.scenario_index, task.planner, task.seed, False, "NoPathFound",
                       math.nan, elapsed, math.nan, math.nan)
-    states = ss.getSolutionPath().getStates()
-    path = np.array([[s[i].value for i in range(arm.n)] for s in states])
-    path = unwrap_path(arm, path)
+    path = unwrap_path(arm, path_of(ss, arm.n))
     short = shortcut(arm, path, obstacles)
     return Record(task.scenario_index, task.planner, task.seed, True, "", elapsed, elapsed,
                   path_length(path), path_length(short))
