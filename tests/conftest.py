@@ -19,3 +19,22 @@ set_hypothesis_home_dir(str(_cache))  # its constants cache too, not ./.hypothes
 settings.register_profile("local", database=DirectoryBasedExampleDatabase(str(_cache / "examples")))
 settings.register_profile("ci", derandomize=True, print_blob=True, database=None)
 settings.load_profile("ci" if os.environ.get("CI") else "local")
+
+
+def pytest_collection_modifyitems(config, items):
+    """Longest files first, so that two workers finish together.
+
+    pytest-xdist (``--dist loadfile --no-loadscope-reorder``) hands out whole files in this
+    order. The JupyterLab tests (two minutes in one file) and the notebooks (a kernel each)
+    go first; a long file dealt out last would keep one worker busy while the other idles.
+    Within a file the order is untouched: a notebook's cells must run in order.
+    """
+    def weight(item):
+        path = str(item.fspath)
+        if path.endswith("test_jupyterlab.py"):
+            return 0
+        if path.endswith(".ipynb"):
+            return 1
+        return 2
+
+    items.sort(key=weight)  # stable: each file's items keep their order

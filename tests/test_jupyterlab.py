@@ -54,9 +54,9 @@ def _settings(folder: Path) -> None:
 
 @pytest.fixture(scope="module")
 def lab(tmp_path_factory):
-    """A page of a JupyterLab server serving copies of chapters 1 and 5."""
+    """A page of a JupyterLab server serving copies of chapters 1 and 15."""
     root = tmp_path_factory.mktemp("lab")
-    for name in ("01_introduction.ipynb", "05_astar.ipynb"):
+    for name in ("01_introduction.ipynb", "15_motion.ipynb"):
         shutil.copy(NOTEBOOKS / name, root / name)
     _settings(root / ".settings")
     env = dict(os.environ, JUPYTERLAB_SETTINGS_DIR=str(root / ".settings"),
@@ -140,17 +140,20 @@ def _explorer_figure(page) -> dict:
     }""")
 
 
-def test_chapter_5_renders_myst_and_keeps_solutions_collapsed(lab):
+def test_chapter_15_renders_myst_and_keeps_solutions_collapsed(lab):
+    # Chapter 15: exercises of every kind, pseudocode and {prf:ref}s, in a third of chapter 5's
+    # run time.
     page, port = lab
-    _open_and_run_all(page, port, "05_astar.ipynb")
+    _open_and_run_all(page, port, "15_motion.ipynb")
     assert page.locator(ERRORS).count() == 0
     text = page.inner_text(".jp-Notebook")
     assert ":::{solution}" not in text and ":::{exercise}" not in text and "{prf:ref}" not in text
+    assert ":::{prf:algorithm}" not in text
     solutions = page.locator("details.myst-exercise")
-    assert solutions.count() >= 4
+    assert solutions.count() >= 5
     assert page.evaluate("[...document.querySelectorAll('details.myst-exercise')].every(d => !d.open)")
     # The reader's check cells ran and answered.
-    assert page.get_by_text("Exercise 5.2: not yet. no answer yet").count() == 1
+    assert page.get_by_text("Exercise 15.1: not yet. no answer yet").count() == 1
 
 
 def test_chapter_1_figure_is_never_blank_and_follows_the_keyboard(lab):
