@@ -28,6 +28,9 @@ MAX_COORDINATE = 1e100
 MAX_ANGLE = 1e100
 
 
+_TWO_PI = 2 * np.pi
+
+
 def wrap_angle(q):
     """Wrap angles into ``[-pi, pi)``.
 
@@ -36,7 +39,18 @@ def wrap_angle(q):
     >>> float(wrap_angle(3 * np.pi / 2))
     -1.5707963267948966
     """
-    return (np.asarray(q, dtype=float) + np.pi) % (2 * np.pi) - np.pi
+    x = np.asarray(q, dtype=float) + np.pi
+    if x.size < 64 or not (x.min() >= -_TWO_PI and x.max() < 2 * _TWO_PI):
+        return x % _TWO_PI - np.pi
+    # Bit for bit the same as ``x % 2pi`` when -2pi <= x < 4pi (differences of two wrapped
+    # angles, as in every nearest-node search), without numpy's slow float remainder:
+    # fmod(x, 2pi) is x itself for |x| < 2pi and the exact x - 2pi (Sterbenz) for
+    # 2pi <= x < 4pi, and ``%`` then adds 2pi to a negative result.
+    neg, big = x < 0, x >= _TWO_PI
+    x += neg * _TWO_PI  # adding (subtracting) 0.0 leaves the other entries as they are
+    x -= big * _TWO_PI
+    x -= np.pi
+    return x
 
 
 def _joint_limit(i: int, lim):
@@ -240,6 +254,8 @@ class Arm:
         [0.2832, 5.8]
         """
         d = np.asarray(q_to, dtype=float) - np.asarray(q_from, dtype=float)
+        if d.shape[-1:] == self.limited.shape and not self.limited.any():  # np.where's values
+            return wrap_angle(d)
         return np.where(self.limited, d, wrap_angle(d))
 
     def wrap(self, q) -> np.ndarray:

@@ -111,8 +111,10 @@ def test_the_time_budget_stops_a_run():
 def test_rrt_star_improves_with_more_iterations():
     s = rapp.load_scenario("default")
     goal = rapp.ik(s.arm, s.goal_xy, q0=s.start_array)[0]
+    # 1000 iterations, not 2000: half the time, and with this seed the cost already drops
+    # (6.039 after 300, 5.954 after 1000), so the comparison is not a tie of equal paths.
     short = rrt_star(s.arm, s.start_array, goal, s.obstacles, seed=2, max_iterations=300)
-    long = rrt_star(s.arm, s.start_array, goal, s.obstacles, seed=2, max_iterations=2000)
+    long = rrt_star(s.arm, s.start_array, goal, s.obstacles, seed=2, max_iterations=1000)
     assert long.cost <= short.cost + 1e-12
 
 

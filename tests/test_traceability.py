@@ -77,12 +77,20 @@ def chapter_files(root: Path = ROOT) -> list[Path]:
 
 def labels_in(path: Path) -> list[str]:
     """MyST target labels `(name)=` defined in a notebook's markdown cells or a .md page."""
+    # Every item's check reads every chapter: parse each file once per version of it (a file
+    # that changes, even within a session, has a new modification time or size and is re-read).
+    stat = path.stat()
+    return list(_labels_in(path, stat.st_mtime_ns, stat.st_size))
+
+
+@lru_cache(maxsize=None)
+def _labels_in(path: Path, mtime_ns: int, size: int) -> tuple[str, ...]:
     if path.suffix == ".ipynb":
         nb = nbformat.read(path, as_version=4)
         text = "\n".join(c.source for c in nb.cells if c.cell_type == "markdown")
     else:
         text = path.read_text(encoding="utf-8")
-    return LABEL_LINE.findall(text)
+    return tuple(LABEL_LINE.findall(text))
 
 
 def chapter_labels(root: Path = ROOT) -> dict[str, list[str]]:

@@ -58,7 +58,7 @@ def test_arm_explorer_views_follow_the_model():
     assert selected(w) == (svg, status)  # the same position shows the same view
 
 
-def test_arm_explorer_three_links_keeps_limits_and_about_600_views():
+def test_arm_explorer_three_links_keeps_limits_and_at_most_400_views():
     arm = Arm([1.0, 0.7, 0.4], [None, (-2.0, 2.0), None])
     w = W.arm_explorer(arm, OBS, q=[0.3, 5.0, 0.0])
     sliders = W.sliders_of(w)
@@ -70,7 +70,11 @@ def test_arm_explorer_three_links_keeps_limits_and_about_600_views():
 
 
 def test_collision_explorer_flags_the_mis_false_collision():
-    w = W.collision_explorer()
+    # 9 values per slider, 0.5 m apart (81 views, not the default 17 x 17 = 289): every view is
+    # drawn by the same code whatever the resolution, and the positions this test visits are
+    # all on the grid: the default (1.6, 0.1) snaps to (1.5, 0.0), still beyond the segment's
+    # end on its line, and 0.5 and 1.5 are slider values.
+    w = W.collision_explorer(steps=9)
     svg, text = selected(w)
     cx, cy = values_of(w)["cx"], values_of(w)["cy"]
     seg = float(segment_circle_distance((0, 0), (1, 0), (cx, cy), 0.3))
@@ -88,7 +92,10 @@ def test_collision_explorer_flags_the_mis_false_collision():
 
 
 def test_trajectory_explorer_quintic_meets_accelerations_cubic_does_not():
-    w = W.trajectory_explorer(a0=1.0, af=-1.0)
+    # Four values per slider (16 views, not the default 11 x 11 = 121): the views visited below
+    # (a0 = 1, af = -1 and then 3) are among them, and each view is drawn by the same code
+    # whatever the other slider values are.
+    w = W.trajectory_explorer(a0=1.0, af=-1.0, accelerations=[-3.0, -1.0, 1.0, 3.0])
     svg, text = selected(w)
     assert "quintic 1.000, -1.000" in text
     # Rest-to-rest cubic from 0 to 1 over 2 s: a(0) = 6 pf / tf^2 = 1.5, whatever is asked.
