@@ -288,7 +288,11 @@ class _Layer:
 
     def marker(self, data, kind, size_pt, fill, edge_color=None, edge_pt=0.0):
         """A matplotlib-like marker centred on the data point: "o", "s" or "*"."""
-        x, y = self.xy(data)
+        self.marker_px(self.xy(data), kind, size_pt, fill, edge_color, edge_pt)
+
+    def marker_px(self, centre, kind, size_pt, fill, edge_color=None, edge_pt=0.0):
+        """:meth:`marker` at a point of the layer (supersampled pixels), as legends place them."""
+        x, y = centre
         r = size_pt * PT * SUPERSAMPLE / 2
         e = edge_pt * PT * SUPERSAMPLE
         if kind == "o":
@@ -394,10 +398,8 @@ def _draw_legend_handles(layer: _Layer, layout, entries):
         if kind == "line":
             _, color, lw, marker, mfill = spec
             draw.line([(x0, cy), (x1, cy)], fill=_rgb(color), width=int(round(lw * PT * S)))
-            if marker:
-                r = 3.0 * PT * S
-                draw.ellipse((cx - r - S, cy - r - S, cx + r + S, cy + r + S), fill=_rgb(color))
-                draw.ellipse((cx - r + S, cy - r + S, cx + r - S, cy + r - S), fill=_rgb(mfill))
+            if marker:  # the joints' marker of plot_arm
+                layer.marker_px((cx, cy), marker, 6, _rgb(mfill), _rgb(color), 1.5)
         elif kind == "patch":
             _, fill, alpha, edge = spec
             hh = 0.35 * _LEGEND_FONT_SIZE * S
@@ -406,16 +408,7 @@ def _draw_legend_handles(layer: _Layer, layout, entries):
                            outline=_rgba(edge, alpha) if edge else None, width=S)
         else:
             _, mk, size, fill, edge, edge_pt = spec
-            r = size * PT * S / 2
-            e = edge_pt * PT * S
-            if mk == "*":
-                draw.polygon(_star(cx, cy, r + 1.2 * e), fill=_rgb(edge))
-                draw.polygon(_star(cx, cy, r), fill=_rgb(fill))
-            else:
-                draw.ellipse((cx - r - e / 2, cy - r - e / 2, cx + r + e / 2, cy + r + e / 2),
-                             fill=_rgb(edge))
-                draw.ellipse((cx - r + e / 2, cy - r + e / 2, cx + r - e / 2, cy + r - e / 2),
-                             fill=_rgb(fill))
+            layer.marker_px((cx, cy), mk, size, _rgb(fill), _rgb(edge), edge_pt)
 
 
 def _draw_legend_labels(draw, layout, entries, font):

@@ -28,6 +28,8 @@ cannot; numba is imported on the first call of :func:`astar`, not with rapp.
 
 from __future__ import annotations
 
+import functools
+
 import heapq
 import operator
 from dataclasses import dataclass
@@ -621,23 +623,17 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     return 1, expansions, none
 
 
-_COMPILED = []
-
-
+@functools.cache
 def _compiled_astar():
     """:func:`_astar_kernel` compiled by numba (cached on disk), or None without numba."""
-    if not _COMPILED:
-        try:
-            import numba
-        except ImportError:
-            _COMPILED.append(None)
-        else:
-            try:
-                kernel = numba.njit(cache=True, nogil=True)(_astar_kernel)
-            except RuntimeError:  # no writable cache directory: compile on every run
-                kernel = numba.njit(nogil=True)(_astar_kernel)
-            _COMPILED.append(kernel)
-    return _COMPILED[0]
+    try:
+        import numba
+    except ImportError:
+        return None
+    try:
+        return numba.njit(cache=True, nogil=True)(_astar_kernel)
+    except RuntimeError:  # no writable cache directory: compile on every run
+        return numba.njit(nogil=True)(_astar_kernel)
 
 
 def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expansions=None):

@@ -8,6 +8,8 @@ check) share no code with rapp.search.
 
 from collections import deque
 
+import sys
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -416,12 +418,17 @@ def test_astar_falls_back_to_the_teaching_version_without_numba(monkeypatch):
     occ[:, 6] = True
     occ[3, 6] = False
     fast = astar(occ, (0, 0), (11, 11))
-    monkeypatch.setattr(search, "_COMPILED", [None])
-    assert search._compiled_astar() is None
-    slow = astar(occ, (0, 0), (11, 11))
-    assert slow == fast and len(fast) - 1 == bfs_distances(occ, (0, 0))[11, 11]
-    with pytest.raises(NoPathFound, match="limit of 0"):
-        astar(occ, (0, 0), (11, 11), max_expansions=0)
+    search._compiled_astar.cache_clear()
+    try:
+        with monkeypatch.context() as m:
+            m.setitem(sys.modules, "numba", None)  # import numba now raises ImportError
+            assert search._compiled_astar() is None
+            slow = astar(occ, (0, 0), (11, 11))
+            assert slow == fast and len(fast) - 1 == bfs_distances(occ, (0, 0))[11, 11]
+            with pytest.raises(NoPathFound, match="limit of 0"):
+                astar(occ, (0, 0), (11, 11), max_expansions=0)
+    finally:
+        search._compiled_astar.cache_clear()  # later tests get the compiled kernel back
 
 
 def test_compiled_astar_on_a_4d_torus_and_an_open_plateau():
