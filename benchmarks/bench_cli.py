@@ -93,7 +93,8 @@ def plot_parts(renderer: str, repeat: int = 3) -> dict:
 
 def stages() -> dict:
     import rapp
-    from rapp.cspace import JointGrid, _certified_free_reference, certified_free
+    from rapp.cspace import JointGrid, certified_free
+    from rapp.reference import certified_free as _certified_free_reference
 
     rapp.plan("three_link")
     runs = [rapp.plan("three_link").timings for _ in range(5)]

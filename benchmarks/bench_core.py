@@ -1,7 +1,7 @@
 """Side-by-side timing of rapp's C-space grid and A* against the naive baseline.
 
 The 3-link grids (64^3 and 128^3) are also timed against the previous rapp grid
-(``rapp.cspace._occupancy_reference``: every link against every obstacle on
+(``rapp.reference.occupancy``: every link against every obstacle on
 every cell) and both are checked cell by cell against ``rapp.collides``.
 
 Run from the repository root:  python benchmarks/bench_core.py
@@ -27,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import baseline  # noqa: E402
 
 import rapp  # noqa: E402
-from rapp.cspace import _occupancy_reference  # noqa: E402  (the previous rapp grid)
+from rapp.reference import occupancy as _occupancy_reference  # noqa: E402  (the previous rapp grid)
 
 HERE = Path(__file__).resolve().parent
 LINKS = [1.0, 1.0]

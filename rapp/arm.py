@@ -297,9 +297,9 @@ class Arm:
         >>> Arm([1.0, 2.0]).joint_positions(np.zeros((5, 2))).shape
         (5, 3, 2)
         """
-        return self._positions(self.check_q(q))
+        return self.joint_positions_unchecked(self.check_q(q))
 
-    def _positions(self, q: np.ndarray) -> np.ndarray:
+    def joint_positions_unchecked(self, q: np.ndarray) -> np.ndarray:
         """:meth:`joint_positions` of a float array already checked (or known to be in range)."""
         phi = np.cumsum(q, axis=-1)
         steps = np.empty(phi.shape + (2,))

@@ -64,7 +64,7 @@ from rapp.arm import Arm, wrap_angle
 from rapp.checks import finite_number
 from rapp.collision import check_obstacle, collides, segment_collision_free, segment_point_distance
 from rapp.errors import PathNotFollowable
-from rapp.ik import _dls_step, _fk_jac, ik_2link
+from rapp.ik import dls_step, fk_and_jacobian, ik_2link
 
 __all__ = ["line_path", "edge_deviation_bound", "SINGULAR_MARGIN"]
 
@@ -213,16 +213,16 @@ class _Solver:
         q = q_prev.copy()[:, None]
         blocked = np.zeros(lengths.size, dtype=bool)
         for _ in range(20):
-            px, py, jx, jy = _fk_jac(lengths, q)
+            px, py, jx, jy = fk_and_jacobian(lengths, q)
             ex, ey = t[0] - px, t[1] - py
             if float(np.hypot(ex[0], ey[0])) * self.scale <= 1e-3 * self.accept:
                 break
-            dq = _dls_step(jx, jy, ex, ey, 1e-3, 1e-2)
+            dq = dls_step(jx, jy, ex, ey, 1e-3, 1e-2)
             blocked = lim & (((q + dq)[:, 0] < lo) | ((q + dq)[:, 0] > hi))
             if blocked.any():  # clamp: freeze the joints the step pushes out, re-solve
                 jx = np.where(blocked[:, None], 0.0, jx)
                 jy = np.where(blocked[:, None], 0.0, jy)
-                dq = _dls_step(jx, jy, ex, ey, 1e-3, 1e-2)
+                dq = dls_step(jx, jy, ex, ey, 1e-3, 1e-2)
             norm = float(np.linalg.norm(dq))
             if norm > 0.5:
                 dq *= 0.5 / norm
@@ -231,7 +231,7 @@ class _Solver:
         q = q[:, 0]
         err = float(np.linalg.norm(self.arm.end_effector(q) - target))
         if err <= self.accept:
-            jac = np.stack(_fk_jac(lengths, q[:, None])[2:])[:, :, 0]
+            jac = np.stack(fk_and_jacobian(lengths, q[:, None])[2:])[:, :, 0]
             if np.linalg.svd(jac, compute_uv=False)[-1] < _SIGMA_MIN:
                 return None, ("singularity", None)
             return q, None

@@ -40,6 +40,7 @@ __all__ = [
     "collides",
     "clearance",
     "motion_bounds",
+    "reach_matrix",
     "segment_collision_free",
     "path_collision_free",
     "MAX_PENDING_INTERVALS",
@@ -384,10 +385,10 @@ def motion_bounds(arm, dq) -> np.ndarray:
     dq = np.abs(arm.check_q(dq, "dq", max_abs=np.inf))
     # Finite steps times finite lengths can still exceed float64; inf is then the true bound.
     with np.errstate(over="ignore"):
-        return dq @ _reach_matrix(arm)
+        return dq @ reach_matrix(arm)
 
 
-def _reach_matrix(arm) -> np.ndarray:
+def reach_matrix(arm) -> np.ndarray:
     """``R[i, j] = L_i + ... + L_j`` for ``i <= j``, else 0 (see :func:`motion_bounds`)."""
     n = arm.n
     c = np.concatenate(([0.0], np.cumsum(arm.lengths)))
@@ -529,7 +530,7 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     shape = q0.shape[:-1]
     q0, q1 = q0.reshape(-1, arm.n), q1.reshape(-1, arm.n)
     dq = q1 - q0
-    bounds = np.abs(dq) @ _reach_matrix(arm)  # (m, n); finite: angles and lengths are bounded
+    bounds = np.abs(dq) @ reach_matrix(arm)  # (m, n); finite: angles and lengths are bounded
     free = np.ones(q0.shape[0], dtype=bool)
     if not obstacles:
         return free.reshape(shape)

@@ -26,7 +26,8 @@ from rapp.collision import check_obstacle, motion_bounds, segment_clearances
 from rapp.obstacles import Circle, Polygon
 from rapp.checks import positive_integer
 
-__all__ = ["JointGrid", "occupancy", "grid_q", "certified_free", "cell_extent", "MAX_GRID_CELLS"]
+__all__ = ["JointGrid", "occupancy", "grid_q", "certified_free", "cell_extent", "check_grid",
+           "prefix_grid", "MAX_GRID_CELLS"]
 
 #: Most cells (the product of the cells per joint) a :class:`JointGrid` accepts.
 #: At this size :func:`occupancy` and :func:`certified_free` return 50 MB bool
@@ -190,7 +191,7 @@ class JointGrid:
         return np.where(self.wraps, i % m, np.clip(i, 0, m - 1))
 
 
-def _check_grid(arm, grid):
+def check_grid(arm, grid):
     """ValueError naming ``grid`` unless it is a JointGrid of ``arm`` (whose size it has checked)."""
     if not isinstance(grid, JointGrid):
         raise ValueError(f"grid must be a rapp.JointGrid, got {type(grid).__name__}")
@@ -198,7 +199,7 @@ def _check_grid(arm, grid):
         raise ValueError("grid was built for a different arm")
 
 
-def _prefix_grid(grid, i):
+def prefix_grid(grid, i):
     """Base point and absolute angle of link ``i`` on the grid of joints ``0..i-1``.
 
     Returns ``P`` of shape ``cells[:i] + (2,)`` and ``phi`` of shape ``cells[:i]``
@@ -214,110 +215,6 @@ def _prefix_grid(grid, i):
     return P, phi
 
 
-def _circle_hits_reference(P, cos_phi, sin_phi, L, center, r):
-    """Closed-form hit of a link from ``P`` (prefix grid) at angle ``phi`` with a disc.
-
-    With ``d = |c - P|`` and ``delta`` the angle between the link and ``c - P``:
-    inside (``d <= r``) always hits; if the link reaches the tangent point
-    (``L >= sqrt(d^2 - r^2)``) it hits iff ``delta <= asin(r / d)``; else it
-    hits iff its tip is in the disc, ``cos delta >= (L^2 + d^2 - r^2) / (2 L d)``
-    (never when ``L < d - r``). Since ``delta`` is in ``[0, pi]`` these are
-    ``d cos delta >= T`` with ``T = sqrt(d^2 - r^2)`` or ``(L^2 + d^2 - r^2) / (2L)``,
-    and ``d cos delta = (c - P) . u(phi)``: no trigonometry on the full grid.
-    """
-    v = np.asarray(center) - P
-    d2 = v[..., 0] ** 2 + v[..., 1] ** 2
-    t2 = d2 - r * r
-    tangent = np.sqrt(np.maximum(t2, 0.0))
-    # For a short link far from the disc the tip distance overflows; inf means "never hits".
-    with np.errstate(over="ignore"):
-        T = np.where(L >= tangent, tangent, (L * L + t2) / (2 * L))
-    T = np.where(L < np.sqrt(d2) - r, np.inf, T)
-    T = np.where(t2 <= 0, -np.inf, T)
-    dot = v[..., 0, None] * cos_phi
-    dot += v[..., 1, None] * sin_phi
-    return dot >= T[..., None]
-
-
-def _polygon_hits_reference(P, cos_phi, sin_phi, L, poly):
-    """Separating-axis test of every link on the prefix grid against one convex polygon.
-
-    The link runs from ``P`` (shape ``S + (2,)``) to ``P + L u(phi)``
-    (``cos_phi``, ``sin_phi`` of shape ``S + (M,)``). Projections of ``P`` are
-    computed once on the prefix grid; only the terms in ``phi`` span the full
-    grid. Touching counts (separation needs a strict gap).
-    """
-    v = poly.array
-    e = np.roll(v, -1, axis=0) - v
-    normals = np.stack((e[:, 1], -e[:, 0]), axis=-1)
-    proj = v @ normals.T
-    pmin, pmax = proj.min(axis=0), proj.max(axis=0)
-    sep = np.zeros(cos_phi.shape, dtype=bool)
-    for k in range(len(v)):
-        nx, ny = normals[k]
-        sa = (P @ normals[k])[..., None]
-        sb = sa + L * (cos_phi * nx + sin_phi * ny)
-        sep |= (np.maximum(sa, sb) < pmin[k]) | (np.minimum(sa, sb) > pmax[k])
-    # The link's own normal m = (-sin, cos): separated when every vertex is strictly on one side.
-    above = np.ones(cos_phi.shape, dtype=bool)
-    below = np.ones(cos_phi.shape, dtype=bool)
-    for vx, vy in v:
-        w = (vy - P[..., 1])[..., None] * cos_phi - (vx - P[..., 0])[..., None] * sin_phi
-        above &= w > 0
-        below &= w < 0
-    return ~(sep | above | below)
-
-
-def _occupancy_reference(arm, obstacles, grid) -> np.ndarray:
-    """The previous :func:`occupancy`: every link against every obstacle on every cell of its prefix grid.
-
-    Kept as the baseline the benchmark times side by side and the tests compare with.
-
-    Parameters
-    ----------
-    arm : Arm
-        Must be the arm of ``grid``.
-    obstacles : iterable of Circle and Polygon
-    grid : JointGrid
-
-    Examples
-    --------
-    >>> from rapp import Arm, Circle
-    >>> from rapp.collision import collides
-    >>> arm = Arm([1.0, 1.0])
-    >>> occ = _occupancy_reference(arm, [Circle((1.75, 0.75), 0.6)], JointGrid(arm, 8))
-    >>> occ.shape, int(occ.sum())
-    ((8, 8), 2)
-    >>> bool((occ == collides(arm, grid_q(JointGrid(arm, 8)), [Circle((1.75, 0.75), 0.6)])).all())
-    True
-    """
-    _check_grid(arm, grid)
-    obstacles = [check_obstacle(ob) for ob in obstacles]
-    shape = grid.shape
-    n = arm.n
-    occ = np.zeros(shape, dtype=bool)
-    if not obstacles:
-        return occ
-    circles = [ob for ob in obstacles if isinstance(ob, Circle)]
-    polys = [ob for ob in obstacles if not isinstance(ob, Circle)]
-    axes = grid.axes
-    for i in range(n):
-        P, phi_prev = _prefix_grid(grid, i)
-        L = arm.link_lengths[i]
-        hit = np.zeros(shape[: i + 1], dtype=bool)
-        # cos/sin of phi_prev + theta by the addition formulas: outer products, no trig on the grid.
-        cp, sp = np.cos(phi_prev)[..., None], np.sin(phi_prev)[..., None]
-        ct, st = np.cos(axes[i]), np.sin(axes[i])
-        cos_phi = cp * ct - sp * st
-        sin_phi = sp * ct + cp * st
-        for ob in circles:
-            hit |= _circle_hits_reference(P, cos_phi, sin_phi, L, ob.center, ob.radius)
-        for ob in polys:
-            hit |= _polygon_hits_reference(P, cos_phi, sin_phi, L, ob)
-        occ |= hit.reshape(hit.shape + (1,) * (n - i - 1))
-    return occ
-
-
 def _circle_hits(P, L, center, r):
     """Absolute directions from ``P`` in which a link of length ``L`` touches a disc.
 
@@ -328,7 +225,7 @@ def _circle_hits(P, L, center, r):
     Notes
     -----
     With ``v = c - P``, ``d = |v|`` and ``delta`` the angle between the link
-    and ``v``, the hit test of :func:`_circle_hits_reference` is monotone in
+    and ``v``, the hit test of :func:`rapp.reference.circle_hits` is monotone in
     ``delta``, so the hitting directions are one interval about ``atan2(v)``
     of half-width ``h``:
 
@@ -555,7 +452,7 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     >>> bool((occ == collides(arm, grid_q(JointGrid(arm, 8)), [Circle((1.75, 0.75), 0.6)])).all())
     True
     """
-    _check_grid(arm, grid)
+    check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
     shape = grid.shape
     n = arm.n
@@ -570,7 +467,7 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
 def _link_hits(arm, obstacles, grid, i) -> np.ndarray:
     """Where link ``i`` touches an obstacle, on the grid of joints ``0..i``, shaped to broadcast
     over ``grid.shape`` (trailing axes of length 1)."""
-    P, phi_prev = _prefix_grid(grid, i)
+    P, phi_prev = prefix_grid(grid, i)
     P = P.reshape(-1, 2)
     phi_prev = phi_prev.reshape(-1)
     L = arm.link_lengths[i]
@@ -648,10 +545,11 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
     >>> safe = certified_free(arm, obs, grid)
     >>> bool(np.all(~safe | ~occupancy(arm, obs, grid))), int(safe.sum()) < int((~occupancy(arm, obs, grid)).sum())
     (True, True)
-    >>> bool((safe == _certified_free_reference(arm, obs, grid)).all())
+    >>> from rapp import reference
+    >>> bool((safe == reference.certified_free(arm, obs, grid)).all())
     True
     """
-    _check_grid(arm, grid)
+    check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
@@ -661,45 +559,6 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
     for j in range(n):
         grown = [piece for ob in obstacles for piece in _inflated(ob, float(need[j]))]
         out &= ~_link_hits(arm, grown, grid, j)
-    return out
-
-
-def _certified_free_reference(arm, obstacles, grid, *, chunk: int = 200_000) -> np.ndarray:
-    """The previous :func:`certified_free`: link clearances on every prefix cell (benchmark, tests).
-
-    Cells from which every move to an axis neighbour is certified collision-free.
-
-    Along a move of one grid step on axis ``k`` a point of link ``j`` travels
-    at most ``B_jk`` (:func:`rapp.collision.motion_bounds`). If at both ends of
-    the move link ``j`` has clearance above ``B_jk / 2``, each half of the move
-    stays inside the clearance ball of its own end, so the whole move is free.
-    A cell is marked True when its clearances exceed half the bound for every
-    axis; a search on these cells needs no further check of its moves. It is
-    the occupancy inflated by half a step: conservative, so a narrow passage
-    may close (the planner then falls back to the plain occupancy).
-
-    """
-    _check_grid(arm, grid)
-    obstacles = [check_obstacle(ob) for ob in obstacles]
-    chunk = positive_integer(chunk, "chunk")
-    n = arm.n
-    need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
-    axes = grid.axes
-    out = np.ones(grid.shape, bool)
-    for j in range(n):
-        # Link j depends on joints 0..j only: test it on that prefix grid and broadcast.
-        prefix = grid.shape[: j + 1]
-        size = math.prod(prefix)
-        ok = np.empty(size, bool)
-        for lo in range(0, size, chunk):  # chunks bound the memory, not a loop over cells
-            idx = np.unravel_index(np.arange(lo, min(lo + chunk, size)), prefix)
-            q = np.zeros((idx[0].size, n))
-            for k in range(j + 1):
-                q[:, k] = axes[k][idx[k]]
-            pts = arm.joint_positions(q)
-            d = segment_clearances(pts[:, j, :], pts[:, j + 1, :], obstacles)
-            ok[lo:lo + chunk] = d > need[j]
-        out &= ok.reshape(prefix + (1,) * (n - j - 1))
     return out
 
 

@@ -38,7 +38,8 @@ from rapp.arm import Arm, wrap_angle
 from rapp.collision import clearance, collides
 from rapp.errors import NoIKSolution, NoPathFound
 
-__all__ = ["ik", "ik_2link", "ik_numeric", "jacobian", "free_ik_solutions"]
+__all__ = ["ik", "ik_2link", "ik_numeric", "jacobian", "free_ik_solutions", "fk_and_jacobian",
+           "dls_step"]
 
 TWO_PI = 2.0 * np.pi
 
@@ -188,7 +189,7 @@ def _fk(lengths: np.ndarray, q: np.ndarray):
     return px, py
 
 
-def _fk_jac(lengths: np.ndarray, q: np.ndarray):
+def fk_and_jacobian(lengths: np.ndarray, q: np.ndarray):
     """End effector and Jacobian rows ``jx, jy`` (n, m) of joint-major ``q`` (n, m).
 
     The cosines and sines of the absolute angles come from those of the
@@ -216,7 +217,7 @@ def _fk_jac(lengths: np.ndarray, q: np.ndarray):
     return jy[0].copy(), -jx[0], jx, jy
 
 
-def _dls_step(jx, jy, ex, ey, sigma_floor, lambda_max):
+def dls_step(jx, jy, ex, ey, sigma_floor, lambda_max):
     """Damped least-squares step for every column, through the SVD of the 2 x n ``J``.
 
     The damping is zero while the smallest singular value of ``J`` stays above
@@ -261,6 +262,10 @@ def _dls_step(jx, jy, ex, ey, sigma_floor, lambda_max):
     f_big = np.divide(e_big, den_big, out=np.zeros_like(den_big), where=den_big > 0)
     f_small = np.divide(e_small, den_small, out=np.zeros_like(den_small), where=den_small > 0)
     return w_big * f_big + w_small * f_small
+
+
+#: The old name, still imported by chapter 6 and its exercise test.
+_dls_step = dls_step
 
 
 def _boundary_start(lengths: np.ndarray, targets: np.ndarray, outer: bool,
@@ -376,7 +381,7 @@ def _newton(lengths, limited, lo, hi, targets, q, stop_tol, max_iter, max_step):
     idx = np.arange(q.shape[1])
     qa, ta = q, targets
     for _ in range(max_iter):
-        px, py, jx, jy = _fk_jac(lengths, qa)
+        px, py, jx, jy = fk_and_jacobian(lengths, qa)
         ex = ta[0] - px
         ey = ta[1] - py
         done = ex * ex + ey * ey <= stop_tol * stop_tol
@@ -387,7 +392,7 @@ def _newton(lengths, limited, lo, hi, targets, q, stop_tol, max_iter, max_step):
                 return q
             qa, ta, idx = qa[:, keep], ta[:, keep], idx[keep]
             jx, jy, ex, ey = jx[:, keep], jy[:, keep], ex[keep], ey[keep]
-        dq = _dls_step(jx, jy, ex, ey, sigma_floor, lambda_max)
+        dq = dls_step(jx, jy, ex, ey, sigma_floor, lambda_max)
         if any_limited:
             # Joint clamping: a limited joint the step would push out of its
             # interval is frozen (its Jacobian column zeroed) and the step is
@@ -398,7 +403,7 @@ def _newton(lengths, limited, lo, hi, targets, q, stop_tol, max_iter, max_step):
             if blocked.any():
                 jx = np.where(blocked, 0.0, jx)
                 jy = np.where(blocked, 0.0, jy)
-                dq = _dls_step(jx, jy, ex, ey, sigma_floor, lambda_max)
+                dq = dls_step(jx, jy, ex, ey, sigma_floor, lambda_max)
         norm2 = (dq * dq).sum(axis=0)
         big = norm2 > max_step * max_step
         if big.any():

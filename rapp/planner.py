@@ -83,7 +83,7 @@ from rapp.rrt import plan_rrt
 from rapp.rrt_connect import rrt_connect
 from rapp.rrt_star import rrt_star
 from rapp.scenario import MAX_DURATION, MIN_DURATION, Scenario, load_scenario
-from rapp.time_scaling import _clock, _waypoints, peak_rates, trapezoidal_path
+from rapp.time_scaling import clock_after, clean_waypoints, peak_rates, trapezoidal_path
 from rapp.trajectory import (PiecewisePolynomial, cubic_local, quintic_local, time_path,
                              time_polyline)
 from rapp.verify import verify
@@ -238,7 +238,7 @@ def _rest_to_rest(w: np.ndarray, shape: str, h: np.ndarray) -> PiecewisePolynomi
     stays on each straight joint-space edge and is at rest at every waypoint."""
     bp = [0.0]
     for hj in h:
-        bp.append(_clock(bp[-1], float(hj)))   # each piece rounded up: never faster than asked
+        bp.append(clock_after(bp[-1], float(hj)))   # each piece rounded up: never faster than asked
     bp = np.array(bp)
     hh = np.diff(bp)[:, None]
     p0, pf = w[:-1], w[1:]
@@ -320,7 +320,7 @@ def _sample(pp: PiecewisePolynomial, path, duration: float, samples: int, every_
 def _time_motion(arm, obs, path, scenario):
     """Timing under joint limits, or of a line goal: ``(t, q, qd, qdd, profile, motion, info)``."""
     tr = scenario.trajectory
-    w = _waypoints(path, None) if len(path) >= 2 else np.asarray(path, float)
+    w = clean_waypoints(path, None) if len(path) >= 2 else np.asarray(path, float)
     if len(w) < 2:
         T = tr.duration if tr.duration is not None else MIN_DURATION
         t, q, qd, qdd = time_polyline(np.asarray(path, float)[:1], T, tr.samples)

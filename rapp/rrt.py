@@ -74,7 +74,7 @@ from rapp.ik import jacobian
 from rapp.paths import path_length
 from rapp.sampling import Budget, Tree
 
-__all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt"]
+__all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "Grower"]
 
 _BATCH = 32  # random targets drawn, and edges certified together, per batch
 
@@ -268,7 +268,7 @@ def rrt(
 
     budget = Budget(max_iterations, time_budget)  # validates both
     rng = np.random.default_rng(seed)
-    grow = _Grower(arm, obstacles, tree, goals, gxy, step, steer, goal_bias, trace)
+    grow = Grower(arm, obstacles, tree, goals, gxy, step, steer, goal_bias, trace)
     hit = arrive(0)
     it = 0
     while hit < 0 and it < max_iterations:
@@ -329,7 +329,7 @@ class _Tree(Tree):
         return super().add(q, parent_index, cost)
 
 
-class _Grower:
+class Grower:
     """One iteration of RRT at a time, on targets drawn in fixed batches.
 
     Random numbers come in batches of ``_BATCH``, so a run is a prefix of any

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from rapp.checks import finite_number
-from rapp.collision import _reach_matrix, link_clearances, segment_collision_free
+from rapp.collision import reach_matrix, link_clearances, segment_collision_free
 from rapp.obstacles import Circle
 from rapp.errors import NoPathFound
 from rapp.paths import path_length
@@ -83,7 +83,7 @@ class _Clearance:
         # The clipped projection of every disc centre on every link, written out: the same
         # arithmetic as rapp.collision.segment_point_distance in a third of the numpy calls.
         # Links have positive length, so |ab|^2 > 0.
-        pts = self.arm._positions(q)  # q comes from the planner's own arithmetic: finite
+        pts = self.arm.joint_positions_unchecked(q)  # q comes from the planner's own arithmetic: finite
         a = pts[:, :-1, None, :]
         ab = pts[:, 1:, None, :] - a
         ap = self.centers - a
@@ -201,7 +201,7 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     budget = Budget(max_iterations, time_budget)
     start, goals = check_start_and_goals(arm, start, goal, obstacles)
     rng = np.random.default_rng(seed)
-    reach = _reach_matrix(arm)
+    reach = reach_matrix(arm)
     # Clearances this small cannot be told from touching (as in segment_collision_free).
     clearance = _Clearance(arm, obstacles, 16 * np.finfo(float).eps * float(np.sum(arm.lengths)))
     trees = [_Tree(arm, [start], clearance), _Tree(arm, goals, clearance)]

@@ -24,10 +24,10 @@ from rapp.paths import path_length
 from rapp.rrt import RRTResult
 from rapp.sampling import Budget, Tree, check_start_and_goals, uniform_samples, unwrapped_chain
 
-__all__ = ["rrt_star"]
+__all__ = ["rrt_star", "choose_parent_and_add"]
 
 
-def _choose_parent_and_add(tree: Tree, q_new, near, obstacles) -> int:
+def choose_parent_and_add(tree: Tree, q_new, near, obstacles) -> int:
     """Add ``q_new`` under the near node that reaches it most cheaply; -1 if no edge is free."""
     arm = tree.arm
     d = arm.joint_delta(tree.nodes[near], q_new)
@@ -131,7 +131,7 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: fl
         near = np.flatnonzero(np.einsum("ij,ij->i", dn, dn) <= radius * radius)
         if i not in near:
             near = np.append(near, i)
-        new = _choose_parent_and_add(tree, q_new, near, obstacles)
+        new = choose_parent_and_add(tree, q_new, near, obstacles)
         if new < 0:
             continue
         _rewire(tree, new, near, obstacles)

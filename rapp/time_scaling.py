@@ -33,11 +33,12 @@ from __future__ import annotations
 
 import numpy as np
 
-# The private helpers of rapp.trajectory, so that a bad or overflowing input is
-# refused with the same messages in both modules.
-from rapp.trajectory import PiecewisePolynomial, _finite, _fits, _steps, time_path
+# rapp.trajectory's argument checks, so that a bad or overflowing input is refused with the
+# same messages in both modules.
+from rapp.trajectory import PiecewisePolynomial, finite_array, overflow_checked, step_lengths, time_path
 
-__all__ = ["trapezoidal", "trapezoidal_path", "minimum_duration", "peak_rates", "PROFILES"]
+__all__ = ["trapezoidal", "trapezoidal_path", "minimum_duration", "peak_rates", "PROFILES",
+           "clock_after", "clean_waypoints"]
 
 #: The profiles :func:`minimum_duration` knows: the three of
 #: :func:`rapp.trajectory.time_path` and the trapezoid of :func:`trapezoidal_path`.
@@ -49,7 +50,7 @@ PROFILES = ("cubic", "quintic", "spline", "trapezoidal")
 
 def _limit(value, name: str, n: int) -> np.ndarray:
     """``value`` as ``(n,)`` positive finite limits (a scalar applies to every joint)."""
-    a = _finite(value, name)
+    a = finite_array(value, name)
     if not (a.ndim == 0 or (a.ndim == 1 and a.size in (1, n))):
         raise ValueError(f"{name} must be a number or one number per joint ({n}), "
                          f"got shape {a.shape}")
@@ -58,9 +59,9 @@ def _limit(value, name: str, n: int) -> np.ndarray:
     return np.broadcast_to(a, (n,)).astype(float)
 
 
-def _waypoints(waypoints, wraps) -> np.ndarray:
+def clean_waypoints(waypoints, wraps) -> np.ndarray:
     """``(k, n)`` waypoints, unwrapped where ``wraps`` says, repeats dropped (as time_path does)."""
-    w = _finite(waypoints, "waypoints")
+    w = finite_array(waypoints, "waypoints")
     if w.ndim == 1:
         w = w[:, None]
     if w.ndim != 2 or w.shape[0] < 2 or w.shape[1] < 1:
@@ -72,7 +73,7 @@ def _waypoints(waypoints, wraps) -> np.ndarray:
                              f"got {wraps.tolist()}")
         w = np.where(wraps, np.unwrap(w, axis=0), w)
     # A repeated waypoint is a move of length 0: no time, no piece.
-    return w[np.concatenate([[True], _steps(w) > 0])]
+    return w[np.concatenate([[True], step_lengths(w) > 0])]
 
 
 # --------------------------------------------------------------------------- the trapezoid
@@ -96,10 +97,10 @@ def _timing(delta: np.ndarray, vmax: np.ndarray, amax: np.ndarray):
         # tv - tb, not T - 2 tb: no cancellation, and never negative.
         tc = np.where(cruise, np.maximum(tv - tb, 0.0), 0.0)
     msg = "the waypoints move too far for vmax and amax: the duration overflows float64"
-    return _fits(tb, msg), _fits(tc, msg)
+    return overflow_checked(tb, msg), overflow_checked(tc, msg)
 
 
-def _clock(t: float, length: float) -> float:
+def clock_after(t: float, length: float) -> float:
     """The first float ``b`` with ``b - t >= length``: ``t + length`` rounded up.
 
     Breakpoints are absolute times, so late in a long path a short blend is
@@ -123,10 +124,10 @@ def _pieces(w: np.ndarray, vmax: np.ndarray, amax: np.ndarray):
     with np.errstate(all="ignore"):
         for p0, pf, blend, cruise in zip(w[:-1], w[1:], tb, tc):
             # The pieces as the clock will run them (a triangle has no cruise).
-            ends = [_clock(bp[-1], blend)]
+            ends = [clock_after(bp[-1], blend)]
             if cruise > 0:
-                ends.append(_clock(ends[-1], cruise))
-            ends.append(_clock(ends[-1], blend))
+                ends.append(clock_after(ends[-1], cruise))
+            ends.append(clock_after(ends[-1], blend))
             if not np.isfinite(ends[-1]):
                 raise ValueError(msg)
             h = np.diff([bp[-1], *ends])
@@ -143,7 +144,7 @@ def _pieces(w: np.ndarray, vmax: np.ndarray, amax: np.ndarray):
             local.append([pf - 0.5 * vel * h3, vel, -0.5 * (vel / h3)])
             bp.extend(ends)
     local = np.array(local)
-    _fits(local, "the waypoints move too far or too little for vmax and amax: "
+    overflow_checked(local, "the waypoints move too far or too little for vmax and amax: "
                  "the velocities or accelerations overflow float64")
     return np.array(bp), local
 
@@ -222,7 +223,7 @@ def trapezoidal(p0, pf, vmax, amax) -> PiecewisePolynomial:
     >>> trapezoidal(0.0, 1.0, vmax=10.0, amax=1.0).breakpoints.tolist()
     [0.0, 1.0, 2.0]
     """
-    a, b = _finite(p0, "p0"), _finite(pf, "pf")
+    a, b = finite_array(p0, "p0"), finite_array(pf, "pf")
     if a.ndim > 1 or b.ndim > 1 or a.shape != b.shape:
         raise ValueError(f"p0 and pf must be numbers or (n,) configurations of the same shape, "
                          f"got {a.shape} and {b.shape}")
@@ -268,7 +269,7 @@ def trapezoidal_path(waypoints, vmax, amax, *, wraps=None) -> PiecewisePolynomia
     >>> pp.evaluate([2.0, 5.0]).tolist(), pp.evaluate(2.0, 1).tolist()
     ([[1.0, 0.0], [1.0, 2.0]], [0.0, 0.0])
     """
-    w = _waypoints(waypoints, wraps)
+    w = clean_waypoints(waypoints, wraps)
     n = w.shape[1]
     vmax, amax = _limit(vmax, "vmax", n), _limit(amax, "amax", n)
     if w.shape[0] < 2:
@@ -328,7 +329,7 @@ def peak_rates(pp: PiecewisePolynomial) -> tuple[np.ndarray, np.ndarray]:
     with np.errstate(all="ignore"):
         v, a = _peaks(pp.local, h, 1), _peaks(pp.local, h, 2)
     msg = "the trajectory's velocities or accelerations overflow float64"
-    return _fits(v, msg), _fits(a, msg)
+    return overflow_checked(v, msg), overflow_checked(a, msg)
 
 
 # --------------------------------------------------------------------------- minimum duration
@@ -381,7 +382,7 @@ def minimum_duration(waypoints, profile: str, vmax, amax, *, wraps=None) -> floa
     if not isinstance(profile, str) or profile not in PROFILES:
         raise ValueError(f"profile must be one of {', '.join(map(repr, PROFILES))}, "
                          f"got {profile!r}")
-    w = _waypoints(waypoints, wraps)
+    w = clean_waypoints(waypoints, wraps)
     n = w.shape[1]
     vmax, amax = _limit(vmax, "vmax", n), _limit(amax, "amax", n)
     if w.shape[0] < 2:

@@ -47,10 +47,13 @@ __all__ = [
     "cubic_local",
     "quintic_local",
     "shift_to_absolute",
+    "finite_array",
+    "overflow_checked",
+    "step_lengths",
 ]
 
 
-def _finite(value, name: str) -> np.ndarray:
+def finite_array(value, name: str) -> np.ndarray:
     """``value`` as a float array, or a ValueError naming ``name`` unless every entry is finite."""
     try:
         a = np.asarray(value, dtype=float)
@@ -62,7 +65,7 @@ def _finite(value, name: str) -> np.ndarray:
     return a
 
 
-def _fits(result: np.ndarray, message: str) -> np.ndarray:
+def overflow_checked(result: np.ndarray, message: str) -> np.ndarray:
     """``result``, or a ValueError with ``message`` when a finite input overflowed into it.
 
     The formulas here run under ``np.errstate(all="ignore")``; an overflow or
@@ -86,11 +89,11 @@ def shift_to_absolute(b: np.ndarray, t0) -> np.ndarray:
     >>> shift_to_absolute(np.array([0.0, 1.0, 0.0, 0.0]), 2.0).tolist()   # t - 2
     [-2.0, 1.0, 0.0, 0.0]
     """
-    b = _finite(b, "b")
-    t0 = _finite(t0, "t0")
+    b = finite_array(b, "b")
+    t0 = finite_array(t0, "t0")
     with np.errstate(all="ignore"):
         a = _shift(b, -t0)
-    return _fits(a, f"t0 up to {np.abs(t0).max():.3g} is too large for these coefficients: the "
+    return overflow_checked(a, f"t0 up to {np.abs(t0).max():.3g} is too large for these coefficients: the "
                     "absolute-time coefficients overflow float64 (local time does not)")
 
 
@@ -104,13 +107,13 @@ def _shift(b: np.ndarray, s) -> np.ndarray:
 
 
 def _durations(t0, tf):
-    t0 = _finite(t0, "t0")
-    tf = _finite(tf, "tf")
+    t0 = finite_array(t0, "t0")
+    tf = finite_array(tf, "tf")
     with np.errstate(over="ignore"):
         h = tf - t0
     if np.any(~(h > 0)):
         raise ValueError(f"every segment needs tf > t0, got t0={t0.tolist()}, tf={tf.tolist()}")
-    return t0, _fits(h, "tf - t0 overflows float64: t0 and tf are too far apart")
+    return t0, overflow_checked(h, "tf - t0 overflows float64: t0 and tf are too far apart")
 
 
 def _too_short(what, h):
@@ -152,7 +155,7 @@ def cubic_local(h, p0, pf, v0, vf) -> np.ndarray:
     [0.0, 0.0, 0.9167, -0.1944]
     """
     h = _positive_durations(h)
-    p0, pf, v0, vf = (_finite(v, k) for v, k in ((p0, "p0"), (pf, "pf"), (v0, "v0"), (vf, "vf")))
+    p0, pf, v0, vf = (finite_array(v, k) for v, k in ((p0, "p0"), (pf, "pf"), (v0, "v0"), (vf, "vf")))
     with np.errstate(all="ignore"):
         d = pf - p0
         b = [
@@ -162,11 +165,11 @@ def cubic_local(h, p0, pf, v0, vf) -> np.ndarray:
             (-2 * d + (v0 + vf) * h) / h**3,
         ]
         b = np.stack(np.broadcast_arrays(*b), axis=0)
-    return _fits(b, _too_short("cubic", h))
+    return overflow_checked(b, _too_short("cubic", h))
 
 
 def _positive_durations(h):
-    h = _finite(h, "h")
+    h = finite_array(h, "h")
     if np.any(h <= 0):
         raise ValueError(f"h (the segment duration) must be > 0, got {h.tolist()}")
     return h
@@ -198,7 +201,7 @@ def quintic_local(h, p0, pf, v0, vf, a0, af) -> np.ndarray:
     [0.0, 0.0, 0.0, 10.0, -15.0, 6.0]
     """
     h = _positive_durations(h)
-    p0, pf, v0, vf, a0, af = (_finite(v, k) for v, k in (
+    p0, pf, v0, vf, a0, af = (finite_array(v, k) for v, k in (
         (p0, "p0"), (pf, "pf"), (v0, "v0"), (vf, "vf"), (a0, "a0"), (af, "af")))
     with np.errstate(all="ignore"):
         d = pf - p0
@@ -211,7 +214,7 @@ def quintic_local(h, p0, pf, v0, vf, a0, af) -> np.ndarray:
             (12 * d - 6 * (vf + v0) * h - (a0 - af) * h**2) / (2 * h**5),
         ]
         b = np.stack(np.broadcast_arrays(*b), axis=0)
-    return _fits(b, _too_short("quintic", h))
+    return overflow_checked(b, _too_short("quintic", h))
 
 
 def _derivative_coeffs(c: np.ndarray, derivative: int, axis: int) -> np.ndarray:
@@ -233,13 +236,13 @@ def polyval(coeffs, t, derivative: int = 0) -> np.ndarray:
     >>> polyval(c, [0.0, 3.0]).round(12).tolist(), polyval(c, 3.0, 1).round(12).tolist()
     ([2.0, 5.0], 0.25)
     """
-    c = _derivative_coeffs(_finite(coeffs, "coeffs"), derivative, 0)
-    t = _finite(t, "t")
+    c = _derivative_coeffs(finite_array(coeffs, "coeffs"), derivative, 0)
+    t = finite_array(t, "t")
     out = np.zeros(np.broadcast_shapes(c.shape[1:], t.shape))
     with np.errstate(all="ignore"):
         for k in range(c.shape[0] - 1, -1, -1):
             out = out * t + c[k]
-    return _fits(out, "the polynomial's value overflows float64 at these t")
+    return overflow_checked(out, "the polynomial's value overflows float64 at these t")
 
 
 @dataclass(frozen=True, eq=False)
@@ -283,8 +286,8 @@ class PiecewisePolynomial:
     local: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
-        bp = _finite(self.breakpoints, "breakpoints")
-        c = _finite(self.coefficients, "coefficients")
+        bp = finite_array(self.breakpoints, "breakpoints")
+        c = finite_array(self.coefficients, "coefficients")
         if c.ndim == 2:
             c = c[:, :, None]
         if bp.ndim != 1 or bp.size < 2 or np.any(np.diff(bp) <= 0):
@@ -296,10 +299,10 @@ class PiecewisePolynomial:
         if self.local is None:
             with np.errstate(all="ignore"):
                 loc = np.moveaxis(_shift(np.moveaxis(c, 1, 0), bp[:-1, None]), 0, 1)
-            _fits(loc, "breakpoints and coefficients too large: the local-time coefficients "
+            overflow_checked(loc, "breakpoints and coefficients too large: the local-time coefficients "
                        "overflow float64")
         else:
-            loc = _finite(self.local, "local")
+            loc = finite_array(self.local, "local")
             if loc.size != c.size:
                 raise ValueError(f"local must have the shape of coefficients {c.shape}, got {loc.shape}")
             loc = loc.reshape(c.shape)
@@ -319,8 +322,8 @@ class PiecewisePolynomial:
         >>> pp.coefficients.ravel().tolist(), pp.evaluate(2.5).tolist()
         ([-1.0, 1.0], [1.5])
         """
-        bp = _finite(breakpoints, "breakpoints")
-        loc = _finite(local, "local")
+        bp = finite_array(breakpoints, "breakpoints")
+        loc = finite_array(local, "local")
         if loc.ndim == 2:
             loc = loc[:, :, None]
         if bp.ndim != 1 or loc.ndim != 3 or loc.shape[0] != bp.size - 1:
@@ -330,7 +333,7 @@ class PiecewisePolynomial:
             )
         with np.errstate(all="ignore"):
             absolute = np.moveaxis(_shift(np.moveaxis(loc, 1, 0), -bp[:-1, None]), 0, 1)
-        _fits(absolute, f"breakpoints up to {np.abs(bp).max():.3g} are too late for these "
+        overflow_checked(absolute, f"breakpoints up to {np.abs(bp).max():.3g} are too late for these "
                         "segments: the absolute-time coefficients overflow float64")
         return cls(bp, absolute, loc)
 
@@ -391,7 +394,7 @@ class PiecewisePolynomial:
         if derivative:
             outside = (t < self.t0) | (t > self.tf)
             out[outside] = 0.0
-        return _fits(out, "the trajectory's values overflow float64 at these times")
+        return overflow_checked(out, "the trajectory's values overflow float64 at these times")
 
     def sample(self, t):
         """``(q, qd, qdd)`` at times ``t``, each of shape ``t.shape + (d,)``.
@@ -409,8 +412,8 @@ class PiecewisePolynomial:
 
 
 def _as_points(times, positions):
-    times = _finite(times, "times")
-    positions = _finite(positions, "positions")
+    times = finite_array(times, "times")
+    positions = finite_array(positions, "positions")
     if positions.ndim == 1:
         positions = positions[:, None]
     if times.ndim != 1 or times.size < 2 or positions.ndim != 2 or positions.shape[0] != times.size:
@@ -422,13 +425,13 @@ def _as_points(times, positions):
         steps = np.diff(times)
     if np.any(steps <= 0):
         raise ValueError("times must be strictly increasing")
-    _fits(steps, "times span more than float64 holds: their differences overflow")
+    overflow_checked(steps, "times span more than float64 holds: their differences overflow")
     return times, positions
 
 
 def _rows(values, k, d, name):
     """``values`` as a finite ``(k, d)`` array, or a ValueError naming ``name``."""
-    a = _finite(values, name)
+    a = finite_array(values, name)
     if a.size != k * d:
         raise ValueError(f"{name} must have shape ({k}, {d}) like positions, got {a.shape}")
     return a.reshape(k, d)
@@ -449,7 +452,7 @@ def heuristic_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray
     [0.0, 1.5, 0.0, 0.0]
     """
     times, p = _as_points(times, positions)
-    v_start, v_end = _finite(v_start, "v_start"), _finite(v_end, "v_end")
+    v_start, v_end = finite_array(v_start, "v_start"), finite_array(v_end, "v_end")
     with np.errstate(all="ignore"):
         slopes = np.diff(p, axis=0) / np.diff(times)[:, None]
         left, right = slopes[:-1], slopes[1:]
@@ -457,7 +460,7 @@ def heuristic_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray
         inner = np.where(np.sign(left) * np.sign(right) > 0, 0.5 * left + 0.5 * right, 0.0)
     v = np.empty_like(p)
     v[0], v[-1], v[1:-1] = v_start, v_end, inner
-    return _fits(v, _STEEP)
+    return overflow_checked(v, _STEEP)
 
 
 def spline_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray:
@@ -475,10 +478,10 @@ def spline_velocities(times, positions, v_start=0.0, v_end=0.0) -> np.ndarray:
     [0.0, 0.0, 0.0]
     """
     times, p = _as_points(times, positions)
-    v_start, v_end = _finite(v_start, "v_start"), _finite(v_end, "v_end")
+    v_start, v_end = finite_array(v_start, "v_start"), finite_array(v_end, "v_end")
     with np.errstate(all="ignore"):
         v = _spline_velocities(times, p, v_start, v_end)
-    return _fits(v, _STEEP)
+    return overflow_checked(v, _STEEP)
 
 
 def _spline_velocities(times, p, v_start, v_end):
@@ -515,7 +518,7 @@ def _spline_velocities(times, p, v_start, v_end):
 def _end_values(values, d):
     if values is None:
         return np.zeros(d), np.zeros(d)
-    values = _finite(values, "velocities")
+    values = finite_array(values, "velocities")
     if values.ndim == 0 or values.shape[0] < 1:
         raise ValueError(f"velocities must have k or 2 rows, got shape {values.shape}")
     if values.ndim == 1:
@@ -580,7 +583,7 @@ def via_points(times, positions, velocities=None, profile: str = "cubic",
                 slopes = np.diff(v, axis=0) / np.diff(times)[:, None]
                 acc = np.zeros_like(v)
                 acc[1:-1] = 0.5 * slopes[:-1] + 0.5 * slopes[1:]
-            _fits(acc, "velocities change too fast for the times between them: the "
+            overflow_checked(acc, "velocities change too fast for the times between them: the "
                        "accelerations overflow float64")
         elif isinstance(accelerations, str):
             raise ValueError(f"unknown accelerations {accelerations!r}")
@@ -621,23 +624,23 @@ def time_path(waypoints, duration: float, profile: str = "cubic", *, wraps=None,
     >>> pp.evaluate([0.0, 4.0], 1).tolist()
     [[0.0, 0.0], [0.0, 0.0]]
     """
-    w = _finite(waypoints, "waypoints")
+    w = finite_array(waypoints, "waypoints")
     if w.ndim == 1:
         w = w[:, None]
     if w.ndim != 2 or w.shape[0] < 1:
         raise ValueError(f"waypoints must have shape (k, n), got {w.shape}")
-    T, t0 = _duration(duration), float(_finite(t0, "t0"))
+    T, t0 = _duration(duration), float(finite_array(t0, "t0"))
     if wraps is not None:
         wraps = np.asarray(wraps, dtype=bool)
         if wraps.ndim > 1 or wraps.size not in (1, w.shape[1]):
             raise ValueError(f"wraps must have one bool per joint ({w.shape[1]}), got {wraps.tolist()}")
         w = np.where(wraps, np.unwrap(w, axis=0), w)
-    w = w[np.concatenate([[True], _steps(w) > 0])]
+    w = w[np.concatenate([[True], step_lengths(w) > 0])]
     with np.errstate(over="ignore"):
         end = np.float64(t0) + T
-        s = np.concatenate([[0.0], np.cumsum(_steps(w))])
+        s = np.concatenate([[0.0], np.cumsum(step_lengths(w))])
         times = t0 + _share(T, s, s[-1]) if w.shape[0] > 1 else np.array([t0, end])
-    _fits(times, f"t0 + duration overflows float64, got t0={t0:g}, duration={T:g}")
+    overflow_checked(times, f"t0 + duration overflows float64, got t0={t0:g}, duration={T:g}")
     if np.any(np.diff(times) <= 0):
         raise ValueError(
             f"duration {T:g} is too short beside t0 = {t0:g} (or a waypoint step too short "
@@ -660,13 +663,13 @@ def _share(T, lengths, total):
 
 def _duration(duration) -> float:
     """``duration`` as a float, or a ValueError naming it unless it is finite and > 0."""
-    T = float(_finite(duration, "duration"))
+    T = float(finite_array(duration, "duration"))
     if not T > 0:
         raise ValueError(f"duration must be > 0, got {duration!r}")
     return T
 
 
-def _steps(w) -> np.ndarray:
+def step_lengths(w) -> np.ndarray:
     """Joint-space length of every step between rows of ``w``; a ValueError if the path's overflows."""
     with np.errstate(all="ignore"):
         d = np.diff(w, axis=0)
@@ -676,8 +679,8 @@ def _steps(w) -> np.ndarray:
             m = np.abs(d).max(axis=-1, initial=0.0)
             m = np.where(m > 0, m, 1.0)
             step = m * np.linalg.norm(d / m[:, None], axis=-1)
-        _fits(step.sum(), "waypoints are too far apart: the path's length overflows float64")
-    return _fits(step, "waypoints are too far apart: a step's length overflows float64")
+        overflow_checked(step.sum(), "waypoints are too far apart: the path's length overflows float64")
+    return overflow_checked(step, "waypoints are too far apart: a step's length overflows float64")
 
 
 _SMOOTHSTEP = (lambda s: s**3 * (10 - 15 * s + 6 * s**2),
@@ -706,13 +709,13 @@ def time_polyline(waypoints, duration: float, samples: int):
     >>> q[4].tolist(), qd[4].tolist()
     ([1.0, 0.0], [0.0, 0.0])
     """
-    w = _finite(waypoints, "waypoints")
+    w = finite_array(waypoints, "waypoints")
     if w.ndim != 2 or len(w) < 1:
         raise ValueError(f"waypoints must have shape (m, n), got {w.shape}")
     T = _duration(duration)
     t = np.linspace(0.0, T, positive_integer(samples, "samples", lo=2))
     n = w.shape[1]
-    seg = _steps(w)
+    seg = step_lengths(w)
     total = float(seg.sum())
     if total <= 0.0:
         z = np.zeros((len(t), n))
@@ -721,7 +724,7 @@ def time_polyline(waypoints, duration: float, samples: int):
         t, q, qd, qdd = _smoothstep_polyline(w, T, t, seg, total)
     msg = (f"waypoints move too far for duration {T:g}: the velocities or accelerations "
            "overflow float64")
-    return t, q, _fits(qd, msg), _fits(qdd, msg)
+    return t, q, overflow_checked(qd, msg), overflow_checked(qdd, msg)
 
 
 def _smoothstep_polyline(w, T, t, seg, total):

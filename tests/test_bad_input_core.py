@@ -240,7 +240,7 @@ def test_grid_functions_refuse_what_is_not_a_joint_grid():
 
 
 def test_certified_free_painted_matches_the_clearance_reference():
-    from rapp.cspace import _certified_free_reference
+    from rapp.reference import certified_free as _certified_free_reference
 
     arm = Arm([1.0, 0.7, 0.5], [None, (-2.0, 2.5), None])
     grid = JointGrid(arm, (12, 9, 10))

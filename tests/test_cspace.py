@@ -10,7 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, occupancy
-from rapp.cspace import _occupancy_reference, grid_q
+from rapp.cspace import grid_q
+from rapp.reference import occupancy as _occupancy_reference
 
 
 def tm_hits_circle(a, b, c, r):

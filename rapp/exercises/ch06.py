@@ -3,17 +3,17 @@
 The damped least-squares step of Exercise 6.5 is checked against :func:`_dls_ref`, eq.
 ``ch06-dls`` written out. It is the package's step with the damping held fixed: with
 ``sigma_floor`` so large that the damping is always on and ``lambda_max = lam`` (and an error
-of at least ``lam**2``, the cap of line 7), ``rapp.ik._dls_step`` takes the same step, and with
+of at least ``lam**2``, the cap of line 7), ``rapp.ik.dls_step`` takes the same step, and with
 ``lam = 0`` it is the pseudo-inverse (Newton) step.
 
 Examples
 --------
 >>> [ex.id for ex in EXERCISES]
 ['6.1', '6.2', '6.3', '6.4', '6.5', '6.6']
->>> from rapp.ik import _dls_step
+>>> from rapp.ik import dls_step
 >>> J = jacobian(Arm([0.5, 0.3, 0.2]), [0.3, 1.1, -0.4])
 >>> e = np.array([0.3, -0.2])
->>> pkg = _dls_step(J[0][:, None], J[1][:, None], e[:1], e[1:], 1e100, 0.2)[:, 0]
+>>> pkg = dls_step(J[0][:, None], J[1][:, None], e[:1], e[1:], 1e100, 0.2)[:, 0]
 >>> bool(np.allclose(_dls_ref(J, e, 0.2), pkg, rtol=1e-12, atol=1e-15))
 True
 >>> bool(np.allclose(_dls_ref(J, e, 0.0), np.linalg.pinv(J) @ e))

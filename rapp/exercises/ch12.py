@@ -20,7 +20,7 @@ from rapp.cases import rrt_report as s3
 from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
 from rapp.ik import jacobian
 from rapp.obstacles import Circle, Polygon
-from rapp.rrt import _Grower, rrt
+from rapp.rrt import Grower, rrt
 
 __all__ = ["EXERCISES"]
 
@@ -85,7 +85,7 @@ _FREE3 = Arm([0.5, 0.5, 0.5])  # three free joints: every joint wraps
 
 def _steer_ref(q_near, q_rand, step):
     """The package's steer: ``rapp.rrt``'s own rule (``steer="step"``) from one node."""
-    grower = _Grower(_FREE3, [], None, None, None, float(step), "step", 0.0)
+    grower = Grower(_FREE3, [], None, None, None, float(step), "step", 0.0)
     _, q_new, _ = grower.steer_from(np.asarray(q_near, float)[None], np.asarray(q_rand, float)[None])
     return q_new[0]
 

@@ -22,7 +22,7 @@ from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound, RappError
 from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
 from rapp.obstacles import Circle
-from rapp.rrt_star import _choose_parent_and_add
+from rapp.rrt_star import choose_parent_and_add
 from rapp.sampling import Tree
 
 __all__ = ["EXERCISES"]
@@ -54,7 +54,7 @@ def _choose_parent_ref(arm, near, costs, q_new, obstacles):
     tree = Tree(arm, near)
     for i, c in enumerate(np.asarray(costs, float)):
         tree.set_parent(i, -1, float(c))
-    new = _choose_parent_and_add(tree, np.asarray(q_new, float), np.arange(len(near)), list(obstacles))
+    new = choose_parent_and_add(tree, np.asarray(q_new, float), np.arange(len(near)), list(obstacles))
     if new < 0:
         return (-1, math.inf)
     return (int(tree.parent[new]), round(float(tree.cost[new]), 12))
