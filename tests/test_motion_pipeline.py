@@ -200,6 +200,7 @@ def test_limits_in_degrees_are_converted():
 
 def test_a_curve_that_leaves_the_free_path_falls_back_to_rest_to_rest_within_limits(monkeypatch):
     import rapp.planner
+    import rapp.timing
 
     calls = []
 
@@ -207,7 +208,7 @@ def test_a_curve_that_leaves_the_free_path_falls_back_to_rest_to_rest_within_lim
         calls.append(1)
         return np.zeros(np.shape(qa)[:-1], dtype=bool)
 
-    monkeypatch.setattr(rapp.planner, "segment_collision_free", refuse_the_curve)
+    monkeypatch.setattr(rapp.timing, "segment_collision_free", refuse_the_curve)
     monkeypatch.setattr(rapp.planner, "shortcut", lambda arm, w, obs: w)
     p = plan(with_trajectory("srs_typical", profile="spline", max_velocity=1.0,
                              max_acceleration=2.0))
