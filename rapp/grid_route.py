@@ -31,7 +31,7 @@ from rapp.collision import motion_bounds, segment_collision_free
 from rapp.cspace import JointGrid, certified_free, occupancy
 from rapp.errors import GridTooCoarse, NoPathFound
 from rapp.obstacles import Circle
-from rapp.paths import Route, unwrap_near, unwrap_path
+from rapp.paths import PlannerResult, path_length, unwrap_near, unwrap_path
 from rapp.search import astar_search, bfs_distances
 
 __all__ = ["anchor_cell", "grid_route", "grid_step_motion", "obstacle_size"]
@@ -224,9 +224,9 @@ def _route_on(arm, obstacles, grid, blocked, start, goal_qs, *, certified: bool,
     return full, metrics, res.closed
 
 
-def grid_route(arm: Arm, obstacles, start, goal_qs, *, cells, heuristic_weight: float = 1.0,
-               max_expansions=None) -> Route:
-    """A certified polyline from ``start`` to the nearest reachable of ``goal_qs``, by A* on a grid.
+def grid_route(arm: Arm, start, goal, obstacles=(), *, cells, heuristic_weight: float = 1.0,
+               max_expansions=None, raise_on_failure: bool = True) -> PlannerResult:
+    """A certified polyline from ``start`` to the nearest reachable of ``goal``, by A* on a grid.
 
     A* runs first on the certified cells (no move needs checking); if they
     hold no path, on the plain occupancy with each move checked, which also
@@ -235,14 +235,22 @@ def grid_route(arm: Arm, obstacles, start, goal_qs, *, cells, heuristic_weight: 
     Parameters
     ----------
     arm : Arm
-    obstacles : iterable of Circle and Polygon
     start : (n,) array_like
-    goal_qs : (g, n) array_like
-        Goal configurations, e.g. every free IK solution of a Cartesian goal.
+    goal : (n,) or (g, n) array_like
+        Goal configuration(s), e.g. every free IK solution of a Cartesian goal.
+    obstacles : iterable of Circle and Polygon
     cells : int or sequence of int
         Cells per joint of the :class:`~rapp.cspace.JointGrid`.
     heuristic_weight, max_expansions
         Passed to :func:`rapp.search.astar_search`.
+    raise_on_failure : bool
+        Raise :class:`~rapp.errors.NoPathFound` (default) or return ``success=False``.
+
+    Returns
+    -------
+    PlannerResult
+        ``path`` the certified polyline; its details ``grid``, ``occupancy``, ``expanded`` (the
+        cells A* closed), ``metrics`` and ``times`` (``cspace``, ``search``).
 
     Raises
     ------
@@ -254,14 +262,24 @@ def grid_route(arm: Arm, obstacles, start, goal_qs, *, cells, heuristic_weight: 
     Examples
     --------
     >>> from rapp import Circle
-    >>> r = grid_route(Arm([1.0, 1.0]), [Circle((1.5, 0.5), 0.3)], [0.0, 0.0], [[2.0, 0.0]], cells=32)
+    >>> r = grid_route(Arm([1.0, 1.0]), [0.0, 0.0], [[2.0, 0.0]], [Circle((1.5, 0.5), 0.3)], cells=32)
     >>> r.waypoints[0].tolist(), r.metrics["search_grid"]
     ([0.0, 0.0], 'certified cells')
     >>> r.goal_q.round(4).tolist()          # unwrapped: the way round clear of the disc
     [-4.2832, 0.0]
     """
+    try:
+        return _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions)
+    except NoPathFound:
+        if raise_on_failure:
+            raise
+        return PlannerResult(np.empty((0, arm.n)), False, float("inf"), {})
+
+
+def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions):
     start = arm.check_q(start, "start")
-    goal_qs = arm.check_q(np.atleast_2d(goal_qs), "goal_qs")
+    goal_qs = arm.check_q(np.atleast_2d(goal), "goal")
+    obstacles = list(obstacles)
     t0 = time.perf_counter()
     grid = JointGrid(arm, cells)
     occ = occupancy(arm, obstacles, grid)
@@ -279,4 +297,5 @@ def grid_route(arm: Arm, obstacles, start, goal_qs, *, cells, heuristic_weight: 
     times = {"cspace": t1 - t0, "search": time.perf_counter() - t1}
     metrics.update({"grid_cells": int(occ.size), "free_fraction": float(1.0 - occ.mean()),
                     "certified_fraction": float(safe.mean())})
-    return Route(full, full[-1], grid, occ, metrics, times, expanded=closed)
+    return PlannerResult(full, True, path_length(full), {
+        "grid": grid, "occupancy": occ, "expanded": closed, "metrics": metrics, "times": times})

@@ -1,4 +1,4 @@
-"""Joint-space polylines: unwrapping, repeats, length, shortcutting, and the route a planner returns.
+"""Joint-space polylines: unwrapping, repeats, length, shortcutting, and what a planner returns.
 
 A path is an array ``(k, n)`` of configurations joined by straight joint-space
 segments. On a free joint the angle is *unwrapped* along a path (it may leave
@@ -10,44 +10,80 @@ into the plot's range and broken where it crosses a seam (:func:`split_at_seam`)
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Mapping
 
 import numpy as np
 
 from rapp.arm import Arm
 from rapp.collision import segment_collision_free
 
-__all__ = ["Route", "unwrap_near", "unwrap_path", "drop_repeats", "path_length", "shortcut",
+__all__ = ["PlannerResult", "tree_result", "unwrap_near", "unwrap_path", "drop_repeats", "path_length", "shortcut",
            "split_at_seam", "even_indices"]
 
 
-@dataclass(frozen=True)
-class Route:
-    """What a planner hands the pipeline: a certified unwrapped polyline from the start to a goal.
+@dataclass(frozen=True, eq=False)
+class PlannerResult:
+    """What every planner returns (the contract of :mod:`rapp.planners`).
 
     Attributes
     ----------
-    waypoints : ndarray (m, n)
-        Every straight segment between consecutive rows is certified free.
-    goal_q : ndarray (n,)
-        The goal configuration reached (the last waypoint).
-    grid, occupancy
-        The joint grid and its occupancy, for a grid planner (else None).
-    metrics : dict
-        Planner-specific counts (expansions, tree nodes, ...): deterministic.
-    times : dict
-        Wall-clock seconds of the planner's stages (``cspace``, ``search``).
-    expanded : ndarray of bool, optional
-        The cells the grid search expanded (its closed set), for figures of the search effort.
+    path : ndarray (k, n)
+        From the exact start to a goal configuration, unwrapped: every straight segment
+        between consecutive rows is certified collision-free. ``(0, n)`` on failure.
+    success : bool
+    cost : float
+        Joint-space length of ``path`` (radians); ``inf`` on failure.
+    details : mapping
+        The planner's own: ``nodes``, ``parent``, ``iterations`` for trees and roadmaps;
+        ``grid``, ``occupancy``, ``expanded``, ``metrics``, ``times`` for the grid search.
+        Each is also read as an attribute (``result.nodes``), as before the contract.
+
+    Examples
+    --------
+    >>> r = PlannerResult(np.array([[0.0, 0.0], [0.3, 0.4]]), True, 0.5, {"iterations": 7})
+    >>> r.iterations, r.goal_q.tolist(), r.waypoints is r.path
+    (7, [0.3, 0.4], True)
     """
 
-    waypoints: np.ndarray
-    goal_q: np.ndarray
-    grid: Any = None
-    occupancy: np.ndarray | None = None
-    metrics: dict = field(default_factory=dict)
-    times: dict = field(default_factory=dict)
-    expanded: np.ndarray | None = None
+    path: np.ndarray
+    success: bool
+    cost: float
+    details: Mapping = field(default_factory=dict)
+
+    def __getattr__(self, name):
+        # Only called when normal lookup fails: the planner's own details read as attributes.
+        if name.startswith("__") or name == "details":
+            raise AttributeError(name)
+        try:
+            return self.details[name]
+        except KeyError:
+            raise AttributeError(f"this planner's result has no {name!r} (its details: "
+                                 f"{', '.join(self.details) or 'none'})") from None
+
+    @property
+    def waypoints(self) -> np.ndarray:
+        """``path``, by the name the pipeline uses."""
+        return self.path
+
+    @property
+    def goal_q(self) -> np.ndarray:
+        """The goal configuration reached: the last waypoint."""
+        return self.path[-1]
+
+
+def tree_result(arm: Arm, path, nodes, parent, iterations: int) -> PlannerResult:
+    """A tree or roadmap planner's result: success when ``path`` is given (else None).
+
+    Examples
+    --------
+    >>> r = tree_result(Arm([1.0]), None, np.zeros((1, 1)), np.array([-1]), 5)
+    >>> r.success, r.cost, r.path.shape, r.iterations
+    (False, inf, (0, 1), 5)
+    """
+    details = {"nodes": nodes, "parent": parent, "iterations": int(iterations)}
+    if path is None:
+        return PlannerResult(np.empty((0, arm.n)), False, float("inf"), details)
+    return PlannerResult(path, True, path_length(path), details)
 
 
 def unwrap_near(arm: Arm, q, ref) -> np.ndarray:

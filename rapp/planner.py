@@ -31,8 +31,8 @@ rest-to-rest per edge (trapezoidal, or the cubic or quintic rest-to-rest
 shape, :func:`rapp.timing.time_route`), never a spline through the waypoints.
 A line that cannot be followed raises :class:`~rapp.errors.PathNotFollowable`.
 
-Planners are looked up by name in :data:`PLANNERS`, so a new search method
-plugs in without touching the pipeline. ``plan()`` never prints. The result
+Planners are looked up by name in the planner table (:mod:`rapp.planners`), so a new
+planner plugs in without touching the pipeline. ``plan()`` never prints. The result
 value and its file live in :mod:`rapp.results`.
 
 References
@@ -45,21 +45,15 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
-from types import MappingProxyType
-from typing import Callable, Mapping
 
 import numpy as np
 
 from rapp.cartesian import line_path
 from rapp.errors import InvalidValue, NoPathFound
-from rapp.grid_route import grid_route
+from rapp import planners as planner_table
 from rapp.ik import free_ik_solutions
-from rapp.paths import Route, drop_repeats, path_length, shortcut, unwrap_path
+from rapp.paths import PlannerResult, drop_repeats, path_length, shortcut, unwrap_path
 from rapp.results import Plan
-from rapp.prm import prm
-from rapp.rrt import plan_rrt
-from rapp.rrt_connect import rrt_connect
-from rapp.rrt_star import rrt_star
 from rapp.scenario import Scenario, load_scenario
 from rapp.timing import DURATION_MARGIN, time_route
 from rapp.verify import verify
@@ -82,60 +76,33 @@ def _goal_configurations(scenario: Scenario) -> tuple[np.ndarray, int]:
                              q0=scenario.start_array)
 
 
-def _plan_astar(scenario: Scenario, goal_qs: np.ndarray) -> Route:
-    """A* on the joint grid, every move certified (:func:`rapp.grid_route.grid_route`)."""
+def _search(scenario: Scenario, goal_qs: np.ndarray) -> PlannerResult:
+    """The scenario's planner (looked up in the table) from the exact start to ``goal_qs``.
+
+    Its path is unwrapped; its metrics and stage times are the grid planner's own, or, for a
+    planner that reports none, the path's nodes and the wall time of the call.
+    """
     p = scenario.planner
-    return grid_route(scenario.arm, scenario.obstacles, scenario.start_array, goal_qs,
-                      cells=p.cells, heuristic_weight=p.heuristic_weight,
-                      max_expansions=p.max_expansions)
-
-
-def _plan_rrt(scenario: Scenario, goal_qs: np.ndarray) -> Route:
-    """RRT from the exact start to the goal configurations; its path is certified edge by edge."""
-    p = scenario.planner
-    settings = {"step": p.step, "goal_bias": p.goal_bias, "goal_threshold": p.goal_threshold,
-                "max_iterations": p.max_iterations, "seed": p.seed, "time_budget": p.time_budget}
-    return _sampled_route(scenario, goal_qs, lambda arm, obs, start, goals: plan_rrt(
-        arm, obs, start, goals, settings=settings))
-
-
-def _sampling_planner(function, keys):
-    """A PLANNERS entry for a sampling planner called as ``function(arm, start, goal,
-    obstacles, **settings)`` with the scenario's settings named in ``keys``."""
-    def run(scenario: Scenario, goal_qs: np.ndarray) -> Route:
-        p = scenario.planner
-        kw = {k: getattr(p, k) for k in keys}
-        return _sampled_route(scenario, goal_qs, lambda arm, obs, start, goals: function(
-            arm, start, goals, obs, **kw).path)
-    run.__doc__ = f"{function.__name__} from the exact start to the goal configurations."
-    return run
-
-
-def _sampled_route(scenario: Scenario, goal_qs, solve) -> Route:
     t0 = time.perf_counter()
-    path = np.asarray(solve(scenario.arm, scenario.obstacles, scenario.start_array, goal_qs), float)
-    if path.ndim != 2 or len(path) == 0:
-        raise NoPathFound(f"{scenario.planner.algorithm} found no path")
+    result = planner_table.run(p.algorithm, scenario.arm, scenario.start_array, goal_qs,
+                               scenario.obstacles, **p.values())
+    elapsed = time.perf_counter() - t0
+    path = np.asarray(result.path, float)
+    if not result.success or path.ndim != 2 or len(path) == 0:
+        raise NoPathFound(f"{p.algorithm} found no path")
     path = unwrap_path(scenario.arm, path)
-    metrics = {"tree_path_nodes": int(len(path)), "goal_candidates": int(len(goal_qs))}
-    return Route(path, path[-1], None, None, metrics,
-                 {"cspace": 0.0, "search": time.perf_counter() - t0})
+    details = dict(result.details)
+    details.setdefault("metrics", {"tree_path_nodes": int(len(path)),
+                                   "goal_candidates": int(len(goal_qs))})
+    details.setdefault("times", {"cspace": 0.0, "search": elapsed})
+    return PlannerResult(path, True, result.cost, details)
 
 
 #: The pipeline's stages, in order, as named in ``Plan.timings``.
 STAGES = ("ik", "cspace", "search", "smoothing", "trajectory", "verify", "total")
 
-#: Planner name -> function(scenario, goal configurations (g, n)) -> Route.
-#: Read-only: a new planner is added here, in code, not registered at run time.
-PLANNERS: Mapping[str, Callable] = MappingProxyType({
-    "astar": _plan_astar,
-    "rrt": _plan_rrt,
-    "rrt_connect": _sampling_planner(rrt_connect, ("step", "seed", "max_iterations", "time_budget")),
-    "rrt_star": _sampling_planner(rrt_star, ("step", "goal_bias", "goal_threshold", "seed",
-                                             "max_iterations", "time_budget")),
-    "prm": _sampling_planner(prm, ("samples", "neighbours", "seed", "max_iterations",
-                                   "time_budget")),
-})
+#: The planner table (:data:`rapp.planners.PLANNERS`): name -> entry, read-only.
+PLANNERS = planner_table.PLANNERS
 
 
 def plan(scenario) -> Plan:
@@ -173,7 +140,7 @@ def plan(scenario) -> Plan:
     """
     scenario = load_scenario(scenario)
     algorithm = scenario.planner.algorithm
-    if algorithm not in PLANNERS:
+    if algorithm not in planner_table.PLANNERS:
         raise InvalidValue(f"unknown planner {algorithm!r}", field="planner.algorithm")
     arm, obs = scenario.arm, scenario.obstacles
     times = {}
@@ -184,15 +151,15 @@ def plan(scenario) -> Plan:
         t0 = time.perf_counter()
         line = line_path(arm, scenario.start_array, scenario.goal_xy, obs,
                          tolerance=LINE_TOLERANCE)
-        route = Route(line, line[-1], metrics={"line_waypoints": int(len(line))},
-                      times={"search": time.perf_counter() - t0})
+        route = PlannerResult(line, True, path_length(line), {
+            "metrics": {"line_waypoints": int(len(line))}, "times": {"search": time.perf_counter() - t0}})
         n_ik, waypoints, short = None, line, line
     else:
         t0 = time.perf_counter()
         goal_qs, n_ik = _goal_configurations(scenario)
         times["ik"] = time.perf_counter() - t0
 
-        route = PLANNERS[algorithm](scenario, goal_qs)
+        route = _search(scenario, goal_qs)
         times.update(route.times)
 
         t0 = time.perf_counter()
@@ -220,9 +187,9 @@ def plan(scenario) -> Plan:
         **timed.info,
     })
     result = Plan(t=t, q=q, qd=timed.qd, qdd=timed.qdd, xy=xy, waypoints=waypoints, shortcut=short,
-                  goal_q=np.asarray(route.goal_q, float), scenario=scenario, grid=route.grid,
-                  occupancy=route.occupancy, profile=timed.profile, metrics=metrics,
-                  expanded=route.expanded, motion=timed.motion)
+                  goal_q=np.asarray(route.goal_q, float), scenario=scenario, grid=route.details.get("grid"),
+                  occupancy=route.details.get("occupancy"), profile=timed.profile, metrics=metrics,
+                  expanded=route.details.get("expanded"), motion=timed.motion)
     t0 = time.perf_counter()
     report = verify(result, scenario)
     times["verify"] = time.perf_counter() - t0

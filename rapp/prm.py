@@ -22,8 +22,7 @@ import numpy as np
 from rapp.checks import positive_integer
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound
-from rapp.paths import path_length
-from rapp.rrt import RRTResult
+from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import Budget, check_start_and_goals, uniform_samples, unwrapped_chain
 
 __all__ = ["prm"]
@@ -59,7 +58,7 @@ def _dijkstra(nodes_n: int, edges: dict, sources, targets):
 
 def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int = 10, seed=0,
         max_iterations: int = 500, time_budget: float | None = None,
-        max_samples: int | None = None, raise_on_failure: bool = True) -> RRTResult:
+        max_samples: int | None = None, raise_on_failure: bool = True) -> PlannerResult:
     """Plan with a lazy probabilistic roadmap from ``start`` to a goal configuration.
 
     Parameters
@@ -80,7 +79,7 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
 
     Returns
     -------
-    RRTResult
+    PlannerResult
         ``nodes`` the roadmap (start first, then the goals, then the samples) and ``parent``
         the last search's shortest-path tree.
 
@@ -136,11 +135,11 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
                 grow = False
                 continue
         path = unwrapped_chain(arm, nodes[chain], start)
-        return RRTResult(path, nodes, parent, budget.iterations, True, path_length(path))
+        return tree_result(arm, path, nodes, parent, budget.iterations)
     if raise_on_failure:
         raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal in "
                           f"{budget.iterations} searches")
-    return RRTResult(np.empty((0, arm.n)), nodes, parent, budget.iterations, False, float("inf"))
+    return tree_result(arm, None, nodes, parent, budget.iterations)
 
 
 def _grow(arm, rng, nodes, k, obstacles):

@@ -71,7 +71,7 @@ import numpy as np
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound
 from rapp.ik import jacobian
-from rapp.paths import path_length
+from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import Budget, Tree
 
 __all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "Grower"]
@@ -79,33 +79,11 @@ __all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "Grower"]
 _BATCH = 32  # random targets drawn, and edges certified together, per batch
 
 
-@dataclass(frozen=True, eq=False)
-class RRTResult:
-    """The outcome of one RRT run.
-
-    Attributes
-    ----------
-    path : ndarray, shape (k, n)
-        Start to goal, unwrapped (see the module notes); ``(0, n)`` on failure.
-    nodes : ndarray, shape (m, n)
-        Every tree node, root (the start) first, wrapped into the joint bounds.
-    parent : ndarray of int, shape (m,)
-        The tree as a parent map: ``parent[i]`` is the index of node ``i``'s
-        parent, ``-1`` for the root.
-    iterations : int
-        Iterations run (on success, the iteration that reached the goal).
-    success : bool
-    cost : float
-        Joint-space length of ``path`` (sum of Euclidean edge lengths, radians);
-        ``inf`` on failure.
-    """
-
-    path: np.ndarray
-    nodes: np.ndarray
-    parent: np.ndarray
-    iterations: int
-    success: bool
-    cost: float
+#: The result of every planner (:class:`rapp.paths.PlannerResult`): ``path``, ``success``,
+#: ``cost`` and, for RRT, ``nodes`` (every tree node, root first, wrapped into the joint
+#: bounds), ``parent`` (``parent[i]`` the index of node ``i``'s parent, -1 for the root) and
+#: ``iterations`` (on success, the iteration that reached the goal). The old name is kept.
+RRTResult = PlannerResult
 
 
 @dataclass(frozen=True, eq=False)
@@ -172,7 +150,7 @@ def rrt(
     raise_on_failure: bool = True,
     trace: list | None = None,
     time_budget: float | None = None,
-) -> RRTResult:
+) -> PlannerResult:
     """Grow an RRT in joint space from ``start`` until it reaches the goal.
 
     Parameters
@@ -210,7 +188,8 @@ def rrt(
 
     Returns
     -------
-    RRTResult
+    PlannerResult
+        ``path``, ``success``, ``cost``; its details ``nodes``, ``parent``, ``iterations``.
 
     Raises
     ------
@@ -241,8 +220,7 @@ def rrt(
     def fail(msg, it):
         if raise_on_failure:
             raise NoPathFound(msg)
-        return RRTResult(np.empty((0, arm.n)), tree.nodes.copy(), tree.parent.copy(), it, False,
-                         float("inf"))
+        return tree_result(arm, None, tree.nodes.copy(), tree.parent.copy(), it)
 
     if collides(arm, start, obstacles):
         return fail("the start configuration collides", 0)
@@ -285,7 +263,7 @@ def rrt(
     if hit < 0:
         return fail(f"RRT reached no goal in {max_iterations} iterations", it)
     path = _unwrapped_path(arm, tree, hit, start)
-    return RRTResult(path, tree.nodes.copy(), tree.parent.copy(), it, True, path_length(path))
+    return tree_result(arm, path, tree.nodes.copy(), tree.parent.copy(), it)
 
 
 def _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias, goal_threshold, steer):

@@ -20,8 +20,7 @@ from rapp.checks import finite_number
 from rapp.collision import reach_matrix, link_clearances, segment_collision_free
 from rapp.obstacles import Circle
 from rapp.errors import NoPathFound
-from rapp.paths import path_length
-from rapp.rrt import RRTResult
+from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import Budget, Tree, check_start_and_goals, uniform_samples, unwrapped_chain
 
 __all__ = ["rrt_connect"]
@@ -160,7 +159,7 @@ def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, cle
 
 def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
                 max_iterations: int = 5000, time_budget: float | None = None,
-                raise_on_failure: bool = True) -> RRTResult:
+                raise_on_failure: bool = True) -> PlannerResult:
     """Plan from ``start`` to a goal configuration with two trees that grow toward each other.
 
     Parameters
@@ -183,7 +182,7 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
 
     Returns
     -------
-    RRTResult
+    PlannerResult
         ``path`` from the exact start to the exact goal (unwrapped), ``nodes`` of both trees
         (the start's tree first) with their ``parent`` map (-1 at each root), ``cost`` its
         joint-space length.
@@ -225,10 +224,10 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     if meet is None:
         if raise_on_failure:
             raise NoPathFound(f"RRT-Connect joined no goal in {budget.iterations} iterations")
-        return RRTResult(np.empty((0, arm.n)), nodes, parent, budget.iterations, False, float("inf"))
+        return tree_result(arm, None, nodes, parent, budget.iterations)
     walk = _root_chain(trees[0], meet[0])[::-1] + _root_chain(trees[1], meet[1])[1:]
     path = unwrapped_chain(arm, np.array(walk), start)
-    return RRTResult(path, nodes, parent, budget.iterations, True, path_length(path))
+    return tree_result(arm, path, nodes, parent, budget.iterations)
 
 
 def _root_chain(tree: Tree, i: int) -> list:

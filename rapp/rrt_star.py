@@ -20,8 +20,7 @@ import numpy as np
 from rapp.checks import finite_number
 from rapp.collision import segment_collision_free
 from rapp.errors import NoPathFound
-from rapp.paths import path_length
-from rapp.rrt import RRTResult
+from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import Budget, Tree, check_start_and_goals, uniform_samples, unwrapped_chain
 
 __all__ = ["rrt_star", "choose_parent_and_add"]
@@ -74,7 +73,7 @@ def _shift_subtree_cost(tree: Tree, root: int, delta: float) -> None:
 def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: float = 0.05,
              goal_threshold: float = 0.05, seed=0, max_iterations: int = 2000,
              time_budget: float | None = None, gamma: float | None = None,
-             raise_on_failure: bool = True) -> RRTResult:
+             raise_on_failure: bool = True) -> PlannerResult:
     """Plan with RRT*: the best path found to a goal configuration within the budget.
 
     It runs for the whole budget (an anytime planner), so ``max_iterations`` sets how good the
@@ -148,12 +147,10 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: fl
     if best_goal < 0:
         if raise_on_failure:
             raise NoPathFound(f"RRT* reached no goal in {budget.iterations} iterations")
-        return RRTResult(np.empty((0, n)), tree.nodes.copy(), tree.parent.copy(),
-                         budget.iterations, False, math.inf)
+        return tree_result(arm, None, tree.nodes.copy(), tree.parent.copy(), budget.iterations)
     # Rewiring may have improved the goal's branch since it was found: walk the parent map now.
     chain = [best_goal]
     while tree.parent[chain[-1]] >= 0:
         chain.append(int(tree.parent[chain[-1]]))
     path = unwrapped_chain(arm, tree.nodes[chain[::-1]], start)
-    return RRTResult(path, tree.nodes.copy(), tree.parent.copy(), budget.iterations, True,
-                     path_length(path))
+    return tree_result(arm, path, tree.nodes.copy(), tree.parent.copy(), budget.iterations)

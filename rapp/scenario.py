@@ -31,6 +31,7 @@ import math
 import os
 from dataclasses import dataclass, field as dc_field
 from importlib import resources
+from types import MappingProxyType
 from typing import Any, Mapping
 
 import numpy as np
@@ -39,6 +40,8 @@ from rapp.arm import Arm
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
 from rapp.collision import clearance, collides, segment_point_distance
 from rapp.obstacles import Circle, Polygon
+from rapp import planners as planner_table
+from rapp.planners import MAX_GOAL_THRESHOLD, MAX_HEURISTIC_WEIGHT, MAX_TIME_BUDGET
 
 __all__ = [
     "Scenario",
@@ -83,8 +86,6 @@ MIN_DURATION, MAX_DURATION = 1e-3, 1e6
 #: conversion from degrees: slow or fast enough for any arm, and far from overflow.
 MIN_RATE_LIMIT, MAX_RATE_LIMIT = 1e-6, 1e6
 MAX_LINKS = 16
-MAX_HEURISTIC_WEIGHT = 100.0
-MAX_GOAL_THRESHOLD = 1.0
 #: Peak resident memory the grid pipeline may use (bytes). Every accepted scenario stays
 #: under 2 GB: the budget leaves room for Python, numpy and the rest of the process.
 MEMORY_BUDGET = 1.5e9
@@ -100,19 +101,10 @@ BYTES_PER_CELL_PER_JOINT_SQUARED = 10
 GRID_DEFAULT_MAX_JOINTS = 6
 MAX_FILE_BYTES = 10_000_000
 MAX_SAMPLES = 1_000_000
-ALGORITHMS = ("astar", "rrt", "rrt_connect", "rrt_star", "prm")
-#: The planner settings each algorithm reads (``seed`` is read by every sampling planner).
-SETTINGS_OF = {
-    "astar": ("cells", "heuristic_weight", "max_expansions"),
-    "rrt": ("step", "goal_bias", "goal_threshold", "max_iterations", "seed", "time_budget"),
-    "rrt_connect": ("step", "max_iterations", "seed", "time_budget"),
-    "rrt_star": ("step", "goal_bias", "goal_threshold", "max_iterations", "seed", "time_budget"),
-    "prm": ("samples", "neighbours", "max_iterations", "seed", "time_budget"),
-}
-#: ``max_iterations`` when the file does not set it: RRT* runs its whole budget (it keeps
-#: improving the path), and PRM's iterations are path searches, not samples.
-DEFAULT_ITERATIONS = {"rrt": 20000, "rrt_connect": 20000, "rrt_star": 3000, "prm": 500}
-MAX_TIME_BUDGET = 3600.0
+#: The planners' names and the settings each reads, as the planner table
+#: (:data:`rapp.planners.PLANNERS`) says when rapp is imported; the loader reads the table itself.
+ALGORITHMS = planner_table.names()
+SETTINGS_OF = MappingProxyType({name: p.keys for name, p in planner_table.PLANNERS.items()})
 
 
 def bytes_per_cell(n: int) -> int:
@@ -158,12 +150,10 @@ GOAL_PATHS = ("line",)
 _TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
              "description")
 _TRAJECTORY_KEYS = ("duration", "profile", "samples", "max_velocity", "max_acceleration")
-_PLANNER_KEYS = ("algorithm", "cells", "heuristic_weight", "max_expansions", "seed", "step",
-                 "goal_bias", "goal_threshold", "max_iterations", "time_budget", "samples",
-                 "neighbours")
-#: The settings only sampling planners read (A* validates them, then warns they are ignored).
-_SAMPLING_KEYS = ("step", "goal_bias", "goal_threshold", "max_iterations", "time_budget",
-                  "samples", "neighbours")
+#: The keys ``planner`` accepts and those only sampling planners read (A* validates them, then
+#: warns they are ignored), from the planner table at import (the loader reads the table).
+_PLANNER_KEYS = ("algorithm",) + tuple(planner_table.all_settings())
+_SAMPLING_KEYS = tuple(k for k, v in planner_table.all_settings().items() if v.warns_when_ignored)
 
 
 @dataclass(frozen=True)
@@ -182,6 +172,27 @@ class PlannerSettings:
     time_budget: float | None = None
     samples: int = 500
     neighbours: int = 10
+    #: ``(key, value)`` pairs of settings that are not fields above: those of a planner added to
+    #: the table with a setting of its own. Read as attributes too.
+    extra: tuple = ()
+
+    def __getattr__(self, name):
+        if name.startswith("__") or name == "extra":
+            raise AttributeError(name)
+        for key, value in self.extra:
+            if key == name:
+                return value
+        raise AttributeError(f"no planner setting {name!r}")
+
+    def values(self) -> dict:
+        """The settings ``algorithm`` reads, by key: what :func:`rapp.plan` passes to it.
+
+        Examples
+        --------
+        >>> PlannerSettings(algorithm="prm").values()
+        {'samples': 500, 'neighbours': 10, 'max_iterations': 20000, 'seed': 0, 'time_budget': None}
+        """
+        return {k: getattr(self, k) for k in planner_table.entry(self.algorithm).keys}
 
 
 @dataclass(frozen=True)
@@ -278,11 +289,9 @@ class Scenario:
                 obs.append({"type": "polygon", "vertices": [list(v) for v in ob.vertices]})
         limits = self.arm.joint_limits
         p, t = self.planner, self.trajectory
-        planner = {"algorithm": p.algorithm, "cells": list(p.cells),
-                   "heuristic_weight": p.heuristic_weight, "max_expansions": p.max_expansions,
-                   "seed": p.seed}
-        if p.algorithm != "astar":
-            planner.update({k: getattr(p, k) for k in SETTINGS_OF[p.algorithm]})
+        keys = ("cells", "heuristic_weight", "max_expansions", "seed") + tuple(p.values())
+        planner = {"algorithm": p.algorithm, **{k: getattr(p, k) for k in dict.fromkeys(keys)}}
+        planner["cells"] = list(p.cells)
         return {
             "name": self.name,
             "description": self.description,
@@ -783,58 +792,49 @@ def _grid_cells(d, n: int) -> tuple:
 
 
 def _planner(v, n: int, warnings: list) -> PlannerSettings:
-    d = _object(v, "planner", optional=_PLANNER_KEYS)
+    """The ``planner`` object, checked against the planner table (:mod:`rapp.planners`)."""
+    table = planner_table.all_settings()
+    d = _object(v, "planner", optional=("algorithm",) + tuple(table))
     # A* by default; RRT for arms whose grid would not fit (said in the echo).
     fallback = "astar" if n <= GRID_DEFAULT_MAX_JOINTS or "cells" in d else "rrt"
-    algorithm = _string(d.get("algorithm", fallback), "planner.algorithm", ALGORITHMS)
-    cells = _grid_cells(d, n)
-    total = math.prod(cells)
-    if algorithm == "astar" and total > max_cells(n):
-        per_cell = bytes_per_cell(n)
-        raise InvalidValue(
-            f"a grid of {total:.3g} cells would need about {total * per_cell / 1e9:.3g} GB; "
-            f"the limit for {n} joints is {max_cells(n):.3g} cells "
-            f"({MEMORY_BUDGET / 1e9:g} GB)", field="planner.cells")
-    weight = _number(d.get("heuristic_weight", 1.0), "planner.heuristic_weight")
-    if not 1 <= weight <= MAX_HEURISTIC_WEIGHT:
-        raise InvalidValue(f"must lie in [1, {MAX_HEURISTIC_WEIGHT:g}], got {weight:g}",
-                           field="planner.heuristic_weight")
-    max_exp = d.get("max_expansions")
-    if max_exp is not None:
-        max_exp = _integer(max_exp, "planner.max_expansions", 1)
-    seed = _integer(d.get("seed", 0), "planner.seed", 0, 2**63 - 1)
-    defaults = PlannerSettings()
-    step = _number(d.get("step", defaults.step), "planner.step")
-    if not 0 < step <= math.pi:
-        raise InvalidValue(f"must lie in (0, pi] rad, got {step:g}", field="planner.step")
-    bias = _number(d.get("goal_bias", defaults.goal_bias), "planner.goal_bias")
-    if not 0 <= bias <= 1:
-        raise InvalidValue(f"must be in [0, 1], got {bias:g}", field="planner.goal_bias")
-    thr = _number(d.get("goal_threshold", defaults.goal_threshold), "planner.goal_threshold")
-    if not 0 < thr <= MAX_GOAL_THRESHOLD:
-        raise InvalidValue(f"must lie in (0, {MAX_GOAL_THRESHOLD:g}] rad (a joint-space distance to a "
-                           f"goal configuration), got {thr:g}", field="planner.goal_threshold")
-    iters = _integer(d.get("max_iterations", DEFAULT_ITERATIONS.get(algorithm, defaults.max_iterations)),
-                     "planner.max_iterations", 1, 10_000_000)
-    budget = d.get("time_budget")
-    if budget is not None:
-        budget = _number(budget, "planner.time_budget")
-        if not 0 < budget <= MAX_TIME_BUDGET:
-            raise InvalidValue(f"must lie in (0, {MAX_TIME_BUDGET:g}] s, got {budget:g}",
-                               field="planner.time_budget")
-    samples = _integer(d.get("samples", defaults.samples), "planner.samples", 10, 100_000)
-    neighbours = _integer(d.get("neighbours", defaults.neighbours), "planner.neighbours", 1, 100)
-    for key in _SAMPLING_KEYS:  # warn where the chosen algorithm does not read it
-        if key in d and key not in SETTINGS_OF[algorithm]:
+    algorithm = _string(d.get("algorithm", fallback), "planner.algorithm", planner_table.names())
+    entry = planner_table.entry(algorithm)
+    values = {}
+    for key, spec in table.items():   # every key is checked, read or not
+        default = entry.default(key) if key in entry.keys else spec.default
+        values[key] = _setting(spec, d[key] if key in d else default, d, n, entry.grid)
+        if key in d and key not in entry.keys and spec.warns_when_ignored:
             warnings.append(f"planner.{key} is not a setting of {algorithm} and is ignored")
     if algorithm == "rrt" and "algorithm" not in d:
         warnings.append(f"planner.algorithm: rrt, the default for more than "
                         f"{GRID_DEFAULT_MAX_JOINTS} joints (a grid fine enough to plan on would "
                         "not fit in memory)")
-    return PlannerSettings(algorithm=algorithm, cells=cells, heuristic_weight=weight,
-                           max_expansions=max_exp, seed=seed, step=step, goal_bias=bias,
-                           goal_threshold=thr, max_iterations=iters, time_budget=budget,
-                           samples=samples, neighbours=neighbours)
+    fields = set(PlannerSettings.__dataclass_fields__)
+    extra = tuple((k, v) for k, v in values.items() if k not in fields)
+    return PlannerSettings(algorithm=algorithm, extra=extra,
+                           **{k: v for k, v in values.items() if k in fields})
+
+
+def _setting(spec, raw, d, n: int, grid: bool):
+    """One planner setting checked against its :class:`rapp.planners.Setting`."""
+    field = f"planner.{spec.key}"
+    if spec.kind == "cells":
+        cells = _grid_cells(d, n)
+        total = math.prod(cells)
+        if grid and total > max_cells(n):
+            raise InvalidValue(
+                f"a grid of {total:.3g} cells would need about {total * bytes_per_cell(n) / 1e9:.3g} "
+                f"GB; the limit for {n} joints is {max_cells(n):.3g} cells "
+                f"({MEMORY_BUDGET / 1e9:g} GB)", field=field)
+        return cells
+    if raw is None and spec.nullable:
+        return None
+    if spec.kind == "integer":
+        return _integer(raw, field, int(spec.low), None if math.isinf(spec.high) else int(spec.high))
+    x = _number(raw, field)
+    if not spec.accepts(x):
+        raise InvalidValue(f"must lie in {spec.range_text}, got {x:g}", field=field)
+    return x
 
 
 def preflight(scenario: Scenario) -> None:
@@ -924,6 +924,17 @@ def _fmt(v, digits=4) -> str:
     return f"{v:.{digits}g}"
 
 
+def _echo_setting(spec, value) -> str:
+    """A planner setting as the echo shows it (:class:`rapp.planners.Setting`)."""
+    if value is None:
+        return "none"
+    if spec.kind == "cells":
+        return " x ".join(map(str, value)) + f" = {math.prod(value)}"
+    if spec.kind == "integer":
+        return str(value)
+    return _fmt(value) + (f" {spec.unit}" if spec.unit else "")
+
+
 def echo(scenario: Scenario) -> str:
     """Every input of the scenario as a readable table with units, warnings last.
 
@@ -969,24 +980,10 @@ def echo(scenario: Scenario) -> str:
     p = s.planner
     rows.append(("planner", "none: the line is followed, not searched"
                  if s.goal_path == "line" else p.algorithm))
-    if s.goal_path == "line":
-        pass   # no search, so no search settings
-    elif p.algorithm == "astar":
-        rows.append(("  cells", " x ".join(map(str, p.cells)) + f" = {math.prod(p.cells)}"))
-        rows.append(("  weight", _fmt(p.heuristic_weight)))
-        rows.append(("  max expand", "none" if p.max_expansions is None else str(p.max_expansions)))
-    else:
-        uses = SETTINGS_OF[p.algorithm]
-        shown = {"step": ("step", f"{_fmt(p.step)} rad"),
-                 "goal_bias": ("goal bias", _fmt(p.goal_bias)),
-                 "goal_threshold": ("goal thresh", f"{_fmt(p.goal_threshold)} rad"),
-                 "samples": ("samples", str(p.samples)),
-                 "neighbours": ("neighbours", str(p.neighbours)),
-                 "max_iterations": ("iterations", str(p.max_iterations)),
-                 "time_budget": ("time budget", "none" if p.time_budget is None
-                                 else f"{_fmt(p.time_budget)} s"),
-                 "seed": ("seed", str(p.seed))}
-        rows.extend(("  " + shown[k][0], shown[k][1]) for k in shown if k in uses)
+    if s.goal_path != "line":   # a line is followed, not searched: no search settings
+        uses = planner_table.entry(p.algorithm).keys
+        rows.extend(("  " + spec.label, _echo_setting(spec, getattr(p, key)))
+                    for key, spec in planner_table.all_settings().items() if key in uses)
     t = s.trajectory
     length = ("the shortest duration within the limits" if t.duration is None
               else f"{_fmt(t.duration)} s")
