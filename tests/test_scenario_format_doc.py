@@ -6,7 +6,9 @@ must also warn once per listed field; "<ErrorClass> at FIELD" must raise exactly
 subclass with that ``.field``. The key tables (``{table}`` with ``:name: keys-...``) must list
 exactly the keys the loader accepts. Those keys are read from the module: its key tuples
 (``_TOP_KEYS``, ``_PLANNER_KEYS``, ``_SAMPLING_KEYS``) and, for the objects it validates with inline
-tuples, the "known keys" its own unknown-key error reports. Nothing here is a second copy.
+tuples, the "known keys" its own unknown-key error reports. The planner tables are checked against
+the planner table, ``rapp.planners.PLANNERS`` (:func:`planner_doc_problems`), which the loader and
+``rapp.plan`` read too. Nothing here is a second copy.
 """
 
 from __future__ import annotations
@@ -18,9 +20,11 @@ import math
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import rapp.errors
+import rapp.planners
 from rapp import cli
 from rapp import scenario as sc
 from rapp import plan
@@ -211,13 +215,95 @@ def test_key_tables_list_exactly_the_accepted_keys():
     assert documented == expected
 
 
-def test_planner_tables_split_the_keys_by_algorithm():
+def planner_doc_problems(tables=None) -> list:
+    """What the page's planner tables say that the planner table does not (empty: they agree).
+
+    ``keys-planner-astar`` holds the settings of the grid planners, ``keys-planner-rrt`` every
+    other setting, each with its default; ``planner-sampling-reads`` has one row per sampling
+    planner with the keys it reads and its ``max_iterations`` default; the ``algorithm`` row
+    names every planner.
+    """
+    tables = TABLES if tables is None else tables
+    table = rapp.planners.PLANNERS
+    grid_keys = {k for p in table.values() if p.grid for k in p.keys}
+    every = rapp.planners.all_settings()
+    problems = []
+
+    def rows(name):
+        return {row[0].strip("`"): row for row in tables.get(name, [])}
+
+    for name, keys in (("keys-planner-astar", grid_keys), ("keys-planner-rrt", set(every) - grid_keys)):
+        documented = set(rows(name)) - {"algorithm"}
+        if documented != keys:
+            problems.append(f"{name} lists {sorted(documented)}, the planner table {sorted(keys)}")
+        for key, row in rows(name).items():
+            m = re.fullmatch(r"`([^`]+)`", row[3])
+            if key in every and m and json.loads(m.group(1)) != every[key].default:
+                problems.append(f"{name}: default of {key} is {m.group(1)}, the table's "
+                                f"{every[key].default!r}")
+    algorithms = set(re.findall(r'"(\w+)"', rows("keys-planner-astar").get("algorithm", [""] * 5)[4]))
+    if algorithms != set(table):
+        problems.append(f"planner.algorithm lists {sorted(algorithms)}, the table {sorted(table)}")
+    reads = {row[0].strip('`"'): row for row in tables.get("planner-sampling-reads", [])}
+    sampling = {name: p for name, p in table.items() if not p.grid}
+    if set(reads) != set(sampling):
+        problems.append(f"planner-sampling-reads has {sorted(reads)}, the table {sorted(sampling)}")
+    for name, p in sampling.items():
+        if name in reads:
+            listed = re.findall(r"`(\w+)`", reads[name][1])
+            if listed != list(p.keys):
+                problems.append(f"{name} reads {p.keys}, the page says {listed}")
+            if "max_iterations" in p.keys and reads[name][3] != str(p.default("max_iterations")):
+                problems.append(f"{name}: max_iterations default {p.default('max_iterations')}, "
+                                f"the page says {reads[name][3]}")
+    return problems
+
+
+def test_planner_tables_are_the_planner_table():
+    assert planner_doc_problems() == []
     rrt, astar = first_column_keys("keys-planner-rrt"), first_column_keys("keys-planner-astar")
     assert set(sc._SAMPLING_KEYS) <= rrt, "every setting A* warns about belongs in the sampling table"
     assert not set(sc._SAMPLING_KEYS) & astar
     assert not rrt & astar
-    constraint = _row("keys-planner-astar", "algorithm")[4]
-    assert set(re.findall(r'"(\w+)"', constraint)) == set(sc.ALGORITHMS)
+
+
+def _straight(arm, start, goal, obstacles=(), *, tries=1, seed=0, raise_on_failure=True):
+    """A planner of the contract: the straight segment to the first goal it can certify."""
+    from rapp.collision import segment_collision_free
+    from rapp.paths import PlannerResult, path_length
+    start = np.asarray(start, float)
+    for g in np.atleast_2d(goal)[:tries]:
+        b = start + arm.joint_delta(start, g)
+        if segment_collision_free(arm, start, b, list(obstacles)):
+            path = np.array([start, b])
+            return PlannerResult(path, True, path_length(path), {"tries": int(tries)})
+    if raise_on_failure:
+        raise rapp.errors.NoPathFound("no straight segment is free")
+    return PlannerResult(np.empty((0, arm.n)), False, math.inf, {})
+
+
+def test_a_planner_registered_in_the_table_is_parsed_planned_and_checked_on_the_page(monkeypatch):
+    tries = rapp.planners.Setting("tries", "integer", 2, 1, 10, label="tries")
+    entry = rapp.planners.Planner("straight", _straight, (tries, rapp.planners.SEED),
+                                  "the straight segment, if it is free")
+    monkeypatch.setattr(rapp.planners, "PLANNERS",
+                        type(rapp.planners.PLANNERS)({**rapp.planners.PLANNERS, "straight": entry}))
+    # Parsed: the new name and its own setting are accepted, checked and echoed ...
+    s = sc.load_scenario(dict(BASE, planner={"algorithm": "straight", "tries": 3}))
+    assert s.planner.algorithm == "straight" and s.planner.tries == 3 and s.warnings == ()
+    assert "  tries" in sc.echo(s) and sc.load_scenario(s.to_dict()) == s
+    with pytest.raises(rapp.errors.InvalidValue) as info:
+        sc.load_scenario(dict(BASE, planner={"algorithm": "straight", "tries": 0}))
+    assert info.value.field == "planner.tries"
+    other = sc.load_scenario(dict(BASE, planner={"algorithm": "rrt", "tries": 3}))
+    assert other.warnings == ("planner.tries is not a setting of rrt and is ignored",)
+    # ... planned by rapp.plan with the settings it reads ...
+    p = plan(s)
+    assert p.report.ok and len(p.waypoints) == 2
+    assert np.allclose(s.arm.wrap(p.waypoints[-1]), s.arm.wrap(np.array(s.goal_q)))
+    # ... and the page check names what the page does not document yet.
+    problems = planner_doc_problems()
+    assert any("straight" in m for m in problems) and any("tries" in m for m in problems)
 
 
 def _row(table, key):
