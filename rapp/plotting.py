@@ -371,7 +371,7 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
     return style_axes(ax)
 
 
-def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None, axes=None):
+def plot_plan(plan, scenario=None, *, fig=None, ghosts=6, unit="m", expanded=None, axes=None):
     """C-space beside workspace, the plan drawn in both.
 
     Left: occupancy of ``plan.grid`` with the joint path, start and goal.
@@ -382,7 +382,8 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None, ax
     Parameters
     ----------
     plan : rapp.Plan
-    scenario : rapp.Scenario
+    scenario : rapp.Scenario, optional
+        The plan's own (``plan.scenario``) when None.
     fig : Figure, optional
         Drawn into (cleared); a new pyplot figure when None.
     expanded : bool array of ``plan.grid.shape``, optional
@@ -399,7 +400,7 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None, ax
     --------
     >>> from rapp import load_scenario, plan
     >>> s = load_scenario("default")
-    >>> fig = plot_plan(plan(s), s)
+    >>> fig = plot_plan(plan(s))
     >>> [ax.get_title() for ax in fig.axes]
     ['C-space: grey = collision', 'workspace']
     >>> plt.close(fig)
@@ -413,6 +414,7 @@ def plot_plan(plan, scenario, *, fig=None, ghosts=6, unit="m", expanded=None, ax
         ax_c, ax_w = axes
         fig = ax_c.figure
     q = np.asarray(plan.q, dtype=float)
+    scenario = plan.scenario if scenario is None else scenario
     arm = scenario.arm
     grid = getattr(plan, "grid", None)
     occ = getattr(plan, "occupancy", None)

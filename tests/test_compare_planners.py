@@ -1,4 +1,4 @@
-"""The planner comparison harness (benchmarks/compare_planners.py) on a few scenarios.
+"""The planner comparison harness (rapp.compare, run by benchmarks/compare_planners.py) on a few scenarios.
 
 The full run (30 scenarios x 20 seeds) is a benchmark, not a test; here a small run proves the
 harness: scenarios are valid and reproducible, every run of every planner gives a record, a
@@ -15,9 +15,10 @@ import numpy as np
 import pytest
 
 import rapp
+from rapp import compare as cp
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import compare_planners as cp  # noqa: E402
+import compare_planners as cli  # noqa: E402
 
 
 def test_scenarios_are_valid_reproducible_and_varied():
@@ -66,3 +67,17 @@ def test_intervals():
     assert m["mean"] == 2.0 and m["n"] == 3
     assert (m["low"], m["high"]) == pytest.approx((2.0 - 4.303 / math.sqrt(3), 2.0 + 4.303 / math.sqrt(3)))
     assert math.isnan(cp.mean_interval([])["mean"])
+
+
+def test_the_command_line_runs_rapps_planners_through_the_package():
+    task = cp.tasks(cp.make_scenarios(1), seeds=1, planners=["astar_24"])[0]
+    a, b = cli.run_task(task), cp.run_task(task)
+    assert a.success and (a.planner, a.length_rad, a.shortcut_length_rad) == (
+        b.planner, b.length_rad, b.shortcut_length_rad)
+    assert cli.RECORDED.is_file() and cli.RECORDED.parent.name == "data"
+
+
+def test_the_recorded_results_ship_with_the_package():
+    results = cp.recorded_results()
+    assert len(results["records"]) == 3690 and len(results["scenarios"]) == results["settings"]["scenarios"]
+    assert results["scenarios"] == cp.make_scenarios(30, results["settings"]["scenario_seed"])
