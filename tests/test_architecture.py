@@ -1,4 +1,6 @@
-"""Declared seams: no module of rapp reaches into another's private names.
+"""The architecture of ARCHITECTURE.md, held: declared seams and the layers.
+
+Declared seams: no module of rapp reaches into another's private names.
 
 A name that starts with one underscore is a module's own business; what another module needs is
 public (in its ``__all__``, documented) or lives where both can import it. The scan reads the
@@ -100,3 +102,71 @@ def test_the_new_homes_are_documented(module):
     assert m.__doc__ and ">>>" in m.__doc__
     for name in m.__all__:
         assert getattr(m, name).__doc__ or not callable(getattr(m, name)), name
+
+
+# --------------------------------------------------------------------------- the layers
+
+#: The layers of ARCHITECTURE.md. Each module of rapp/ is in exactly one.
+LAYERS = {
+    "core": {"arm", "obstacles", "collision", "cspace", "search", "ik", "symbolic", "trajectory",
+             "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
+             "reference"},
+    "planners": {"sampling", "grid_route", "rrt", "rrt_connect", "rrt_star", "prm", "planners"},
+    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files"},
+    "drawing": {"plotting", "widgets", "view_stack", "palette", "raster"},
+    "interface": {"cli", "__main__", "__init__"},
+    "teaching": {"exercises", "cases"},
+}
+DRAWING_LIBRARIES = {"matplotlib", "ipywidgets", "PIL", "IPython", "anywidget"}
+
+
+def imports_of(path: Path) -> set:
+    """Top-level names imported anywhere in ``path``: ``rapp.x`` as ``x``, others by package."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            if node.module == "rapp":
+                out |= {a.name for a in node.names}
+            elif node.module.startswith("rapp."):
+                out.add(node.module.split(".")[1])
+            else:
+                out.add(node.module.split(".")[0])
+        elif isinstance(node, ast.Import):
+            out |= {a.name.split(".")[1] if a.name.startswith("rapp.") else a.name.split(".")[0]
+                    for a in node.names}
+    return out
+
+
+def top_modules():
+    """Module name -> file; a subpackage's file is its ``__init__.py`` (its own imports)."""
+    return {p.stem: p for p in PACKAGE.glob("*.py")} | {
+        p.parent.name: p for p in PACKAGE.glob("*/__init__.py")}
+
+
+def members(layer: str) -> set:
+    return LAYERS[layer] & set(top_modules())
+
+
+def test_every_module_has_a_layer():
+    # A module removed may stay listed (rapp/raster.py is on its way out); a new one needs a layer.
+    missing = set(top_modules()) - set().union(*LAYERS.values())
+    assert not missing, f"add {sorted(missing)} to a layer here and in ARCHITECTURE.md"
+
+
+@pytest.mark.parametrize("layer", ["core", "planners", "pipeline"])
+def test_the_core_the_planners_and_the_pipeline_never_draw(layer):
+    for name in members(layer):
+        used = imports_of(top_modules()[name])
+        assert not used & (DRAWING_LIBRARIES | LAYERS["drawing"]), (name, used & (
+            DRAWING_LIBRARIES | LAYERS["drawing"]))
+
+
+def test_planners_never_read_scenarios():
+    for name in members("planners") | members("core"):
+        assert not imports_of(top_modules()[name]) & (LAYERS["pipeline"] | LAYERS["interface"]), name
+
+
+def test_the_library_never_imports_the_teaching_code():
+    for layer in ("core", "planners", "pipeline", "drawing"):
+        for name in members(layer):
+            assert not imports_of(top_modules()[name]) & LAYERS["teaching"], name
