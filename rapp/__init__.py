@@ -1,6 +1,6 @@
 """rapp: 2D robot-arm path planning, the package behind the rapp book.
 
-The names below are the contract (see the book's pages and ``DESIGN.md``).
+The names below are the contract (see the book's pages and ``ARCHITECTURE.md``).
 Everything else is reachable by module path: teaching counterexamples such as
 ``rapp.search.greedy_best_first`` and ``rapp.collision.line_distance_mis``,
 helpers such as ``rapp.cspace.grid_q``, plotting (``rapp.plotting``), widgets

@@ -1,6 +1,7 @@
 """Scenario files: the JSON input set of 2D-RAPP, its validation and its echo.
 
-A scenario is one JSON object (see DESIGN.md "Scenario files")::
+A scenario is one JSON object (every key, unit, default and range: the book's "Scenario
+files" page, ``book/scenario_format.md``)::
 
     {"arm": {"link_lengths": [1, 1], "joint_limits": null},
      "obstacles": [{"type": "circle", "center": [1.75, 0.75], "radius": 0.6}],
