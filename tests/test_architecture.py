@@ -170,3 +170,10 @@ def test_the_library_never_imports_the_teaching_code():
     for layer in ("core", "planners", "pipeline", "drawing"):
         for name in members(layer):
             assert not imports_of(top_modules()[name]) & LAYERS["teaching"], name
+
+
+def test_the_readme_layout_names_every_module():
+    readme = (PACKAGE.parent / "README.md").read_text(encoding="utf-8")
+    layout = readme.split("## Layout", 1)[1].split("\n## ", 1)[0]
+    missing = [m for m in top_modules() if f"`{m}`" not in layout and f"rapp/{m}/" not in layout]
+    assert missing == [], "README's layout table does not name these modules"
