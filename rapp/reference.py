@@ -95,36 +95,24 @@ def polygon_hits(P, cos_phi, sin_phi, L, poly):
 
 
 def occupancy(arm, obstacles, grid) -> np.ndarray:
-    """The previous :func:`occupancy`: every link against every obstacle on every cell of its prefix grid.
-
-    Kept as the baseline the benchmark times side by side and the tests compare with.
-
-    Parameters
-    ----------
-    arm : Arm
-        Must be the arm of ``grid``.
-    obstacles : iterable of Circle and Polygon
-    grid : JointGrid
+    """:func:`rapp.cspace.occupancy` the straightforward way: every link against every obstacle on
+    every cell of its prefix grid, by closed-form hit tests (:func:`circle_hits`,
+    :func:`polygon_hits`). The arguments are those of :func:`rapp.cspace.occupancy`.
 
     Examples
     --------
-    >>> from rapp import Arm, Circle
-    >>> from rapp.collision import collides
+    >>> from rapp import Arm, Circle, Polygon, collides
     >>> from rapp.cspace import JointGrid, grid_q
-    >>> arm = Arm([1.0, 1.0])
-    >>> occ = occupancy(arm, [Circle((1.75, 0.75), 0.6)], JointGrid(arm, 8))
-    >>> occ.shape, int(occ.sum())
-    ((8, 8), 2)
-    >>> bool((occ == collides(arm, grid_q(JointGrid(arm, 8)), [Circle((1.75, 0.75), 0.6)])).all())
-    True
+    >>> arm, grid = Arm([1.0, 0.8]), JointGrid(Arm([1.0, 0.8]), 12)
+    >>> scene = [Circle((1.2, 0.9), 0.4), Polygon.rectangle((-1.5, -0.6), 0.5, 0.4, 0.3)]
+    >>> occ = occupancy(arm, scene, grid)
+    >>> bool(occ.any()), bool((occ == collides(arm, grid_q(grid), scene)).all())
+    (True, True)
     """
     check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
-    shape = grid.shape
-    n = arm.n
+    shape, n = grid.shape, arm.n
     occ = np.zeros(shape, dtype=bool)
-    if not obstacles:
-        return occ
     circles = [ob for ob in obstacles if isinstance(ob, Circle)]
     polys = [ob for ob in obstacles if not isinstance(ob, Circle)]
     axes = grid.axes
@@ -146,19 +134,18 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
 
 
 def certified_free(arm, obstacles, grid, *, chunk: int = 200_000) -> np.ndarray:
-    """The previous :func:`certified_free`: link clearances on every prefix cell (benchmark, tests).
+    """:func:`rapp.cspace.certified_free` the straightforward way: the clearance of each link,
+    computed on every cell of its prefix grid, against half the largest motion of that link in
+    one grid step (chunks of ``chunk`` configurations bound the memory).
 
-    Cells from which every move to an axis neighbour is certified collision-free.
-
-    Along a move of one grid step on axis ``k`` a point of link ``j`` travels
-    at most ``B_jk`` (:func:`rapp.collision.motion_bounds`). If at both ends of
-    the move link ``j`` has clearance above ``B_jk / 2``, each half of the move
-    stays inside the clearance ball of its own end, so the whole move is free.
-    A cell is marked True when its clearances exceed half the bound for every
-    axis; a search on these cells needs no further check of its moves. It is
-    the occupancy inflated by half a step: conservative, so a narrow passage
-    may close (the planner then falls back to the plain occupancy).
-
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> from rapp.cspace import JointGrid, certified_free as fast
+    >>> arm, discs = Arm([1.0, 1.0]), [Circle((1.5, 0.0), 0.3)]
+    >>> grid = JointGrid(arm, 24)
+    >>> bool((certified_free(arm, discs, grid, chunk=100) == fast(arm, discs, grid)).all())
+    True
     """
     check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
