@@ -11,7 +11,7 @@ Three measurements, each side by side in one run:
   ``rapp.plotting``, drawing the figure, writing the PNG.
 * The stages of ``rapp.plan`` (``Plan.timings``) on the embedded three-link scenario, and the
   certified cells (``certified_free``) against the previous implementation
-  (``_certified_free_reference``: link clearances on every prefix cell) on the same grid.
+  (``rapp.reference.certified_free``: link clearances on every prefix cell) on the same grid.
 
 Run: ``python benchmarks/bench_cli.py``; rewrites ``benchmarks/results/cli.json`` (atomically;
 keys of the file this script does not write are kept).

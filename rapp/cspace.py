@@ -584,3 +584,13 @@ def cell_extent(grid) -> list:
         d = (a[-1] - a[0]) / (len(a) - 1) if len(a) > 1 else 2 * np.pi
         ext += [a[0] - d / 2, a[-1] + d / 2]
     return ext
+
+
+def __getattr__(name):
+    # The reference implementations' old private names here (chapter 10 still names one); they
+    # are rapp.reference's now. Imported on use: rapp.reference imports this module.
+    moved = {"_occupancy_reference": "occupancy", "_certified_free_reference": "certified_free"}
+    if name in moved:
+        from rapp import reference
+        return getattr(reference, moved[name])
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
