@@ -14,9 +14,12 @@ from __future__ import annotations
 
 import numpy as np
 
-import rapp
 from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
-from rapp.time_scaling import minimum_duration, trapezoidal
+from rapp.arm import Arm
+from rapp.collision import segment_point_distance
+from rapp.manipulability import condition_number, manipulability
+from rapp.time_scaling import minimum_duration, peak_rates, trapezoidal
+from rapp.trajectory import time_path
 
 __all__ = ["EXERCISES"]
 
@@ -40,13 +43,13 @@ def _trapezoid_minimum() -> float:
 
 def _quintic_speed_bound() -> float:
     """The duration at which the quintic's peak speed is exactly vmax (the speed limit alone)."""
-    (v,), _ = rapp.time_scaling.peak_rates(rapp.time_path([0.0, _DELTA], 1.0, "quintic"))
+    (v,), _ = peak_rates(time_path([0.0, _DELTA], 1.0, "quintic"))
     return float(v / _VMAX)
 
 
 def _quintic_without_sqrt3() -> float:
     """The acceleration bound with the quintic's peak 10/sqrt(3) taken as 10."""
-    _, (a,) = rapp.time_scaling.peak_rates(rapp.time_path([0.0, _DELTA], 1.0, "quintic"))
+    _, (a,) = peak_rates(time_path([0.0, _DELTA], 1.0, "quintic"))
     return float(np.sqrt(a * np.sqrt(3.0) / _AMAX))
 
 
@@ -127,7 +130,7 @@ def _unsynchronized_deviation(p0: np.ndarray, pf: np.ndarray) -> float:
     q = np.tile(p0, (ts.size, 1))
     for j, m in own.items():
         q[:, j] = m.evaluate(ts)[:, 0]
-    return float(rapp.collision.segment_point_distance(p0, pf, q).max())
+    return float(segment_point_distance(p0, pf, q).max())
 
 
 def _counterexample_judge(answer) -> Judgement:
@@ -156,7 +159,7 @@ def _counterexample_judge(answer) -> Judgement:
     dev = _unsynchronized_deviation(p0, pf)
     synced = trapezoidal(p0, pf, _SYNC_LIMIT, _SYNC_LIMIT)
     ts = np.linspace(0.0, synced.duration, 2001)
-    on = float(rapp.collision.segment_point_distance(p0, pf, synced.evaluate(ts)).max())
+    on = float(segment_point_distance(p0, pf, synced.evaluate(ts)).max())
     if dev <= _MIN_DEVIATION:
         return Judgement(False, f"each joint on its own clock leaves the segment by only {dev:.3f} rad "
                                 "here; find a move where it leaves by more than 0.1 rad (how different "
@@ -172,15 +175,15 @@ _Q = (0.3, np.pi / 3)
 
 
 def _kappa() -> float:
-    return float(rapp.condition_number(rapp.Arm(list(_ARM_LENGTHS)), list(_Q)))
+    return float(condition_number(Arm(list(_ARM_LENGTHS)), list(_Q)))
 
 
 def _w() -> float:
-    return float(rapp.manipulability(rapp.Arm(list(_ARM_LENGTHS)), list(_Q)))
+    return float(manipulability(Arm(list(_ARM_LENGTHS)), list(_Q)))
 
 
 def _kappa_degrees() -> float:
-    return float(rapp.condition_number(rapp.Arm(list(_ARM_LENGTHS)), [_Q[0], 60.0]))
+    return float(condition_number(Arm(list(_ARM_LENGTHS)), [_Q[0], 60.0]))
 
 
 # --- 15.5: the price of stopping at every waypoint -------------------------------------------
