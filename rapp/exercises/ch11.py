@@ -265,7 +265,8 @@ EXERCISES = (
         numeric(_late_clearance, abs_tol=5e-4,
                 mistakes=[(lambda: _late_clearance() - _RADIUS,
                            "that is the distance to the disc's surface; the question asks for the centre."),
-                          (lambda: _RADIUS, "that is the obstacle's radius; the path does not touch it."),
+                          (lambda: _RADIUS, "that is the obstacle's radius, as if the path touched the disc; "
+                                           "if you rounded, give four decimals: it clears the disc."),
                           (_straight_bd, "that is the distance of the straight segment BD; the path "
                                          "comes closer to the centre elsewhere."),
                           (lambda: 0.0, "right that the distance does not change, but the exercise asks "
