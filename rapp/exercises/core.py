@@ -101,7 +101,7 @@ class Exercise:
     @property
     def time_limit(self) -> float:
         """Seconds the reader's object may run for while this exercise is checked."""
-        return float(getattr(self.judge, "time_limit", 10.0))
+        return float(getattr(self.judge, "time_limit", 5.0))
 
 
 @dataclass(frozen=True)
