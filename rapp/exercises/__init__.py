@@ -34,7 +34,7 @@ import numpy as np
 from rapp.exercises.core import KINDS, Exercise, Verdict, describe
 from rapp.exercises.sandbox import Died, Limits, Raised, Remote, Sandbox, TimedOut, bounded
 
-__all__ = ["check", "grade", "catalog", "normalize_id", "Verdict", "Exercise", "KINDS"]
+__all__ = ["check", "grade", "catalog", "normalize_id", "verdict_in_sandbox", "Verdict", "Exercise", "KINDS"]
 
 # One module per chapter, ``chNN``, each with a tuple EXERCISES in book order.
 _CHAPTERS = tuple(
@@ -134,15 +134,23 @@ def _check(exercise_id: Any, answer: Any, *, judge: Any = None) -> Verdict:
         return _verdict(ex, judge, answer, box)
 
 
-def _verdict(ex: Exercise, judge: Any, answer: Any, box: Sandbox | None) -> Verdict:
+def verdict_in_sandbox(ex: Exercise, box: Sandbox, key: Any) -> Verdict:
+    """The verdict on the answer a sandbox holds under ``key`` (what :mod:`rapp.grading` asks)."""
+    try:
+        return _verdict(ex, ex.judge, None, box, key)
+    except BaseException as exc:
+        return Verdict(ex.id, False, bounded(f"the check itself failed ({type(exc).__name__})."))
+
+
+def _verdict(ex: Exercise, judge: Any, answer: Any, box: Sandbox | None, key: Any = 0) -> Verdict:
     """Judge ``answer``; with a ``box``, the judge sees only what the box hands back."""
     try:
         if box is None:
             seen = answer
-        elif box.is_callable(0):
-            seen = Remote(box, 0)
+        elif box.is_callable(key):
+            seen = Remote(box, key)
         else:
-            seen = box.plain(0)
+            seen = box.plain(key)
         judgement = judge(seen)
         message = judgement.message
         correct = bool(judgement.correct) and type(judgement.correct) in (bool, np.bool_)
