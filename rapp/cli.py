@@ -123,7 +123,7 @@ def build_parser() -> argparse.ArgumentParser:
     ('plan', 'default', 'r.json', False)
     """
     p = _Parser(prog="rapp", description="2D robot-arm path planning (2D-RAPP).")
-    sub = p.add_subparsers(dest="command", metavar="{plan,check,list,grade}", parser_class=_Parser)
+    sub = p.add_subparsers(dest="command", metavar="{plan,check,list,grade,assign}", parser_class=_Parser)
     sub.required = True
     pp = sub.add_parser("plan", help="plan, time and verify a trajectory",
                         description="Plan a collision-free trajectory for SCENARIO (a JSON file "
@@ -475,9 +475,9 @@ def _run(argv, out, err) -> int:
             return _cmd_list(out)
         if args.command == "check":
             return _cmd_check(args, out, caught)
-        if args.command == "grade":
+        if args.command in ("grade", "assign"):
             from rapp import grading
-            return grading.run(args, out, err)
+            return (grading.run if args.command == "grade" else grading.run_assign)(args, out, err)
         return _cmd_plan(args, out, err, caught)
 
 

@@ -39,8 +39,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ["GradeLimits", "StudentResult", "parse_weights", "read_roster", "grade_submission",
-           "grade_class", "write_csv", "write_feedback", "add_parser", "run"]
+__all__ = ["GradeLimits", "StudentResult", "parse_weights", "read_roster", "read_key", "grade_submission",
+           "grade_class", "write_csv", "write_feedback", "write_sheets", "add_parser", "run", "run_assign"]
 
 SUFFIXES = (".ipynb", ".py")
 
@@ -300,7 +300,8 @@ class _Submission:
             self._tmp = None
 
 
-def grade_submission(path: Path, weights: dict[str, float], limits: GradeLimits = GradeLimits()) -> StudentResult:
+def grade_submission(path: Path, weights: dict[str, float], limits: GradeLimits = GradeLimits(),
+                     variant_code: str | None = None) -> StudentResult:
     """Every assigned exercise of one submission, judged; never raises.
 
     Examples
@@ -311,7 +312,11 @@ def grade_submission(path: Path, weights: dict[str, float], limits: GradeLimits 
     >>> r = grade_submission(d / "bob.py", {"5.1": 1.0, "5.3": 2.0})
     >>> [(row[0], row[1], row[3]) for row in r.rows], r.points
     ([('5.1', 1.0, 'correct'), ('5.3', 0.0, 'wrong')], 1.0)
+
+    With ``variant_code`` (from :func:`rapp.exercises.variants.code`), the exercises that have
+    per-student numbers are judged with that student's numbers.
     """
+    from rapp.exercises import variants
     from rapp.exercises import catalog, verdict_in_sandbox
     from rapp.exercises import check
 
@@ -332,7 +337,8 @@ def grade_submission(path: Path, weights: dict[str, float], limits: GradeLimits 
                 result.rows.append((ex_id, 0.0, weight, "unanswered", verdict.message))
                 continue
             sub.box.deadline = time.monotonic() + ex.time_limit
-            verdict = verdict_in_sandbox(ex, sub.box, ex_id)
+            own = variants.judge(ex_id, variant_code) if variant_code and variants.has_variant(ex_id) else None
+            verdict = verdict_in_sandbox(ex, sub.box, ex_id, own)
             result.rows.append((ex_id, weight if verdict else 0.0, weight,
                                 "correct" if verdict else "wrong", verdict.message))
             if sub.box.dead:  # the answer hung or ended the process: start it again for the next one
@@ -364,8 +370,13 @@ def find_submissions(folder: Path) -> dict[str, Path]:
 
 
 def grade_class(folder: Path, weights: dict[str, float], roster: list[str] | None = None,
-                limits: GradeLimits = GradeLimits(), progress=None) -> list[StudentResult]:
-    """Grade every submission in ``folder`` (and list the roster's students who sent none)."""
+                limits: GradeLimits = GradeLimits(), progress=None, key: str | None = None) -> list[StudentResult]:
+    """Grade every submission in ``folder`` (and list the roster's students who sent none).
+
+    With the instructor's ``key``, each student is judged on their own numbers (``assign``).
+    """
+    from rapp.exercises import variants
+
     subs = find_submissions(folder)
     students = list(roster) if roster is not None else sorted(subs)
     if roster is not None:
@@ -376,7 +387,8 @@ def grade_class(folder: Path, weights: dict[str, float], roster: list[str] | Non
             r = StudentResult(student, [(e, 0.0, w, "missing", "no submission.") for e, w in weights.items()])
             r.notes.append("no submission found")
         else:
-            r = grade_submission(subs[student], weights, limits)
+            r = grade_submission(subs[student], weights, limits,
+                                 variants.code(key, student) if key is not None else None)
             if roster is not None and student not in roster:
                 r.notes.append("not on the roster")
         results.append(r)
@@ -441,6 +453,77 @@ def add_parser(sub) -> None:
                     help="wall-clock seconds to run one submission (default 60)")
     pg.add_argument("--memory", metavar="MB", type=int, default=1024,
                     help="memory a submission may add, in MB (default 1024)")
+    pg.add_argument("--key", metavar="KEYFILE", help="the instructor's key file of 'assign': judge each "
+                    "student on their own numbers")
+    pa = sub.add_parser("assign", help="write per-student exercise sheets from a secret key",
+                        description="Write one sheet per student of ROSTER (SHEETS/STUDENT.md) with their "
+                        "own numbers for the assigned exercises that have variants (the numeric "
+                        "exercises of chapters 1-8 except 7), drawn from KEYFILE and the student id; "
+                        "'grade --key KEYFILE' judges each student on those numbers. A missing "
+                        "KEYFILE is created with a new random key.")
+    pa.add_argument("--key", metavar="KEYFILE", required=True, help="the secret key (created if missing)")
+    pa.add_argument("--roster", metavar="FILE", required=True, help="student ids, one per line")
+    pa.add_argument("--exercises", metavar="IDS", required=True, help="the assignment: 1.3,5.1,8.1")
+    pa.add_argument("--out", metavar="SHEETS", default="sheets", help="folder for the sheets (default sheets)")
+
+
+def read_key(path: Path, create: bool = False) -> str:
+    """The key in ``path`` (stripped); a new random one is written (mode 600) when ``create``."""
+    path = Path(path)
+    if create and not path.exists():
+        import secrets
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        with os.fdopen(fd, "w") as f:
+            f.write(secrets.token_hex(32) + "\n")
+    key = path.read_text(encoding="utf-8").strip()
+    if len(key) < 16:
+        raise ValueError(f"--key: {path} holds fewer than 16 characters; use a longer secret")
+    return key
+
+
+def write_sheets(key: str, students: list[str], exercise_ids: list[str], folder: Path) -> list[Path]:
+    """``folder/STUDENT.md`` for each student: their code and each exercise with their numbers."""
+    from rapp.exercises import catalog, variants
+
+    found = {ex.id: ex for ex in catalog()}
+    paths = []
+    for student in students:
+        c = variants.code(key, student)
+        lines = [f"# Exercises for {student}", "",
+                 f"Your code is `{c}`. Check an answer with your numbers as",
+                 f'`rapp.exercises.check("ID", answer, variant="{c}")`.', ""]
+        for ex_id in exercise_ids:
+            ex = found[ex_id]
+            lines += [f"## Exercise {ex_id}: {ex.title}", ""]
+            if variants.has_variant(ex_id):
+                lines += [variants.statement(ex_id, c), "", ex.tolerance or "", ""]
+            else:
+                lines += ["As in the book (the same numbers for everyone).", ""]
+        path = Path(folder) / f"{student}.md"
+        _atomic_write(path, "\n".join(lines))
+        paths.append(path)
+    return paths
+
+
+def run_assign(args, out, err) -> int:
+    """``python -m rapp assign``: 0 done, 2 bad input (one line naming it)."""
+    try:
+        key = read_key(Path(args.key), create=True)
+        students = read_roster(Path(args.roster))
+        ids = list(parse_weights(args.exercises))
+        if not students:
+            raise ValueError(f"--roster: {args.roster} names no student")
+    except (OSError, UnicodeDecodeError) as exc:
+        print(f"rapp: error: {getattr(exc, 'filename', '') or 'input'}: {exc.__class__.__name__}", file=err)
+        return 2
+    except ValueError as exc:
+        print(f"rapp: error: {exc}", file=err)
+        return 2
+    from rapp.exercises import variants
+    paths = write_sheets(key, students, ids, Path(args.out))
+    own = [i for i in ids if variants.has_variant(i)]
+    print(f"wrote {len(paths)} sheets to {args.out}/; own numbers for {', '.join(own) or 'none'}", file=out)
+    return 0
 
 
 def run(args, out, err) -> int:
@@ -457,6 +540,7 @@ def run(args, out, err) -> int:
         else:
             raise ValueError("--exercises: name the assignment, e.g. --exercises 5.1,5.2:2")
         roster = read_roster(Path(args.roster)) if args.roster else None
+        key = read_key(Path(args.key)) if args.key else None
     except (OSError, UnicodeDecodeError) as exc:
         print(f"rapp: error: {getattr(exc, 'filename', '') or 'input'}: {exc.__class__.__name__}", file=err)
         return 2
@@ -474,7 +558,7 @@ def run(args, out, err) -> int:
         line = f"{r.student}: {r.points:g}/{r.max_points:g}" + (f"  ({bad[0]})" if bad else "")
         print(line, file=out, flush=True)
 
-    results = grade_class(folder, weights, roster, limits, progress)
+    results = grade_class(folder, weights, roster, limits, progress, key)
     write_csv(results, Path(args.out))
     print(f"graded {len(results)} students; wrote {args.out} and {args.feedback}/", file=out)
     return 0

@@ -76,7 +76,7 @@ def normalize_id(exercise_id: Any) -> str | None:
     return key.strip(" .:")[:40]
 
 
-def check(exercise_id: Any, answer: Any) -> Verdict:
+def check(exercise_id: Any, answer: Any, *, variant: str | None = None) -> Verdict:
     """Check your answer to one exercise.
 
     Your answer runs in a sandbox (a child process with time and memory limits), and only the
@@ -88,6 +88,9 @@ def check(exercise_id: Any, answer: Any) -> Verdict:
         The exercise's number as the book prints it, e.g. ``"5.2"`` (or ``"Exercise 5.2"``).
     answer : object
         Your answer: what the exercise's ``expects`` says (a number, an array, a function...).
+    variant : str, optional
+        The code on your exercise sheet, when your instructor gave you your own numbers
+        (``python -m rapp assign``); without it, the book's numbers.
 
     Returns
     -------
@@ -102,6 +105,13 @@ def check(exercise_id: Any, answer: Any) -> Verdict:
     Exercise 5.1: not yet. 71.5 is not a whole number; this is a count.
     """
     try:
+        if variant is not None:
+            from rapp.exercises import variants
+            key = normalize_id(exercise_id)
+            if not variants.has_variant(key):
+                return Verdict(_shown_id(exercise_id), False, "this exercise has no per-student numbers; "
+                                                              "check it without variant=.")
+            return _check(exercise_id, answer, judge=variants.judge(key, str(variant)))
         return _check(exercise_id, answer)
     except BaseException as exc:  # KeyboardInterrupt included: the reader's session survives
         return Verdict(_shown_id(exercise_id), False,
@@ -134,10 +144,10 @@ def _check(exercise_id: Any, answer: Any, *, judge: Any = None) -> Verdict:
         return _verdict(ex, judge, answer, box)
 
 
-def verdict_in_sandbox(ex: Exercise, box: Sandbox, key: Any) -> Verdict:
+def verdict_in_sandbox(ex: Exercise, box: Sandbox, key: Any, judge: Any = None) -> Verdict:
     """The verdict on the answer a sandbox holds under ``key`` (what :mod:`rapp.grading` asks)."""
     try:
-        return _verdict(ex, ex.judge, None, box, key)
+        return _verdict(ex, judge or ex.judge, None, box, key)
     except BaseException as exc:
         return Verdict(ex.id, False, bounded(f"the check itself failed ({type(exc).__name__})."))
 

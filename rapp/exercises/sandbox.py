@@ -195,8 +195,8 @@ def from_plain(data: Any, depth: int = 0) -> Any:
 
     Examples
     --------
-    >>> from_plain(to_plain((1, [2.5, np.int64(3)], np.zeros(2))))
-    (1, [2.5, 3], array([0., 0.]))
+    >>> from_plain(to_plain((1, [2.5, "s"], np.zeros(2))))
+    (1, [2.5, 's'], array([0., 0.]))
     """
     if depth > _MAX_DEPTH + 2:
         raise ValueError("nested too deeply")
