@@ -63,3 +63,22 @@ def test_a_chapters_exercises_built_with_and_without_solutions(tmp_path, hide):
         assert shown == [] and 'class="solution' not in html
     else:
         assert shown and 'class="solution' in html  # the check would see a solution
+
+
+def test_the_syllabus_covers_every_teaching_chapter_and_names_real_exercises():
+    import re
+
+    from rapp.exercises import catalog
+
+    text = (ROOT / "book" / "syllabus.md").read_text()
+    assert "book/syllabus" in (ROOT / "_toc.yml").read_text()
+    rows = [r for r in text.splitlines() if re.match(r"\| \d+ \|", r)]
+    assert len(rows) == 10
+    ids = {ex.id for ex in catalog()}
+    named = set(re.findall(r"\b(\d{1,2}\.\d)\b", text))
+    assert named <= ids and named == ids  # every exercise has a place, lab or homework
+    kinds = {ex.id: ex.kind for ex in catalog()}
+    for row in rows:
+        lab, homework = row.split("|")[3], row.split("|")[4]
+        assert all(kinds[i] == "implement" for i in re.findall(r"\d+\.\d", lab)), row
+        assert all(kinds[i] != "implement" for i in re.findall(r"\d+\.\d", homework)), row
