@@ -9,6 +9,7 @@ book is missing. The solutions' texts are read from the notebooks.
 
 from __future__ import annotations
 
+import html
 import json
 import re
 import sys
@@ -41,9 +42,16 @@ def telltales(solution: str) -> list[str]:
     return [" ".join(r.split()[:8]) for r in runs[:2] if len(r.split()) >= 6]
 
 
+def _plain(text: str) -> str:
+    """Text as a reader sees it: entities decoded, typographic quotes and dashes made plain, one space."""
+    text = html.unescape(text).translate(str.maketrans({"\u2019": "'", "\u2018": "'", "\u201c": '"',
+                                                        "\u201d": '"', "\u2013": "-", "\u2014": "-"}))
+    return " ".join(text.split())
+
+
 def problems(html_dir: Path) -> list[str]:
     pages = {p: p.read_text(encoding="utf-8", errors="replace") for p in Path(html_dir).rglob("*.html")}
-    plain = {p: " ".join(re.sub(r"<[^>]+>", " ", t).split()) for p, t in pages.items()}
+    plain = {p: _plain(re.sub(r"<[^>]+>", " ", t)) for p, t in pages.items()}
     everything = "\n".join(plain.values())
     found = []
     for p, t in pages.items():
@@ -52,10 +60,10 @@ def problems(html_dir: Path) -> list[str]:
     exercises, solutions = book_blocks()
     for label, body in solutions.items():
         for run in telltales(body):
-            if run in everything:
+            if _plain(run) in everything:
                 found.append(f"the solution {label} is shown: {run!r}")
     for label, title in exercises.items():
-        if title and " ".join(title.split()) not in everything:
+        if title and _plain(title) not in everything:
             found.append(f"the exercise {label} ({title}) is missing")
     return found
 

@@ -14,7 +14,7 @@ import yaml
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
 
-from check_student_book import book_blocks, telltales  # noqa: E402
+from check_student_book import book_blocks, problems, telltales  # noqa: E402
 from student_book_config import student_config  # noqa: E402
 
 
@@ -59,10 +59,13 @@ def test_a_chapters_exercises_built_with_and_without_solutions(tmp_path, hide):
         if label.startswith("ex-1-"):
             assert title in html
     assert "Exercise 5" in html  # numbered the same: the fifth exercise of the chapter is still there
+    found = problems(tmp_path / "html")  # what make student-book runs on the whole book
     if hide:
         assert shown == [] and 'class="solution' not in html
+        assert not [f for f in found if "solution" in f]
     else:
-        assert shown and 'class="solution' in html  # the check would see a solution
+        assert shown and 'class="solution' in html
+        assert [f for f in found if "is shown" in f] and [f for f in found if "solution block" in f]
 
 
 def test_the_syllabus_covers_every_teaching_chapter_and_names_real_exercises():
