@@ -225,7 +225,7 @@ def _half_width(L: float, d: float, r: float) -> float:
 
 def _longest_dls(lam: float, e: float) -> float:
     """The largest |J^T (J J^T + lam^2 I)^-1 e| over J = diag(1, sigma), sigma in [0, 1] and lam itself."""
-    sigmas = np.concatenate((np.linspace(0.0, 1.0, 2001), [lam]))
+    sigmas = np.concatenate((np.linspace(0.0, 1.0, 201), [lam]))
     return max(float(np.linalg.norm(np.diag([1.0, s]) @ np.linalg.solve(
         np.diag([1.0, s]) ** 2 + lam**2 * np.eye(2), [0.0, e]))) for s in sigmas)
 

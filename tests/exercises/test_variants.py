@@ -46,6 +46,7 @@ def test_codes_come_from_the_key_and_the_student():
     assert "no per-student numbers" in check("5.2", None, variant="abc").message
 
 
+@pytest.mark.slow
 def test_assign_writes_sheets_and_grade_uses_the_same_key(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     roster = tmp_path / "roster.txt"
