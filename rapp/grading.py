@@ -135,7 +135,7 @@ _SERVE = "import sys; from rapp.grading import _serve_main; _serve_main(sys.argv
 
 def _serve_main(argv: list[str]) -> None:
     """Entry point of the sandbox process: ``SUBMISSION RFD WFD RUN_SECONDS MEMORY``."""
-    from rapp.exercises.sandbox import Limits, confine, serve, to_plain, _send
+    from rapp.exercises.sandbox import Limits, confine, send_message, serve, to_plain
 
     path, rfd, wfd = argv[0], int(argv[1]), int(argv[2])
     limits = Limits(wall=float(argv[3]), cpu=float(argv[4]), memory=int(argv[5]))
@@ -153,7 +153,7 @@ def _serve_main(argv: list[str]) -> None:
         reply = {"raised": _one_line(exc)}
     try:
         sys.stdout = sys.stderr = io.StringIO()
-        _send(wfd, json.dumps(reply).encode())
+        send_message(wfd, json.dumps(reply).encode())
     except BaseException:
         os._exit(0)
     serve(answers, rfd, wfd)
@@ -266,7 +266,7 @@ class _Submission:
         os.close(c_read), os.close(c_write)
         self.box = Sandbox.attach(popen, p_read, p_write, limits)
         try:
-            ready = self.box._receive()
+            ready = self.box.receive()
         except SandboxError as exc:
             self.error = f"did not finish running within {self.limits.run:g} s" if "no answer within" in str(exc) \
                 else f"stopped while running: {exc}"
@@ -289,9 +289,9 @@ class _Submission:
     def close(self) -> None:
         if self.box is not None:
             self.box.close()
-            if self.box._popen is not None:
+            if self.box.popen is not None:
                 try:
-                    self.box._popen.wait(timeout=2)
+                    self.box.popen.wait(timeout=2)
                 except Exception:
                     pass
             self.box = None

@@ -45,7 +45,7 @@ from typing import Any
 import numpy as np
 
 __all__ = ["Limits", "Sandbox", "Remote", "Opaque", "SandboxError", "Raised", "TimedOut", "Died",
-           "MAX_MESSAGE", "bounded", "to_plain", "from_plain"]
+           "MAX_MESSAGE", "bounded", "to_plain", "from_plain", "confine", "serve", "send_message"]
 
 MAX_MESSAGE = 2000
 """Characters: the longest message a verdict carries (an exception's text is cut to fit)."""
@@ -351,7 +351,8 @@ def _read_exact(fd: int, n: int) -> bytes:
     return b"".join(chunks)
 
 
-def _send(fd: int, payload: bytes) -> None:
+def send_message(fd: int, payload: bytes) -> None:
+    """Write one length-prefixed message to ``fd`` (the child's side of the protocol)."""
     data = struct.pack("<Q", len(payload)) + payload
     view = memoryview(data)
     while view:
@@ -402,7 +403,7 @@ def serve(objects: Any, rfd: int, wfd: int) -> None:
         if len(payload) > MAX_REPLY:
             payload = json.dumps({"big": len(payload)}).encode()
         try:
-            _send(wfd, payload)
+            send_message(wfd, payload)
         except BaseException:
             return
 
@@ -432,7 +433,7 @@ class Sandbox:
     """
 
     def __init__(self, pid: int, rfd: int, wfd: int, limits: Limits, popen: Any = None):
-        self.pid, self._rfd, self._wfd, self.limits, self._popen = pid, rfd, wfd, limits, popen
+        self.pid, self._rfd, self._wfd, self.limits, self.popen = pid, rfd, wfd, limits, popen
         self.deadline = time.monotonic() + limits.wall
         self.dead: str | None = None
 
@@ -476,11 +477,11 @@ class Sandbox:
         except Exception as exc:
             raise Died(f"the arguments could not be sent ({type(exc).__name__})") from None
         try:
-            _send(self._wfd, payload)
+            send_message(self._wfd, payload)
         except OSError:
             self._kill("the child ended")
             raise Died(self._why_dead()) from None
-        reply = self._receive()
+        reply = self.receive()
         if "ok" in reply:
             try:
                 return from_plain(reply["ok"])
@@ -494,7 +495,8 @@ class Sandbox:
         self._kill("malformed reply")
         raise Died("it sent something that is not a reply")
 
-    def _receive(self) -> dict:
+    def receive(self) -> dict:
+        """The child's next reply as a dict (bounded, within the deadline), or a SandboxError."""
         header = self._read(8)
         (n,) = struct.unpack("<Q", header)
         if n > MAX_REPLY + 1024:
@@ -563,8 +565,8 @@ class Sandbox:
             if pid:
                 self._status = status
                 self._rusage_cpu = rusage.ru_utime + rusage.ru_stime
-                if self._popen is not None:
-                    self._popen.returncode = os.waitstatus_to_exitcode(status)
+                if self.popen is not None:
+                    self.popen.returncode = os.waitstatus_to_exitcode(status)
                 return status
             if time.monotonic() >= end:
                 return None
