@@ -156,6 +156,8 @@ def to_plain(value: Any, depth: int = 0) -> Any:
     if isinstance(value, dict):
         return {"$": "dict", "v": [[to_plain(k, depth + 1), to_plain(v, depth + 1)] for k, v in value.items()]}
     name = t.__name__
+    if t.__module__ == "rapp.scenario" and name == "Scenario":
+        return {"$": "rapp", "type": "Scenario", "v": [to_plain(value.to_dict(), depth + 1)]}
     if t.__module__.startswith("rapp.") and name in ("Circle", "Polygon", "Arm"):
         fields = {"Circle": ("center", "radius"), "Polygon": ("vertices",),
                   "Arm": ("link_lengths", "joint_limits")}[name]
@@ -239,6 +241,13 @@ def from_plain(data: Any, depth: int = 0) -> Any:
         arr = np.empty(len(flat), dtype=object)
         arr[:] = flat
         return arr.reshape(shape)
+    if tag == "rapp" and data.get("type") == "Scenario":
+        from rapp.scenario import load_scenario
+        mapping = from_plain(data["v"][0], depth + 1)
+        try:
+            return load_scenario(mapping)
+        except Exception:  # the judge loads it again and says what is wrong with it
+            return mapping
     if tag == "rapp":
         from rapp.arm import Arm
         from rapp.obstacles import Circle, Polygon

@@ -35,6 +35,8 @@ def test_plain_data_round_trips_and_nothing_else_does():
     assert np.array_equal(back[2], value[2]) and back[3] == {"k": (True,)} and back[4] == value[4]
     assert back[5].link_lengths == value[5].link_lengths and back[6] == float("inf")
     assert isinstance(from_plain(to_plain(object())), Opaque)
+    scenario = rapp.load_scenario("default")
+    assert from_plain(to_plain(scenario)).to_dict() == scenario.to_dict()
     with pytest.raises(ValueError):
         from_plain({"$": "pickle", "v": "..."})
 
