@@ -1,7 +1,8 @@
 # The two commands of the README:
 #   make book   set up .venv and node_modules, build the book into _build/html, check it in Chromium
 #   make test   set up .venv, run every test (unit, property, doctests, notebooks via nbval)
-# Other targets: make setup, make notebooks (re-execute notebooks/*.ipynb in place), make clean.
+# Other targets: make setup, make notebooks (re-execute notebooks/*.ipynb in place), make clean,
+#   make student-book (the book without solutions, into _build/student/_build/html).
 
 SHELL := /bin/bash
 .SHELLFLAGS := -eu -o pipefail -c
@@ -18,7 +19,7 @@ VENDOR_STAMP := book/_static_vendor/offline/.stamp
 export PIP_DISABLE_PIP_VERSION_CHECK := 1
 export NO_COLOR := 1
 
-.PHONY: setup setup-python setup-js book test notebooks clean
+.PHONY: setup setup-python setup-js book test notebooks clean student-book
 
 setup: setup-python setup-js
 setup-python: $(PY_STAMP)
@@ -43,6 +44,13 @@ $(VENDOR_STAMP): $(NODE_STAMP) scripts/vendor_js.py
 book: setup
 	$(VENV)/bin/jupyter-book build . --all --quiet --warningiserror --nitpick --keep-going
 	$(PY) scripts/check_book.py _build/html
+
+# The student edition: the same book with sphinx-exercise's hide_solutions on (the exercises stay,
+# numbered the same), then a check that no page holds a solution's text.
+student-book: setup
+	$(PY) scripts/student_book_config.py _build/student_config.yml
+	$(VENV)/bin/jupyter-book build . --all --quiet --config _build/student_config.yml --path-output _build/student
+	$(PY) scripts/check_student_book.py _build/student/_build/html
 
 test: setup-python
 	$(PY) -m pytest

@@ -11,7 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.exercises.core import Exercise, Judgement, _as_number_array, close_numbers, describe, implement, numeric
+from rapp.exercises.core import (CLOSE_FACTOR, TOLERANCE, TOLERANCE_ANGLES, Exercise, Judgement, _as_number_array,
+                                 close, describe, implement, numeric)
 
 __all__ = ["EXERCISES"]
 
@@ -38,15 +39,21 @@ def _judge_straight_up(answer) -> Judgement:
     if isinstance(q, Judgement):
         return q
     tip = arm.end_effector(q)
-    if np.allclose(tip, target, atol=1e-6):
+    want = np.array([np.pi / 2, 0.0, 0.0])  # the only configuration that reaches (0, 3)
+    if close(q, want, angles=True):
         return Judgement(True, "the end effector is at (0, 3): every link points along +y.")
+    if close(q, want, CLOSE_FACTOR, angles=True):
+        return Judgement(False, "close, but not within the tolerance: give more digits.")
     if _looks_like_degrees(arm, q, target):
         return Judgement(False, "those look like degrees; rapp's angles are in radians.")
-    if np.allclose(arm.end_effector(np.diff(q, prepend=0.0)), target, atol=1e-6):
+    if np.allclose(arm.end_effector(np.diff(q, prepend=0.0)), target, atol=1e-3):
         return Judgement(False, "those are absolute link angles; a joint angle is relative to the "
                                 "previous link, so a link that keeps the direction has joint angle 0.")
     return Judgement(False, f"that puts the end effector at {describe(np.round(tip, 3))}, not (0, 3). "
                             "Which direction must every link point?")
+
+
+_judge_straight_up.tolerance = TOLERANCE_ANGLES
 
 
 # --- 1.2: the second configuration -----------------------------------------------------------
@@ -57,20 +64,27 @@ def _judge_second_configuration(answer) -> Judgement:
     if isinstance(other, Judgement):
         return other
     target = arm.end_effector(q)
-    if not np.allclose(arm.end_effector(other), target, atol=1e-6):
-        if _looks_like_degrees(arm, other, target):
-            return Judgement(False, "those look like degrees; rapp's angles are in radians.")
-        if np.allclose(arm.end_effector([other[0], -other[1]]), target, atol=1e-6) or \
-                np.isclose(abs(wrap_angle(other[1])), 1.0, atol=1e-6):
-            return Judgement(False, "the elbow angle is right, but the shoulder must turn too: flipping "
-                                    "the elbow alone moves the end effector.")
-        return Judgement(False, f"that configuration puts the end effector "
-                                f"{np.linalg.norm(arm.end_effector(other) - target):.3g} m away from where "
-                                "(0.3, 1.0) puts it.")
-    if np.all(np.abs(wrap_angle(other - q + 1e-3) - 1e-3) < 1e-6):
+    # The mirror image in the base-to-tip line: the elbow negated, the shoulder turned by the
+    # angle it makes with that line, twice.
+    want = np.array([q[0] + 2 * np.arctan2(0.8 * np.sin(q[1]), 1.0 + 0.8 * np.cos(q[1])), -q[1]])
+    if close(other, want, angles=True):
+        return Judgement(True, "same end effector, elbow on the other side of the base-to-tip line.")
+    if close(other, q, angles=True):
         return Judgement(False, "that is the same configuration on the torus (angles differ by whole "
-                                "turns); reflect the elbow instead.")
-    return Judgement(True, "same end effector, elbow on the other side of the base-to-tip line.")
+                                "turns, or not at all); reflect the elbow instead.")
+    if close(other, want, CLOSE_FACTOR, angles=True):
+        return Judgement(False, "close, but not within the tolerance: give more digits.")
+    if _looks_like_degrees(arm, other, target):
+        return Judgement(False, "those look like degrees; rapp's angles are in radians.")
+    if close(other[1], want[1], angles=True) and not close(other[0], want[0], CLOSE_FACTOR, angles=True):
+        return Judgement(False, "the elbow angle is right, but the shoulder must turn too: flipping "
+                                "the elbow alone moves the end effector.")
+    return Judgement(False, f"that configuration puts the end effector "
+                            f"{np.linalg.norm(arm.end_effector(other) - target):.3g} m away from where "
+                            "(0.3, 1.0) puts it.")
+
+
+_judge_second_configuration.tolerance = TOLERANCE_ANGLES
 
 
 # --- 1.5: wrapping an angle ------------------------------------------------------------------
@@ -112,7 +126,7 @@ EXERCISES = (
     Exercise(
         "1.3", 1, "numeric", "The hole near the base", 1,
         "a number: the radius in metres",
-        numeric(lambda: Arm([1.0, 0.3]).reach[0], tol=1e-6,
+        numeric(lambda: Arm([1.0, 0.3]).reach[0],
                 mistakes=[(lambda: 1.3, "that is the outer radius, the arm stretched out."),
                           (lambda: 0.3, "that is the second link alone; fold the elbow back."),
                           (lambda: 1.0, "that is the first link alone; fold the elbow back.")],
@@ -121,7 +135,7 @@ EXERCISES = (
     Exercise(
         "1.4", 1, "numeric", "The short way round", 1,
         "a number: the length in radians of the shortest joint-space move",
-        numeric(lambda: float(np.linalg.norm(wrap_angle(np.array([-3.0, 0.5]) - [3.0, 0.5]))), tol=1e-6,
+        numeric(lambda: float(np.linalg.norm(wrap_angle(np.array([-3.0, 0.5]) - [3.0, 0.5]))),
                 mistakes=[(lambda: 6.0, "that is the long way round; on the torus -3.0 and 3.0 are close.")],
                 hint="the difference of two angles is only defined up to whole turns; take the smallest."),
     ),

@@ -142,7 +142,7 @@ EXERCISES = (
     Exercise(
         "2.1", 2, "numeric", "The reach of a three-link arm", 1,
         "a pair (r_min, r_max) in metres",
-        numeric(lambda: Arm(_LENGTHS).reach, tol=1e-6,
+        numeric(lambda: Arm(_LENGTHS).reach,
                 mistakes=[(lambda: (2 * max(_LENGTHS) - sum(_LENGTHS), sum(_LENGTHS)),
                            "a radius is never negative: when the longest link is shorter than the others "
                            "together, the inner radius is 0."),
@@ -157,7 +157,7 @@ EXERCISES = (
     Exercise(
         "2.2", 2, "numeric", "The end effector by hand", 1,
         "a pair (x, y) in metres",
-        numeric(lambda: _tip(_LENGTHS, _Q), tol=1e-6,
+        numeric(lambda: _tip(_LENGTHS, _Q),
                 mistakes=[(lambda: _mis_tip(_LENGTHS, _Q),
                            "that is the MIS formula fed the relative angles. Each link points along its "
                            "absolute angle, the running sum of the joint angles up to it."),

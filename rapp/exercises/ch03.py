@@ -195,7 +195,7 @@ EXERCISES = (
     Exercise(
         "3.1", 3, "numeric", "Distance from a disc's centre to a link", 1,
         "a number: the distance from the centre to the link, in metres",
-        numeric(_distance_31, tol=1e-3,
+        numeric(_distance_31,
                 mistakes=[(lambda: float(line_distance_mis(_A1, _B1, _C1)),
                            "that is the distance to the infinite line through the link (the foot of "
                            "the perpendicular is not on the link); clip t* to [0, 1]."),
@@ -226,7 +226,7 @@ EXERCISES = (
     Exercise(
         "3.5", 3, "numeric", "Motion bounds of a joint step", 1,
         "an array [B1, B2]: the motion bounds of the two links, in metres",
-        numeric(_bounds_35, tol=1e-6,
+        numeric(_bounds_35,
                 mistakes=[(_own_joint_only, "each link gets only its own joint here; turning joint 1 "
                                             "also swings link 2."),
                           (_own_links_summed, "turning joint 1 swings link 2 about the base, so a point "

@@ -186,7 +186,7 @@ EXERCISES = (
     Exercise(
         "4.1", 4, "numeric", "The cell of an angle", 1,
         "a list of two integers: the cell indices of pi/2 and of 3.0 rad",
-        numeric(lambda: _cells_of(_EX1_ANGLES, _EX1_M), tol=0, exact_integer=True,
+        numeric(lambda: _cells_of(_EX1_ANGLES, _EX1_M), exact_integer=True,
                 mistakes=[(lambda: [9, 12], "there is no cell 12 on an axis of 12 cells: the one past "
                                             "the end is across the seam."),
                           (lambda: [9, 11], "that takes the grid angle just below each angle (floor); "
@@ -204,7 +204,7 @@ EXERCISES = (
     Exercise(
         "4.3", 4, "numeric", "The width of a forbidden interval", 2,
         "a number: the full width of the interval of link angles that hit the disc, in radians",
-        numeric(_interval_width, tol=2e-3, relative=True,
+        numeric(_interval_width,
                 mistakes=[(lambda: _interval_width() / 2, "that is the half-width; the question asks "
                                                           "for the full width of the interval."),
                           (_tangent_width, "that is the tangent case, arcsin(r/d); can this link reach "
@@ -218,7 +218,7 @@ EXERCISES = (
         "4.4", 4, "numeric", "Full columns of the benchmark", 2,
         "an integer: the number of theta1 columns of the 120 x 120 benchmark grid that are "
         "entirely occupied",
-        numeric(_full_columns, tol=0, exact_integer=True,
+        numeric(_full_columns, exact_integer=True,
                 mistakes=[(lambda: int(_bench_occupancy().any(axis=1).sum()),
                            "that counts the columns with at least one occupied cell; count the "
                            "columns occupied for every theta2."),

@@ -77,7 +77,13 @@ def _judge_king_heuristic(h) -> Judgement:
     verdict = judge(h)
     if not verdict:
         return verdict
-    values = np.array([[float(h((i, j), goal, shape)) for j in range(shape[1])] for i in range(shape[0])])
+    values = np.zeros(shape)
+    for i in range(shape[0]):
+        for j in range(shape[1]):
+            problem = _admissible(got := h((i, j), goal, shape), true[(i, j)])
+            if problem:  # the same inputs as the first pass: a function that changes its mind
+                return Judgement(False, f"on a second call with a={(i, j)}: your function {problem}")
+            values[i, j] = float(got)
     steps = [(1, 0), (0, 1), (1, 1), (1, -1)]
     for di, dj in steps:
         moved = np.roll(values, (-di, -dj), axis=(0, 1))
@@ -86,15 +92,23 @@ def _judge_king_heuristic(h) -> Judgement:
             return Judgement(False, f"admissible, but not consistent: h changes by more than 1 on the king "
                                     f"move from {(int(i), int(j))} to {((i + di) % 9, (j + dj) % 12)}.")
     if np.all(values == 0):
-        return Judgement(False, "h = 0 is admissible and consistent but tells the search nothing; "
-                                "find a larger lower bound.")
-    exact = bool(np.all(values == true))
+        # Admissible and consistent, as asked; the message says what a better answer gains.
+        return Judgement(True, "h = 0 is admissible and consistent, as asked, but it tells the search "
+                               "nothing (A* becomes Dijkstra); a larger lower bound is exact on an "
+                               "empty torus.")
+    exact = bool(np.all(values == _true_grid(true, shape)))
     return Judgement(True, "admissible and consistent for king moves" +
                      (", and exact on an empty torus." if exact else
                       "; a larger admissible h exists (it is exact on an empty torus)."))
 
 
+def _true_grid(true: dict, shape) -> np.ndarray:
+    return np.array([[true[(i, j)] for j in range(shape[1])] for i in range(shape[0])], float)
+
+
 def _admissible(got, true_cost) -> str | None:
+    if isinstance(got, (bool, np.bool_, str, bytes)) or got is None:
+        return f"returned {describe(got)}, not a number."
     try:
         value = float(got)
     except Exception:
@@ -158,7 +172,7 @@ EXERCISES = (
     Exercise(
         "5.1", 5, "numeric", "GD1 between two cells", 1,
         "an integer: the number of steps",
-        numeric(lambda: _gd1((3, 26), (50, 50), (100, 100)), tol=0, exact_integer=True,
+        numeric(lambda: _gd1((3, 26), (50, 50), (100, 100)), exact_integer=True,
                 mistakes=[(lambda: 53 + 76, "that is the long way round on both axes; take the shorter one."),
                           (lambda: 47, "that is one axis only; GD1 adds the two axes."),
                           (lambda: 24, "that is one axis only; GD1 adds the two axes.")],
@@ -173,7 +187,7 @@ EXERCISES = (
     Exercise(
         "5.3", 5, "numeric", "A wrap-blind heuristic on a ring", 1,
         "an integer: the length of the path A* returns",
-        numeric(_ring_wrap_blind, tol=0, exact_integer=True,
+        numeric(_ring_wrap_blind, exact_integer=True,
                 mistakes=[(lambda: 5, "5 steps is the shortest path, through the seam; but does A* with the "
                                       "wrap-blind heuristic ever pop a cell on that side before the goal?")],
                 hint="write f = g + h for the first few cells on each side of the start."),

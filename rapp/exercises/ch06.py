@@ -50,7 +50,7 @@ def _plus_instead_of_minus() -> np.ndarray:
 
 def _judge_two_solutions():
     """The numeric judge on the flattened answer: a 2 x 2 array or the four angles in a row."""
-    judge = numeric(_two_solutions, tol=1e-3,
+    judge = numeric(_two_solutions, angles=True,
                     mistakes=[(lambda: _two_solutions().reshape(2, 2)[::-1].reshape(4),
                                "the rows are swapped: elbow-down (theta_2 > 0) comes first."),
                               (lambda: np.degrees(_two_solutions()), "those are degrees; give radians."),
@@ -69,6 +69,7 @@ def _judge_two_solutions():
         return judge(answer)
 
     flat.expected = _two_solutions
+    flat.tolerance = judge.tolerance
     return flat
 
 
@@ -291,7 +292,7 @@ EXERCISES = (
     Exercise(
         "6.2", 6, "numeric", "The determinant of the Jacobian", 1,
         "a number: det J (in square metres)",
-        numeric(_det_j, tol=1e-4,
+        numeric(_det_j,
                 mistakes=[(lambda: -_det_j(), "the sign is off: J is [[dx/dθ1, dx/dθ2], [dy/dθ1, "
                                               "dy/dθ2]], and det = J11 J22 - J12 J21."),
                           (lambda: _l1l2(np.sin(np.radians(_Q_62[1]))), "that takes θ2 in degrees; "
@@ -326,7 +327,7 @@ EXERCISES = (
     Exercise(
         "6.6", 6, "numeric", "The longest damped step", 1,
         "a number: the largest |Δq| in radians",
-        numeric(_longest_dls_step, tol=1e-3,
+        numeric(_longest_dls_step,
                 mistakes=[(lambda: _ERR / _LAM, "that is |e| / λ; the factor σ / (σ² + λ²) is "
                                                 "largest at σ = λ, where it is 1 / (2λ)."),
                           (lambda: _ERR / _LAM**2, "that divides by λ²; at its largest the factor "

@@ -25,7 +25,7 @@ import numpy as np
 from rapp.arm import Arm, wrap_angle
 from rapp.cspace import JointGrid
 from rapp.errors import GridTooCoarse, NoPathFound, RappError
-from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
+from rapp.exercises.core import CLOSE_FACTOR, TOLERANCE, Exercise, Judgement, _as_number_array, close, describe, implement, numeric
 from rapp.grid_route import grid_step_motion, obstacle_size
 from rapp.paths import unwrap_path
 
@@ -73,21 +73,24 @@ def _judge_other_elbow(answer) -> Judgement:
         else:
             problems.append(f"the steps on the {label} grid are not right (how far round does each joint "
                             "turn, in steps of one cell?)")
-    if abs(got[2] - want[2]) > 1e-3:
-        if min(abs(got[2] - a.metrics["waypoint_length_rad"]), abs(got[2] - 2 * np.pi)) <= 1e-3:
+    if not close(got[2], want[2]):
+        if close(got[2], want[2], CLOSE_FACTOR):
+            problems.append("the shortcut length is close but not within the tolerance; give more digits")
+        elif close(got[2], a.metrics["waypoint_length_rad"]) or close(got[2], 2 * np.pi):
             problems.append("the length is that of the grid staircase, before shortcutting")
-        elif abs(got[2] - np.hypot(np.pi / 2, np.pi / 2)) <= 1e-3:
+        elif close(got[2], np.hypot(np.pi / 2, np.pi / 2)):
             problems.append("the length is that of the short straight segment, which passes "
                             "through the disc; the planner goes the other way round on joint 1")
         else:
             problems.append("the shortcut length is not right (how many segments does the shortcut "
                             "keep, and how far does each joint turn along it?)")
     if not problems:
-        return Judgement(True, f"{describe(answer)} is right (the length to within 0.001 rad).")
+        return Judgement(True, f"{describe(answer)} is right (the length to three significant figures).")
     return Judgement(False, f"{describe(answer)}: " + "; ".join(problems) + ".")
 
 
 _judge_other_elbow.expected = _other_elbow_answer
+_judge_other_elbow.tolerance = TOLERANCE
 
 
 # --- 7.2: unwrap a path -------------------------------------------------------------------
@@ -285,7 +288,7 @@ EXERCISES = (
     Exercise(
         "7.3", 7, "numeric", "When a grid is fine enough to see the post", 2,
         "an integer: the smallest number of cells per joint",
-        numeric(_trusted_cells, tol=0, exact_integer=True,
+        numeric(_trusted_cells, exact_integer=True,
                 mistakes=[(lambda: _cells_mistake(lambda m: np.pi / m, 2.0),
                            "at that size one step of joint 1 still moves the tip more than the post's "
                            "radius. Joint 1 is limited: its grid has a cell at each limit, so how many "
@@ -305,7 +308,7 @@ EXERCISES = (
     Exercise(
         "7.5", 7, "numeric", "A link of length zero", 1,
         "an integer: the exit code of python -m rapp plan",
-        numeric(_zero_link_exit_code, tol=0, exact_integer=True,
+        numeric(_zero_link_exit_code, exact_integer=True,
                 mistakes=[(lambda: 1, "1 is a planning answer (no path, no IK solution); does this "
                                       "scenario get as far as planning?"),
                           (lambda: 0, "0 means planned and verified; can an arm with a zero link be "

@@ -140,7 +140,7 @@ EXERCISES = (
     Exercise(
         "8.1", 8, "numeric", "Peak velocity of a cubic", 1,
         "a number: the peak velocity in rad/s",
-        numeric(_cubic_peak_velocity, tol=1e-3,
+        numeric(_cubic_peak_velocity,
                 mistakes=[(lambda: _DELTA / _T, "that is the average velocity Δ/T; the cubic starts "
                                                 "and ends at rest, so its peak is higher."),
                           (_quintic_peak_velocity, "that is the quintic's peak; this exercise asks "
@@ -158,7 +158,7 @@ EXERCISES = (
     Exercise(
         "8.3", 8, "numeric", "Peak acceleration of a quintic", 2,
         "a number: the peak |acceleration| in rad/s²",
-        numeric(_quintic_peak_acceleration, tol=1e-3,
+        numeric(_quintic_peak_acceleration,
                 mistakes=[(_cubic_peak_acceleration, "that is the cubic's peak acceleration (at its "
                                                      "ends); the quintic's is zero at the ends."),
                           (_quintic_peak_velocity, "that is the quintic's peak velocity, not its "

@@ -246,7 +246,7 @@ EXERCISES = (
     Exercise(
         "12.1", 12, "numeric", "The Jacobian of the upright arm", 1,
         "3 numbers: the x row of J, dx/d(theta_rep_j) in metres per radian",
-        numeric(_report_jacobian, tol=1e-6,
+        numeric(_report_jacobian,
                 mistakes=[(_printed_jacobian, "that is −J, the report's printed matrix (and rapp.jacobian "
                                               "in the book's angles without the chain rule): every sign "
                                               "is flipped. Which way does the tip move when θ_rep,1 grows?")],
@@ -255,7 +255,7 @@ EXERCISES = (
     Exercise(
         "12.2", 12, "numeric", "The separating gap", 1,
         "a number: the gap in metres between the two projected intervals (negative if they overlap)",
-        numeric(_sat_gap, tol=1e-3,
+        numeric(_sat_gap,
                 mistakes=[(_far_end_gap, "that is measured from the far end of the link; the gap "
                                          "starts at the link's nearer end."),
                           (lambda: _gap_on(_ANGLE + np.pi / 2), "that is the other edge direction, "
@@ -270,7 +270,7 @@ EXERCISES = (
     Exercise(
         "12.3", 12, "numeric", "The wrap-aware distance", 1,
         "a number: the joint-space distance in radians",
-        numeric(_wrap_distance, tol=1e-3,
+        numeric(_wrap_distance,
                 mistakes=[(lambda: float(np.linalg.norm(_QB - _QA)),
                            "that is the plain Euclidean distance: joints 1 and 2 are free, so their "
                            "differences go the short way round."),
@@ -297,7 +297,7 @@ EXERCISES = (
     Exercise(
         "12.6", 12, "numeric", "Iterations of the fraction rule", 1,
         "an integer: the number of iterations",
-        numeric(_fraction_iterations, tol=0, exact_integer=True,
+        numeric(_fraction_iterations, exact_integer=True,
                 mistakes=[(lambda: _fraction_iterations() - 1,
                            "after that many steps the distance is still above ε; count to the first k "
                            "with (1 − α)^k d ≤ ε (round up, and start from d, not from 1)."),

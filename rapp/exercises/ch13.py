@@ -17,7 +17,8 @@ import math
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
+from rapp.exercises.core import (CLOSE_FACTOR, TOLERANCE_ANGLES, Exercise, Judgement, _as_number_array, close,
+                                 describe, implement, numeric)
 from rapp.ik import ik_2link
 
 __all__ = ["EXERCISES"]
@@ -58,7 +59,7 @@ def _judge_elbows(answer) -> Judgement:
         return Judgement(False, f"you passed {got.size} elbow angle(s), one per solution: count the "
                                 "solutions first (where does r = 1 lie relative to the annulus "
                                 "eq. ch13-annulus?), then pass one θ2 per solution.")
-    return numeric(_elbows_0_1, tol=1e-3, mistakes=[
+    return numeric(_elbows_0_1, angles=True, mistakes=[
         (lambda: _elbows_0_1()[::-1], "the right angles in the wrong order; pass elbow-down (θ2 ≥ 0) "
                                       "first, then elbow-up."),
         (lambda: np.degrees(_elbows_0_1()), "those look like degrees; pass radians."),
@@ -93,12 +94,14 @@ def _judge_right_elbow(answer) -> Judgement:
     if got.shape != (2,):
         return Judgement(False, f"expected a configuration (θ1, θ2), two numbers; got shape {got.shape}.")
     right, left = _right_and_left()
-    if _same_angles(got, right, 1e-3):
-        return Judgement(True, f"{describe(answer)} is right (to within 0.001 rad, modulo 2π).")
-    if _same_angles(got, left, 1e-3):
+    if close(got, right, angles=True):
+        return Judgement(True, f"{describe(answer)} is right (to three significant figures, modulo 2π).")
+    if close(got, left, angles=True):
         return Judgement(False, f"{describe(answer)} reaches the target, but its elbow is at negative x, "
                                 "on the left of the line; take the other solution.")
-    if _same_angles(np.radians(got), right, 1e-3) or _same_angles(np.radians(got), left, 1e-3):
+    if close(got, right, CLOSE_FACTOR, angles=True):
+        return Judgement(False, f"{describe(answer)} is close but not within the tolerance; give more digits.")
+    if close(np.radians(got), right, angles=True) or close(np.radians(got), left, angles=True):
         return Judgement(False, f"{describe(answer)} looks like degrees; pass radians.")
     tip = Arm(_ARM).end_effector(got)
     if np.hypot(*(tip - _TARGET_RIGHT)) > 1e-2:
@@ -106,6 +109,9 @@ def _judge_right_elbow(answer) -> Judgement:
                                 "(0, -2.5); compute the two solutions with eq. ch13-cos and ch13-q1.")
     return Judgement(False, f"{describe(answer)} is not it; the elbow of (θ1, θ2) is at "
                             "L1 (cos θ1, sin θ1).")
+
+
+_judge_elbows.tolerance = _judge_right_elbow.tolerance = TOLERANCE_ANGLES
 
 
 # --- 13.3: both analytic solutions ------------------------------------------------------------

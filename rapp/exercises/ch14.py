@@ -259,7 +259,7 @@ EXERCISES = (
     Exercise(
         "14.1", 14, "numeric", "All successes, how many runs", 1,
         "an integer: the fewest runs n",
-        numeric(_all_successes_needed, tol=0, exact_integer=True,
+        numeric(_all_successes_needed, exact_integer=True,
                 mistakes=[(lambda: 1, "the textbook interval p̂ ± z√(p̂(1 − p̂)/n) has width 0 when "
                                       "every run succeeds, so it 'proves' a rate of 1 from one run; "
                                       "use the Wilson interval of eq. ch12-wilson."),

@@ -223,7 +223,7 @@ EXERCISES = (
     Exercise(
         "15.1", 15, "numeric", "Minimum duration of a quintic move", 1,
         "a number: the shortest duration in seconds",
-        numeric(_quintic_minimum, tol=1e-3,
+        numeric(_quintic_minimum,
                 mistakes=[(_quintic_speed_bound, "that duration keeps the speed within vmax, but the "
                                                  "acceleration limit asks for more time here."),
                           (_cubic_minimum, "that is the cubic's minimum duration; this exercise asks "
@@ -249,7 +249,7 @@ EXERCISES = (
     Exercise(
         "15.4", 15, "numeric", "Condition number of a two-link arm", 1,
         "a number: the condition number (no unit)",
-        numeric(_kappa, tol=1e-3,
+        numeric(_kappa,
                 mistakes=[(_w, "that is the manipulability w = σ1 σ2; the condition number is the "
                                "ratio σ1 / σ2."),
                           (lambda: 1.0 / _kappa(), "that is σ2 / σ1; the condition number is at "

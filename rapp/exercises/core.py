@@ -14,25 +14,24 @@ A judge never raises and never prints the expected answer.
 Examples
 --------
 >>> ex = Exercise("0.1", 0, "numeric", "Two plus two", 1, "a number",
-...               numeric(lambda: 4.0, tol=1e-9, mistakes=[(lambda: 22.0, "add, do not concatenate")]))
+...               numeric(lambda: 4.0, mistakes=[(lambda: 22.0, "add, do not concatenate")]))
 >>> bool(ex.judge(4)), ex.judge(22).message
 (True, '22: add, do not concatenate')
 """
 
 from __future__ import annotations
 
-import inspect
+import copy
 import textwrap
-import multiprocessing
-import os
-import threading
-import time
 from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
 import numpy as np
 
-__all__ = ["Verdict", "Exercise", "Judgement", "numeric", "implement", "close_numbers", "describe", "KINDS"]
+from rapp.exercises.sandbox import Died, Limits, Opaque, Raised, Remote, Sandbox, TimedOut, bounded
+
+__all__ = ["Verdict", "Exercise", "Judgement", "numeric", "implement", "close_numbers", "describe", "KINDS", "close",
+           "TOLERANCE", "TOLERANCE_ANGLES", "TOLERANCE_COUNT", "REL_TOL", "ABS_TOL", "CLOSE_FACTOR"]
 
 KINDS = ("numeric", "implement", "argue")
 
@@ -94,6 +93,16 @@ class Exercise:
     expects: str
     judge: Callable[[Any], "Judgement"] = field(repr=False, compare=False)
 
+    @property
+    def tolerance(self) -> str | None:
+        """The precision sentence the statement prints (numeric answers), or None."""
+        return getattr(self.judge, "tolerance", None)
+
+    @property
+    def time_limit(self) -> float:
+        """Seconds the reader's object may run for while this exercise is checked."""
+        return float(getattr(self.judge, "time_limit", 5.0))
+
 
 @dataclass(frozen=True)
 class Judgement:
@@ -135,8 +144,60 @@ def describe(value: Any, limit: int = 120) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
+REL_TOL = 5e-3
+"""Relative tolerance of a numeric answer: three significant figures (0.5 %)."""
+
+ABS_TOL = 5e-4
+"""Absolute tolerance of a numeric answer near zero: three decimals."""
+
+CLOSE_FACTOR = 10.0
+"""Within this many tolerances of the exact value, a wrong answer is told "close: give more digits"."""
+
+TOLERANCE = ("*Precision:* give at least three significant figures: an answer within 0.5 % of the "
+             "exact value (or within 0.0005 of it) is right.")
+"""The tolerance policy, as every exercise with a real-valued answer prints it."""
+
+TOLERANCE_ANGLES = TOLERANCE[:-1] + "; angles may differ by whole turns."
+"""The policy of an exercise whose answer is made of angles."""
+
+TOLERANCE_COUNT = "*Precision:* a whole number, exactly."
+"""The policy of an exercise whose answer is a count."""
+
+
+def close(got: Any, want: Any, factor: float = 1.0, *, angles: bool = False,
+          rel_tol: float = REL_TOL, abs_tol: float = ABS_TOL) -> bool:
+    """True when every entry of ``got`` is within ``factor`` tolerances of ``want`` (the policy).
+
+    Examples
+    --------
+    >>> close(0.283, 0.28318530717958623), close(1.41, 2 ** 0.5), close(1.4, 2 ** 0.5)
+    (True, True, False)
+    >>> close(1.4, 2 ** 0.5, CLOSE_FACTOR), close(np.pi / 2 + 2 * np.pi, np.pi / 2, angles=True)
+    (True, True)
+    """
+    g, w = np.asarray(got, dtype=float), np.asarray(want, dtype=float)
+    if g.shape != w.shape:
+        return False
+    diff = g - w
+    if angles:
+        diff = (diff + np.pi) % (2 * np.pi) - np.pi
+    with np.errstate(invalid="ignore", over="ignore"):
+        return bool(np.all(np.abs(diff) <= factor * np.maximum(rel_tol * np.abs(w), abs_tol)))
+
+
+def _distance(a: np.ndarray, b: np.ndarray, angles: bool) -> float:
+    diff = a - b
+    if angles:
+        diff = (diff + np.pi) % (2 * np.pi) - np.pi
+    return float(np.max(np.abs(diff))) if diff.size else 0.0
+
+
 def _as_number_array(answer: Any) -> np.ndarray | str:
-    """The answer as a float array, or the reason it is not a number."""
+    """The answer as a float array, or the reason it is not a number.
+
+    ``answer`` is plain data here (the sandbox converted the reader's object); a function
+    arrives as a :class:`rapp.exercises.sandbox.Remote`.
+    """
     if answer is None:
         return "no answer yet"
     if isinstance(answer, (bool, np.bool_)):
@@ -145,6 +206,8 @@ def _as_number_array(answer: Any) -> np.ndarray | str:
         return f"got the string {describe(answer)}, not a number (leave out the quotes)"
     if callable(answer):
         return "got a function; this exercise wants a value"
+    if isinstance(answer, Opaque):
+        return f"got {answer.type_name} {describe(answer)}, which is not a number"
     try:
         arr = np.asarray(answer, dtype=float)
     except Exception:
@@ -154,156 +217,101 @@ def _as_number_array(answer: Any) -> np.ndarray | str:
     return arr
 
 
-def numeric(expected: Callable[[], Any], *, tol: float, relative: bool = False,
-            mistakes: Sequence[tuple[Callable[[], Any], str]] = (),
-            hint: str = "", exact_integer: bool = False) -> Callable[[Any], Judgement]:
+def numeric(expected: Callable[[], Any], *, mistakes: Sequence[tuple[Callable[[], Any], str]] = (),
+            hint: str = "", exact_integer: bool = False, angles: bool = False,
+            abs_tol: float | None = None) -> Callable[[Any], Judgement]:
     """A judge for a value: a number, or an array of numbers of a fixed shape.
+
+    The tolerance is the book's policy (:data:`TOLERANCE`): within 0.5 % or 0.0005 of the
+    exact value, so an answer rounded to three significant figures, as the book prints values,
+    is right; within ten times that the verdict says "close: give more digits". A count
+    (``exact_integer``) must be exact. Where the answer is made of angles (``angles``), whole
+    turns may be added to any of them.
 
     Parameters
     ----------
     expected : callable
         Computes the right value from the package when the check runs.
-    tol : float
-        Absolute tolerance (relative to ``|expected|`` when ``relative``).
     mistakes : sequence of (callable, str)
-        Values a known mistake produces, with the hint to give when the answer matches one.
+        Values a known mistake produces, with the hint to give when the answer matches one
+        (and is not close to the right value: a rounded answer never gets a mistake's hint).
     hint : str
         Said when the answer is wrong and matches no known mistake.
     exact_integer : bool
         The answer is a count: a non-integer answer is told so.
+    angles : bool
+        The answer is angles in radians: whole turns are accepted.
+    abs_tol : float, optional
+        Where three significant figures would accept a known mistake, the statement asks for
+        more: the answer must be within ``abs_tol`` of the exact value (and says so).
     """
+    tols = {"rel_tol": 0.0, "abs_tol": abs_tol} if abs_tol is not None else {}
+
+    def near(a, b, factor=1.0) -> bool:
+        return close(a, b, factor, angles=angles, **tols)
 
     def judge(answer: Any) -> Judgement:
         got = _as_number_array(answer)
         if isinstance(got, str):
             return Judgement(False, got + ".")
-        want = np.asarray(expected(), dtype=float)
+        want = np.asarray(judge.expected(), dtype=float)
         if got.shape != want.shape:
             if want.shape == ():
                 return Judgement(False, f"expected a single number, got an array of shape {got.shape}.")
             return Judgement(False, f"expected {want.size} numbers in shape {want.shape}, "
                                     f"got shape {got.shape}.")
-        if exact_integer and not np.all(got == np.round(got)):
-            return Judgement(False, f"{describe(answer)} is not a whole number; this is a count.")
-
-        def close(a, b) -> bool:
-            scale = np.maximum(np.abs(b), 1e-300) if relative else 1.0
-            return bool(np.all(np.abs(a - b) <= tol * scale))
-
-        if close(got, want):
-            within = "" if exact_integer else f" (to within {tol:g}{' relative' if relative else ''})"
-            return Judgement(True, f"{describe(answer)} is right{within}.")
+        if exact_integer:
+            near_integer = np.abs(got - np.round(got)) <= 1e-6
+            if not np.all(near_integer):
+                return Judgement(False, f"{describe(answer)} is not a whole number; this is a count.")
+            got = np.round(got)
+            if np.array_equal(got, want):
+                return Judgement(True, f"{describe(answer)} is right.")
+        elif near(got, want):
+            return Judgement(True, f"{describe(answer)} is right (within the stated tolerance"
+                                   f"{', modulo whole turns' if angles else ''}).")
+        gap = _distance(got, want, angles)
         for wrong, why in mistakes:
             try:
                 w = np.asarray(wrong(), dtype=float)
             except Exception:
                 continue
-            if w.shape == got.shape and close(got, w):
+            # A mistake's hint only for an answer nearer that mistake than the right value, so a
+            # right value rounded too far is told "close", never a cause it does not have.
+            if w.shape == got.shape and (np.array_equal(got, w) if exact_integer else
+                                         near(got, w) and _distance(got, w, angles) < gap):
                 return Judgement(False, f"{describe(answer)}: {why}")
+        if not exact_integer and near(got, want, CLOSE_FACTOR):
+            return Judgement(False, f"{describe(answer)} is close (within ten times the tolerance) "
+                                    "but not right: if you rounded, give more digits, computed without "
+                                    "rounding in between; if not, check your computation.")
         return Judgement(False, f"{describe(answer)} is not it" + (f"; {hint}" if hint else "."))
 
-    # For the tests that prove no message gives the value away (the source is public anyway).
+    # The variants (rapp.exercises.variants) replace this; tests read it (the book prints it anyway).
     judge.expected = expected
+    if abs_tol is not None:
+        judge.tolerance = (f"*Precision:* an answer within {abs_tol:g} of the exact value is right (this "
+                           "exercise asks for more digits than three significant figures).")
+    else:
+        judge.tolerance = TOLERANCE_COUNT if exact_integer else (TOLERANCE_ANGLES if angles else TOLERANCE)
     return judge
 
 
 # --- running a reader's function -------------------------------------------------------------
 
-def _call_cases(fn, reference, cases, compare, report) -> None:
-    """Run every case and ``report`` each step; the child process (or thread) runs this."""
-    for i, args in enumerate(cases):
-        report(("start", i))
-        try:
-            got = fn(*_fresh(args))
-        except BaseException as exc:  # SystemExit and KeyboardInterrupt from a reader's code too
-            report(("raised", i, f"{type(exc).__name__}: {exc}"))
-            return
-        try:
-            problem = compare(got, reference(*_fresh(args)), args)
-        except BaseException as exc:
-            problem = f"returned {describe(got)}, which could not be compared ({type(exc).__name__})"
-        if problem:
-            report(("wrong", i, problem))
-            return
-    report(("ok",))
-
-
 def _fresh(args: tuple) -> tuple:
-    """Copies of array arguments, so a function that writes into its input harms no later case."""
-    return tuple(a.copy() if isinstance(a, np.ndarray) else a for a in args)
-
-
-def _run_in_child(fn, reference, cases, compare, time_limit: float) -> tuple:
-    """Run the cases in a forked process; the last report, or ("timeout", i)."""
-    ctx = multiprocessing.get_context("fork")
-    recv, send = ctx.Pipe(duplex=False)
-
-    def child() -> None:
-        recv.close()
-        try:
-            _call_cases(fn, reference, cases, compare, send.send)
-        finally:
-            send.close()
-            os._exit(0)  # skip the parent's atexit handlers (a Jupyter kernel has several)
-
-    proc = ctx.Process(target=child, daemon=True)
-    proc.start()
-    send.close()
-    last: tuple = ("died", -1)
-    deadline = time.monotonic() + time_limit
-    try:
-        while True:
-            left = deadline - time.monotonic()
-            if left <= 0 or not recv.poll(left):
-                last = ("timeout", last[1] if last[0] == "start" else -1)
-                break
-            try:
-                msg = recv.recv()
-            except EOFError:
-                if last[0] == "start":
-                    last = ("died", last[1])
-                break
-            last = msg
-            if msg[0] != "start":
-                break
-    finally:
-        recv.close()
-        if proc.is_alive():
-            proc.kill()
-        proc.join(1.0)
-    return last
-
-
-def _run_in_thread(fn, reference, cases, compare, time_limit: float) -> tuple:
-    """Where fork is unavailable: a daemon thread, abandoned when it runs out of time."""
-    reports: list = []
-    worker = threading.Thread(target=_call_cases, args=(fn, reference, cases, compare, reports.append),
-                              daemon=True)
-    worker.start()
-    worker.join(time_limit)
-    if worker.is_alive() or not reports:
-        started = [r[1] for r in reports if r[0] == "start"]
-        return ("timeout", started[-1] if started else -1)
-    return reports[-1]
-
-
-def _signature_problem(fn, call: str, n_args: int) -> str | None:
-    """Why ``fn`` cannot be called with ``n_args`` positional arguments, or None."""
-    try:
-        sig = inspect.signature(fn)
-    except (TypeError, ValueError):
-        return None  # a builtin or a C function: just try it
-    try:
-        sig.bind(*range(n_args))
-    except TypeError:
-        return f"your function takes {sig}, but this exercise calls it as {call}."
-    return None
+    """Deep copies of the arguments, so that nothing the reference gets was touched."""
+    return copy.deepcopy(args)
 
 
 def implement(reference: Callable, cases: Callable[[np.random.Generator], list[tuple]], *,
               call: str, names: Sequence[str], compare: Callable[[Any, Any, tuple], str | None],
               seed: int, time_limit: float = 5.0) -> Callable[[Any], Judgement]:
     """A judge for a function: it must agree with ``reference`` on hidden randomized cases.
+
+    The reader's function runs in a sandbox (:mod:`rapp.exercises.sandbox`): each case is sent
+    to it as a copy, and only the plain data it returns comes back; the reference runs here, on
+    its own copy, and the comparison is made here.
 
     Parameters
     ----------
@@ -330,29 +338,34 @@ def implement(reference: Callable, cases: Callable[[np.random.Generator], list[t
         if not callable(answer):
             return Judgement(False, f"expected a function called as {call}; got "
                                     f"{type(answer).__name__} {describe(answer)}.")
+        if not isinstance(answer, Remote):
+            with Sandbox.of({0: answer}, Limits(wall=time_limit)) as box:
+                return judge(Remote(box, 0))
         all_cases = cases(np.random.default_rng(seed))
-        problem = _signature_problem(answer, call, len(all_cases[0]))
+        problem = answer.signature_problem(call, len(all_cases[0]))
         if problem:
             return Judgement(False, problem)
-        run = _run_in_child if "fork" in multiprocessing.get_all_start_methods() else _run_in_thread
-        last = run(answer, reference, all_cases, compare, time_limit)
-        kind, i = last[0], (last[1] if len(last) > 1 else -1)
-        where = ""
-        if 0 <= i < len(all_cases):
-            shown = ", ".join(f"{n}={describe(v)}" for n, v in zip(names, all_cases[i]))
-            where = f" for {shown}"
-        if kind == "ok":
-            return Judgement(True, f"your function agrees with the package on all {len(all_cases)} "
-                                   "test cases, edge cases included.")
-        if kind == "raised":
-            return Judgement(False, f"your function raised {last[2]}{where}.")
-        if kind == "wrong":
-            return Judgement(False, f"case {i + 1} of {len(all_cases)}{where}: your function {last[2]}")
-        if kind == "timeout":
-            return Judgement(False, f"your function did not finish within {time_limit:g} s{where}; "
-                                    "is there a loop that never ends?")
-        return Judgement(False, f"your function ended the process{where} (did it call exit?).")
+        for i, args in enumerate(all_cases):
+            shown = ", ".join(f"{n}={describe(v)}" for n, v in zip(names, args))
+            try:
+                got = answer(*args)
+            except Raised as exc:
+                return Judgement(False, f"your function raised {exc} for {shown}.")
+            except TimedOut:
+                return Judgement(False, f"your function did not finish within {time_limit:g} s "
+                                        f"(it was on {shown}); is there a loop that never ends?")
+            except Died as exc:
+                return Judgement(False, f"your function ended the process for {shown}: {exc}.")
+            try:
+                problem = compare(got, reference(*_fresh(args)), args)
+            except Exception as exc:
+                problem = f"returned {describe(got)}, which could not be compared ({type(exc).__name__})"
+            if problem:
+                return Judgement(False, f"case {i + 1} of {len(all_cases)} for {shown}: your function {problem}")
+        return Judgement(True, f"your function agrees with the package on all {len(all_cases)} "
+                               "test cases, edge cases included.")
 
+    judge.time_limit = time_limit
     return judge
 
 
