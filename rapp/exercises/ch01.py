@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.exercises.core import (CLOSE_FACTOR, TOLERANCE, TOLERANCE_ANGLES, Exercise, Judgement, _as_number_array,
+from rapp.exercises.core import (CLOSE_FACTOR, TOLERANCE, TOLERANCE_ANGLES, Exercise, Judgement, as_number_array,
                                  close, describe, implement, numeric)
 
 __all__ = ["EXERCISES"]
@@ -19,7 +19,7 @@ __all__ = ["EXERCISES"]
 
 def _configuration(answer, n: int) -> np.ndarray | Judgement:
     """The answer as a configuration of ``n`` joints, or the verdict saying why it is not one."""
-    got = _as_number_array(answer)
+    got = as_number_array(answer)
     if isinstance(got, str):
         return Judgement(False, got + f"; expected {n} joint angles in radians.")
     if got.shape != (n,):
@@ -97,7 +97,7 @@ def _wrap_cases(rng: np.random.Generator) -> list[tuple]:
 
 
 def _compare_wrapped(got, want, args) -> str | None:
-    g = _as_number_array(got)
+    g = as_number_array(got)
     if isinstance(g, str):
         return "returned None (a missing return?)." if got is None else f"returned {describe(got)}, not a number."
     if g.shape != ():

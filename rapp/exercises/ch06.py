@@ -27,7 +27,7 @@ import functools
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
+from rapp.exercises.core import Exercise, Judgement, as_number_array, describe, implement, numeric
 from rapp.ik import ik_2link, jacobian
 
 __all__ = ["EXERCISES"]
@@ -61,7 +61,7 @@ def _judge_two_solutions():
                          "theta_2; put them back into the forward kinematics to check.")
 
     def flat(answer):
-        got = _as_number_array(answer)
+        got = as_number_array(answer)
         if isinstance(got, np.ndarray) and got.shape in ((2, 2), (4,)):
             return judge(got.reshape(4))
         if isinstance(got, np.ndarray):
@@ -234,7 +234,7 @@ def _dls_cases(rng: np.random.Generator) -> list[tuple]:
 
 
 def _compare_dls(got, want, args) -> str | None:
-    g = _as_number_array(got)
+    g = as_number_array(got)
     if isinstance(g, str):
         return "returned None (a missing return?)." if got is None else f"returned {describe(got)}, not numbers."
     J, e, lam = args

@@ -25,7 +25,7 @@ import numpy as np
 from rapp.arm import Arm, wrap_angle
 from rapp.cspace import JointGrid
 from rapp.errors import GridTooCoarse, NoPathFound, RappError
-from rapp.exercises.core import CLOSE_FACTOR, TOLERANCE, Exercise, Judgement, _as_number_array, close, describe, implement, numeric
+from rapp.exercises.core import CLOSE_FACTOR, TOLERANCE, Exercise, Judgement, as_number_array, close, describe, implement, numeric
 from rapp.grid_route import grid_step_motion, obstacle_size
 from rapp.paths import unwrap_path
 
@@ -55,7 +55,7 @@ def _other_elbow_answer() -> np.ndarray:
 
 def _judge_other_elbow(answer) -> Judgement:
     """Three numbers; each wrong one gets its own hint."""
-    got = _as_number_array(answer)
+    got = as_number_array(answer)
     if isinstance(got, str):
         return Judgement(False, got + ".")
     if got.shape != (3,):
@@ -135,7 +135,7 @@ def _compare_unwrap(got, want, args) -> str | None:
     arm, path = args
     if got is None:
         return "returned None (a missing return?)."
-    g = _as_number_array(got)
+    g = as_number_array(got)
     if isinstance(g, str):
         return f"returned {describe(got)}, not an array of angles."
     w = np.asarray(want, float)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from rapp import trajectory
-from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
+from rapp.exercises.core import Exercise, Judgement, as_number_array, describe, implement, numeric
 
 __all__ = ["EXERCISES"]
 
@@ -72,7 +72,7 @@ def _segments(rng: np.random.Generator) -> list[tuple]:
 
 
 def _compare_coeffs(got, want, args) -> str | None:
-    g = _as_number_array(got)
+    g = as_number_array(got)
     if isinstance(g, str):
         return "returned None (a missing return?)." if got is None else f"returned {describe(got)}, not numbers."
     w = np.asarray(want, dtype=float)
@@ -117,7 +117,7 @@ def _moves(rng: np.random.Generator) -> list[tuple]:
 
 
 def _compare_duration(got, want, args) -> str | None:
-    g = _as_number_array(got)
+    g = as_number_array(got)
     if isinstance(g, str):
         return "returned None (a missing return?)." if got is None else f"returned {describe(got)}, not a number."
     if g.shape != ():

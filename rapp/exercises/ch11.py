@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from rapp import trajectory
-from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
+from rapp.exercises.core import Exercise, Judgement, as_number_array, describe, implement, numeric
 
 __all__ = ["EXERCISES"]
 
@@ -106,7 +106,7 @@ def _via_cases(rng: np.random.Generator) -> list[tuple]:
 
 
 def _compare_via(got, want, args) -> str | None:
-    g = _as_number_array(got)
+    g = as_number_array(got)
     if isinstance(g, str):
         return "returned None (a missing return?)." if got is None else f"returned {describe(got)}, not numbers."
     times, positions = (np.asarray(a, dtype=float) for a in args)
@@ -207,7 +207,7 @@ def _judge_spline_times(answer) -> Judgement:
     """``(t_B, t_D)``: the spline's x turns back, the heuristic cubics' x does not."""
     if answer is None:
         return Judgement(False, "no answer yet: pass (t_B, t_D).")
-    got = _as_number_array(answer)
+    got = as_number_array(answer)
     if isinstance(got, str):
         return Judgement(False, got + " Pass two times (t_B, t_D).")
     if got.shape != (2,):

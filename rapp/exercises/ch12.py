@@ -17,7 +17,7 @@ import numpy as np
 from rapp.arm import Arm
 from rapp.collision import collides, segment_collision_free
 from rapp.cases import rrt_report as s3
-from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
+from rapp.exercises.core import Exercise, Judgement, as_number_array, describe, implement, numeric
 from rapp.ik import jacobian
 from rapp.obstacles import Circle, Polygon
 from rapp.rrt import Grower, rrt
@@ -118,7 +118,7 @@ def _same_angles(a, b) -> bool:
 
 def _compare_steer(got, want, args) -> str | None:
     q_near, q_rand, step = args
-    g = _as_number_array(got)
+    g = as_number_array(got)
     if isinstance(g, str):
         if got is None:
             return "returned None (a missing return?)."

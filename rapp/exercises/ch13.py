@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.exercises.core import (CLOSE_FACTOR, TOLERANCE_ANGLES, Exercise, Judgement, _as_number_array, close,
+from rapp.exercises.core import (CLOSE_FACTOR, TOLERANCE_ANGLES, Exercise, Judgement, as_number_array, close,
                                  describe, implement, numeric)
 from rapp.ik import ik_2link
 
@@ -51,7 +51,7 @@ def _interior_angle_0_1() -> np.ndarray:
 
 
 def _judge_elbows(answer) -> Judgement:
-    got = _as_number_array(answer)
+    got = as_number_array(answer)
     if isinstance(got, str):
         return Judgement(False, got + ".")
     want = _elbows_0_1()
@@ -88,7 +88,7 @@ def _right_and_left():
 
 
 def _judge_right_elbow(answer) -> Judgement:
-    got = _as_number_array(answer)
+    got = as_number_array(answer)
     if isinstance(got, str):
         return Judgement(False, got + ".")
     if got.shape != (2,):

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rapp.exercises.core import Exercise, Judgement, _as_number_array, describe, implement, numeric
+from rapp.exercises.core import Exercise, Judgement, as_number_array, describe, implement, numeric
 from rapp.arm import Arm
 from rapp.collision import segment_point_distance
 from rapp.manipulability import condition_number, manipulability
@@ -80,7 +80,7 @@ def _moves(rng: np.random.Generator) -> list[tuple]:
 
 
 def _compare_lspb(got, want, args) -> str | None:
-    g = _as_number_array(got)
+    g = as_number_array(got)
     if isinstance(g, str):
         return "returned None (a missing return?)." if got is None else f"returned {describe(got)}, not numbers."
     if g.size != 2:

@@ -30,7 +30,7 @@ import numpy as np
 
 from rapp.exercises.sandbox import Died, Limits, Opaque, Raised, Remote, Sandbox, TimedOut, bounded
 
-__all__ = ["Verdict", "Exercise", "Judgement", "numeric", "implement", "close_numbers", "describe", "KINDS", "close",
+__all__ = ["Verdict", "Exercise", "Judgement", "numeric", "implement", "close_numbers", "describe", "as_number_array", "KINDS", "close",
            "TOLERANCE", "TOLERANCE_ANGLES", "TOLERANCE_COUNT", "REL_TOL", "ABS_TOL", "CLOSE_FACTOR"]
 
 KINDS = ("numeric", "implement", "argue")
@@ -192,7 +192,7 @@ def _distance(a: np.ndarray, b: np.ndarray, angles: bool) -> float:
     return float(np.max(np.abs(diff))) if diff.size else 0.0
 
 
-def _as_number_array(answer: Any) -> np.ndarray | str:
+def as_number_array(answer: Any) -> np.ndarray | str:
     """The answer as a float array, or the reason it is not a number.
 
     ``answer`` is plain data here (the sandbox converted the reader's object); a function
@@ -251,7 +251,7 @@ def numeric(expected: Callable[[], Any], *, mistakes: Sequence[tuple[Callable[[]
         return close(a, b, factor, angles=angles, **tols)
 
     def judge(answer: Any) -> Judgement:
-        got = _as_number_array(answer)
+        got = as_number_array(answer)
         if isinstance(got, str):
             return Judgement(False, got + ".")
         want = np.asarray(judge.expected(), dtype=float)
@@ -380,7 +380,7 @@ def close_numbers(*, atol: float, what: str = "value") -> Callable[[Any, Any, tu
     """
 
     def compare(got, want, args) -> str | None:
-        g = _as_number_array(got)
+        g = as_number_array(got)
         if isinstance(g, str):
             return f"returned {describe(got)}, not a number." if got is not None else "returned None (a missing return?)."
         w = np.asarray(want, dtype=float)
