@@ -18,7 +18,7 @@ from __future__ import annotations
 from functools import cache
 from pathlib import Path
 
-__all__ = ["core_js"]
+__all__ = ["core_js", "explorer_js", "scenario_dict", "cspace_explorer", "astar_explorer"]
 
 HERE = Path(__file__).resolve().parent
 
@@ -31,3 +31,122 @@ def _read(name: str) -> str:
 def core_js() -> str:
     """The JavaScript of ``window.rappLive`` (occupancy, A*), as a classic script's text."""
     return _read("core.js")
+
+
+def explorer_js() -> str:
+    """The explorers' ES module: :func:`core_js` followed by ``explorer.js``."""
+    return _read("core.js") + "\n" + _read("explorer.js")
+
+
+def scenario_dict(scenario) -> dict:
+    """The arm and obstacles of a scenario (a :class:`rapp.scenario.Scenario`, a scenario file's
+    mapping, or a pair ``(arm, obstacles)``) in the scenario-file format the page reads."""
+    from rapp.arm import Arm
+    from rapp.obstacles import Circle
+    from rapp.scenario import Scenario, load_scenario
+
+    if isinstance(scenario, tuple) and len(scenario) == 2 and isinstance(scenario[0], Arm):
+        arm, obstacles = scenario
+    else:
+        s = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+        arm, obstacles = s.arm, s.obstacles
+    if arm.n != 2 or any(arm.limited):
+        raise ValueError("scenario: the live explorers need a 2-link arm whose joints turn freely")
+    obs = []
+    for ob in obstacles:
+        if isinstance(ob, Circle):
+            obs.append({"type": "circle", "center": [float(v) for v in ob.center], "radius": float(ob.radius)})
+        else:
+            obs.append({"type": "polygon", "vertices": [[float(x), float(y)] for x, y in ob.vertices]})
+    return {"arm": {"link_lengths": [float(v) for v in arm.link_lengths], "joint_limits": None},
+            "obstacles": obs}
+
+
+def _widget_class():
+    """The anywidget class, built on first use (importing anywidget starts no front end)."""
+    global _Explorer
+    if _Explorer is None:
+        import anywidget
+        import traitlets as t
+
+        class Explorer(anywidget.AnyWidget):
+            """A live explorer; its state is what the reader left in the page (JupyterLab)."""
+
+            _esm = t.Unicode(explorer_js()).tag(sync=True)
+            scenario = t.Dict().tag(sync=True)
+            cells = t.Int(90).tag(sync=True)
+            q = t.List([0.0, 0.0]).tag(sync=True)
+            search = t.Bool(False).tag(sync=True)
+            source = t.Unicode("cspace").tag(sync=True)
+            start = t.List([0, 0]).tag(sync=True)
+            goal = t.List([0, 0]).tag(sync=True)
+            weight = t.Float(1.0).tag(sync=True)
+            walls = t.List([]).tag(sync=True)
+
+        _Explorer = Explorer
+    return _Explorer
+
+
+_Explorer = None
+
+
+def cspace_explorer(scenario="default", *, cells=90, q=(0.0, 0.0)):
+    """The C-space explorer of chapter 4: drag obstacles, the elbow, the tip or the C-space point.
+
+    Parameters
+    ----------
+    scenario : Scenario, mapping, name or ``(arm, obstacles)``
+        A 2-link arm whose joints turn freely, and its obstacles (discs and convex polygons).
+    cells : int
+        Cells per joint of the grid the page computes (the reader can change it, 24 to 180).
+    q : pair of float
+        The configuration shown first, radians.
+
+    Examples
+    --------
+    >>> w = cspace_explorer(cells=60)
+    >>> w.cells, len(w.scenario["obstacles"]), w.search
+    (60, 3, False)
+    """
+    cells = int(cells)
+    if not 24 <= cells <= 180:
+        raise ValueError(f"cells must be between 24 and 180, got {cells}")
+    return _widget_class()(scenario=scenario_dict(scenario), cells=cells, q=[float(v) for v in q])
+
+
+def astar_explorer(scenario="default", *, cells=60, start=(0.0, 0.0), goal=(2.2, 0.5),
+                   weight=1.0, source="cspace", walls=()):
+    """The A* explorer of chapter 5: A* on the explorer's C-space grid, or on a 24 x 24 grid of walls.
+
+    Parameters
+    ----------
+    scenario : as :func:`cspace_explorer`
+    cells : int
+        Cells per joint of the C-space grid.
+    start, goal : pair of float
+        Configurations (radians); the page snaps them to their grid cells as ``rapp.JointGrid.index``.
+    weight : float
+        The heuristic weight ``w >= 1`` the page starts with.
+    source : {"cspace", "paint"}
+        Which grid the search runs on first.
+    walls : iterable of (i, j)
+        Blocked cells of the 24 x 24 grid.
+
+    Examples
+    --------
+    >>> w = astar_explorer(cells=60, start=(0.0, 0.0), goal=(3.1, 0.0))
+    >>> w.start, w.goal, w.search
+    ([30, 30], [0, 30], True)
+    """
+    from rapp.arm import Arm
+    from rapp.cspace import JointGrid
+
+    if source not in ("cspace", "paint"):
+        raise ValueError(f"source must be 'cspace' or 'paint', got {source!r}")
+    if not float(weight) >= 1.0:
+        raise ValueError(f"weight must be >= 1, got {weight!r}")
+    sc = scenario_dict(scenario)
+    grid = JointGrid(Arm(sc["arm"]["link_lengths"]), int(cells))
+    s, g = (grid.index([float(v) for v in x]).tolist() for x in (start, goal))
+    return _widget_class()(scenario=sc, cells=int(cells), search=True, source=source, start=s, goal=g,
+                           weight=float(weight), walls=[[int(i), int(j)] for i, j in walls])
