@@ -650,9 +650,13 @@ def plot_astar_step(trace, k, ax=None, *, annotate=True, legend=True):
     else:
         gu = int(g[current])
         hu = float(trace.h[current])
+        # trace.h is the weighted heuristic w·h: name it so when the weight is not 1.
+        d = np.abs(np.subtract(current, trace.goal))
+        gd1 = int(np.where(trace.wraps, np.minimum(d, np.array(trace.occupied.shape) - d), d).sum())
+        h_name = "h" if hu == gd1 else "w·h"
         seam = any((np.abs(np.subtract(v, current)) > 1).any() for v in trace.relaxed[k])
         title = (f"step {k + 1} of {trace.expansions}: expand {current}, "
-                 f"g = {gu}, h = {hu:g}, f = {gu + hu:g}\n"
+                 f"g = {gu}, {h_name} = {hu:g}, f = {gu + hu:g}\n"
                  f"closed: {int(closed.sum())} cells, open list: {int(frontier.sum())} cells"
                  + ("; a step across the seam" if seam else ""))
     ax.set_title(title, fontsize="medium")

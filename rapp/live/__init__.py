@@ -82,6 +82,7 @@ def _widget_class():
             goal = t.List([0, 0]).tag(sync=True)
             weight = t.Float(1.0).tag(sync=True)
             walls = t.List([]).tag(sync=True)
+            paint_cells = t.Int(24).tag(sync=True)
 
         _Explorer = Explorer
     return _Explorer
@@ -115,7 +116,8 @@ def cspace_explorer(scenario="default", *, cells=90, q=(0.0, 0.0)):
 
 
 def astar_explorer(scenario="default", *, cells=60, start=(0.0, 0.0), goal=(2.2, 0.5),
-                   weight=1.0, source="cspace", walls=()):
+                   weight=1.0, source="cspace", walls=(), paint_cells=24, paint_start=None,
+                   paint_goal=None):
     """The A* explorer of chapter 5: A* on the explorer's C-space grid, or on a 24 x 24 grid of walls.
 
     Parameters
@@ -130,7 +132,11 @@ def astar_explorer(scenario="default", *, cells=60, start=(0.0, 0.0), goal=(2.2,
     source : {"cspace", "paint"}
         Which grid the search runs on first.
     walls : iterable of (i, j)
-        Blocked cells of the 24 x 24 grid.
+        Blocked cells of the paintable grid.
+    paint_cells : int
+        Cells per axis of the paintable grid (both axes wrap), 6 to 40.
+    paint_start, paint_goal : pair of int, optional
+        Start and goal cells when ``source="paint"`` (then ``start`` and ``goal`` are not used).
 
     Examples
     --------
@@ -145,8 +151,15 @@ def astar_explorer(scenario="default", *, cells=60, start=(0.0, 0.0), goal=(2.2,
         raise ValueError(f"source must be 'cspace' or 'paint', got {source!r}")
     if not float(weight) >= 1.0:
         raise ValueError(f"weight must be >= 1, got {weight!r}")
+    if not 6 <= int(paint_cells) <= 40:
+        raise ValueError(f"paint_cells must be between 6 and 40, got {paint_cells}")
     sc = scenario_dict(scenario)
     grid = JointGrid(Arm(sc["arm"]["link_lengths"]), int(cells))
     s, g = (grid.index([float(v) for v in x]).tolist() for x in (start, goal))
+    if source == "paint":
+        m = int(paint_cells)
+        s, g = ([int(v) for v in c] if c is not None else d
+                for c, d in ((paint_start, [m // 6, m // 2]), (paint_goal, [5 * m // 6, m // 2])))
     return _widget_class()(scenario=sc, cells=int(cells), search=True, source=source, start=s, goal=g,
-                           weight=float(weight), walls=[[int(i), int(j)] for i, j in walls])
+                           weight=float(weight), walls=[[int(i), int(j)] for i, j in walls],
+                           paint_cells=int(paint_cells))

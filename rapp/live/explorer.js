@@ -64,7 +64,8 @@ function render({ model, el: host }) {
     goal: model.get("goal").slice(),
     weight: model.get("weight"),
     source: model.get("source"), // "cspace" or "paint"
-    paintM: 24,
+    paintM: model.get("paint_cells") || 24,
+    last: -1, // the obstacle dragged last: its position goes into the status line
     walls: null,
     playing: false,
     perFrame: 4,
@@ -113,11 +114,11 @@ function render({ model, el: host }) {
   }
   slider("link 1 (m)", 0.3, 1.5, 0.05, L[0], (v) => { L[0] = v; S.dirty = true; });
   slider("link 2 (m)", 0.3, 1.5, 0.05, L[1], (v) => { L[1] = v; S.dirty = true; });
-  slider("cells M", 24, 180, 6, S.M, (v) => { S.M = v; S.dirty = true; });
+  slider("cells M", 24, 180, 2, S.M, (v) => { S.M = v; S.dirty = true; });
   let playBtn = null;
   if (search) {
     const sel = el("select", {}, ctl);
-    [["cspace", "grid: the C-space"], ["paint", "grid: paint walls (24 × 24)"]].forEach(([v, t]) => {
+    [["cspace", "grid: the C-space"], ["paint", "grid: paint walls (" + S.paintM + " × " + S.paintM + ")"]].forEach(([v, t]) => {
       const o = el("option", { value: v, text: t }, sel);
       if (v === S.source) o.selected = true;
     });
@@ -202,7 +203,7 @@ function render({ model, el: host }) {
     h.style.top = canvas.offsetTop + p[1] * s + "px";
   }
   const obHandles = S.scenario.obstacles.map((ob, k) =>
-    handle(wsPanel, "obstacle-" + k, "obstacle " + (k + 1) + ": drag to move it", (x, y) => moveTo(ob, toWorld(x, y))));
+    handle(wsPanel, "obstacle-" + k, "obstacle " + (k + 1) + ": drag to move it", (x, y) => { S.last = k; moveTo(ob, toWorld(x, y)); }));
   const elbowH = handle(wsPanel, "elbow", "elbow: drag to turn joint 1", (x, y) => {
     const p = toWorld(x, y);
     S.q[0] = Math.atan2(p[1], p[0]);
@@ -253,7 +254,6 @@ function render({ model, el: host }) {
     S.start = [Math.round(M * 0.15), Math.round(M * 0.5)];
     S.goal = [Math.round(M * 0.85), Math.round(M * 0.5)];
   }
-  if (search && S.source === "paint") resetEnds();
 
   // ---- computation (on an animation frame only)
   let occ = null, layers = null, lastMs = 0;
@@ -289,7 +289,7 @@ function render({ model, el: host }) {
   function draw() {
     const M = gridM();
     csCap.textContent = search && S.source === "paint"
-      ? "a 24 × 24 grid that wraps (click and drag to paint or erase walls)"
+      ? "a " + M + " × " + M + " grid, both axes wrap (click and drag to paint or erase walls)"
       : "C-space, θ1 → and θ2 ↑ from −π to π (" + M + " × " + M + " cells)";
     wsPanel.style.display = search && S.source === "paint" ? "none" : "";
     // C-space image: one pixel per cell, scaled up without smoothing.
@@ -384,6 +384,11 @@ function render({ model, el: host }) {
       c.moveTo(p[0] - 9, p[1]); c.lineTo(p[0] + 9, p[1]); c.moveTo(p[0], p[1] - 9); c.lineTo(p[0], p[1] + 9); c.stroke();
     }
     // Status line.
+    let moved = "";
+    if (S.last >= 0 && !(search && S.source === "paint")) {
+      const p = centroid(S.scenario.obstacles[S.last]);
+      moved = ` · obstacle ${S.last + 1} at (${p[0].toFixed(2)}, ${p[1].toFixed(2)}) m, ${Math.hypot(p[0], p[1]).toFixed(2)} m from the base`;
+    }
     const frac = occ ? occ.reduce((a, b) => a + b, 0) / occ.length : 0;
     let txt = `grid ${M} × ${M}: ${(100 * frac).toFixed(1)} % of the cells collide · recomputed in ${lastMs.toFixed(1)} ms`;
     if (!search) {
@@ -397,7 +402,7 @@ function render({ model, el: host }) {
       else if (Sx.status === "unreachable") txt += " · NO PATH: every cell reachable from the start is closed";
       else txt += " · searching…";
     }
-    status.textContent = txt;
+    status.textContent = txt + moved;
   }
 
   // ---- the frame loop: at most one recompute and one drawing per animation frame
