@@ -3,7 +3,7 @@
 Examples
 --------
 >>> [ex.id for ex in EXERCISES]
-['5.1', '5.2', '5.3', '5.4', '5.5']
+['5.1', '5.2', '5.3', '5.4', '5.5', '5.6']
 """
 
 from __future__ import annotations
