@@ -188,3 +188,85 @@ def test_fast_enough_to_feel_live(page):
         }
         return t.map(a => a.sort((x, y) => x - y)[10]); }""", [scene, goal])
     assert ms[0] <= 30 and ms[1] <= 30, ms
+
+
+# ------------------------------------------------------------------ the same explorer in JupyterLab
+
+def _lab_notebook(path) -> None:
+    import nbformat
+    from nbformat.v4 import new_code_cell, new_notebook
+
+    nb = new_notebook(cells=[
+        new_code_cell("from rapp import live\nw = live.cspace_explorer(cells=60)\nw"),
+        new_code_cell("print('centre', [round(v, 2) for v in w.scenario['obstacles'][0]['center']])"),
+    ])
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(nb, path)
+
+
+def test_the_explorer_works_in_jupyterlab_and_tells_python(tmp_path):
+    """Lab renders the explorer with anywidget's own front end; a drag redraws it, and the
+    kernel sees where the reader left the obstacle."""
+    import os
+    import socket
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    _lab_notebook(tmp_path / "live.ipynb")
+    settings = tmp_path / ".settings" / "@jupyterlab"
+    (settings / "apputils-extension").mkdir(parents=True)
+    (settings / "apputils-extension" / "notification.jupyterlab-settings").write_text('{"fetchNews": "false"}')
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    env = dict(os.environ, JUPYTERLAB_SETTINGS_DIR=str(tmp_path / ".settings"),
+               JUPYTERLAB_WORKSPACES_DIR=str(tmp_path / ".workspaces"))
+    server = subprocess.Popen(
+        [str(Path(sys.executable).with_name("jupyter")), "lab", "--no-browser", "--allow-root",
+         f"--port={port}", "--ServerApp.ip=127.0.0.1", f"--ServerApp.root_dir={tmp_path}",
+         "--IdentityProvider.token=live"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    try:
+        with playwright.sync_playwright() as pw:
+            browser = pw.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"])
+            page = browser.new_page(viewport={"width": 1300, "height": 900})
+            page.set_default_timeout(90_000)
+            deadline = time.monotonic() + 60
+            while True:
+                try:
+                    page.goto(f"http://127.0.0.1:{port}/lab/tree/live.ipynb?token=live&reset")
+                    break
+                except playwright.Error:
+                    if time.monotonic() > deadline:
+                        raise
+                    time.sleep(0.5)
+            page.wait_for_selector(".jp-Notebook .jp-Cell")
+            page.wait_for_function("""() => [...document.querySelectorAll('.jp-StatusBar-TextItem')]
+                .some(e => /\\|\\s*Idle/.test(e.textContent))""")
+            page.locator(".jp-CodeCell").first.click()
+            page.keyboard.press("Shift+Enter")
+            root = page.locator("[data-rapp-live]")
+            root.wait_for()
+            page.wait_for_timeout(500)
+            frame = int(root.get_attribute("data-rapp-frame"))
+            box = root.locator('[data-rapp-drag="obstacle-0"]').bounding_box()
+            x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+            page.mouse.move(x, y)
+            page.mouse.down()
+            page.mouse.move(x - 60, y + 20, steps=10)
+            page.mouse.up()
+            page.wait_for_timeout(500)
+            assert int(root.get_attribute("data-rapp-frame")) > frame
+            page.keyboard.press("Escape")
+            page.locator(".jp-CodeCell").nth(1).click()
+            page.keyboard.press("Shift+Enter")
+            out = page.locator(".jp-CodeCell").nth(1).locator(".jp-OutputArea-output")
+            out.wait_for()
+            text = out.inner_text()
+            assert "centre" in text and "[1.75, 0.75]" not in text, text
+            browser.close()
+    finally:
+        server.terminate()
+        server.wait(30)
