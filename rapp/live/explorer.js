@@ -81,7 +81,9 @@ function render({ model, el: host }) {
   const row = el("div", { class: "rl-row" }, root);
   const W = 300;
   const wsPanel = el("div", { class: "rl-panel" }, row);
-  el("div", { class: "rl-cap", text: "workspace (drag the obstacles, the elbow, the tip)" }, wsPanel);
+  el("div", { class: "rl-cap", text: search
+    ? "workspace: drag the obstacles; the arm is at the start (drag its elbow or tip to move the start)"
+    : "workspace (drag the obstacles, the elbow, the tip)" }, wsPanel);
   const ws = el("canvas", { width: W, height: W, "data-rapp-drag": "workspace" }, wsPanel);
   const csPanel = el("div", { class: "rl-panel" }, row);
   const csCap = el("div", { class: "rl-cap" }, csPanel);
@@ -204,13 +206,17 @@ function render({ model, el: host }) {
   }
   const obHandles = S.scenario.obstacles.map((ob, k) =>
     handle(wsPanel, "obstacle-" + k, "obstacle " + (k + 1) + ": drag to move it", (x, y) => { S.last = k; moveTo(ob, toWorld(x, y)); }));
+  // The cell of a configuration, as rapp.JointGrid.index: the nearest grid angle, across the seam.
+  const qCell = (q) => q.map((a) => Math.round(((wrapAngle(a) + Math.PI) / (2 * Math.PI)) * gridM()) % gridM());
   const elbowH = handle(wsPanel, "elbow", "elbow: drag to turn joint 1", (x, y) => {
     const p = toWorld(x, y);
     S.q[0] = Math.atan2(p[1], p[0]);
+    if (search) S.start = qCell(S.q);
   });
   const tipH = handle(wsPanel, "tip", "tip: drag to turn joint 2", (x, y) => {
     const p = toWorld(x, y), e = joints()[1];
     S.q[1] = wrapAngle(Math.atan2(p[1] - e[1], p[0] - e[0]) - S.q[0]);
+    if (search) S.start = qCell(S.q);
   });
   const qH = handle(csPanel, "configuration", "the configuration: drag it through C-space", (x, y) => {
     S.q = [((x / W) * 2 - 1) * Math.PI, (((W - y) / W) * 2 - 1) * Math.PI];
@@ -367,8 +373,7 @@ function render({ model, el: host }) {
     if (search && S.source === "cspace") S.q = S.start.map((i) => (2 * Math.PI * i) / M - Math.PI);
     const J = joints().map(toPx);
     const M0 = gridM();
-    const ci = [Math.round((wrapAngle(S.q[0]) + Math.PI) / (2 * Math.PI) * M0) % M0,
-      Math.round((wrapAngle(S.q[1]) + Math.PI) / (2 * Math.PI) * M0) % M0];
+    const ci = qCell(S.q);
     const hit = !search && occ && occ[ci[0] * M0 + ci[1]];
     w.strokeStyle = hit ? "#D55E00" : "#222"; w.lineWidth = 5; w.lineCap = "round";
     w.beginPath(); w.moveTo(J[0][0], J[0][1]); w.lineTo(J[1][0], J[1][1]); w.lineTo(J[2][0], J[2][1]); w.stroke();
@@ -390,7 +395,8 @@ function render({ model, el: host }) {
       moved = ` · obstacle ${S.last + 1} at (${p[0].toFixed(2)}, ${p[1].toFixed(2)}) m, ${Math.hypot(p[0], p[1]).toFixed(2)} m from the base`;
     }
     const frac = occ ? occ.reduce((a, b) => a + b, 0) / occ.length : 0;
-    let txt = `grid ${M} × ${M}: ${(100 * frac).toFixed(1)} % of the cells collide · recomputed in ${lastMs.toFixed(1)} ms`;
+    const what = search && S.source === "paint" ? "are walls" : "collide";
+    let txt = `grid ${M} × ${M}: ${(100 * frac).toFixed(1)} % of the cells ${what} · recomputed in ${lastMs.toFixed(1)} ms`;
     if (!search) {
       txt += ` · q = (${S.q[0].toFixed(2)}, ${S.q[1].toFixed(2)}) rad, cell (${ci[0]}, ${ci[1]}): ` + (hit ? "COLLIDES" : "free");
     } else if (Sx) {
