@@ -103,8 +103,8 @@ function render({ model, el: host }) {
 
   // ---- controls
   const L = S.scenario.arm.link_lengths;
-  function slider(label, min, max, step, value, on) {
-    const lab = el("label", {}, ctl);
+  function slider(label, min, max, step, value, on, parent) {
+    const lab = el("label", {}, parent || ctl);
     lab.append(label + " ");
     const inp = el("input", { type: "range", min, max, step, value }, lab);
     const out = el("span", { text: String(value) }, lab);
@@ -114,9 +114,11 @@ function render({ model, el: host }) {
     });
     return inp;
   }
-  slider("link 1 (m)", 0.3, 1.5, 0.05, L[0], (v) => { L[0] = v; S.dirty = true; });
-  slider("link 2 (m)", 0.3, 1.5, 0.05, L[1], (v) => { L[1] = v; S.dirty = true; });
-  slider("cells M", 24, 180, 2, S.M, (v) => { S.M = v; S.dirty = true; });
+  // The arm's controls; hidden while the A* explorer searches a painted grid, which has no arm.
+  const armCtl = el("span", { class: "rl-ctl", style: "margin:0" }, ctl);
+  slider("link 1 (m)", 0.3, 1.5, 0.05, L[0], (v) => { L[0] = v; S.dirty = true; }, armCtl);
+  slider("link 2 (m)", 0.3, 1.5, 0.05, L[1], (v) => { L[1] = v; S.dirty = true; }, armCtl);
+  slider("cells M", 24, 180, 2, S.M, (v) => { S.M = v; S.dirty = true; }, armCtl);
   let playBtn = null;
   if (search) {
     const sel = el("select", {}, ctl);
@@ -297,7 +299,7 @@ function render({ model, el: host }) {
     csCap.textContent = search && S.source === "paint"
       ? "a " + M + " × " + M + " grid, both axes wrap (click and drag to paint or erase walls)"
       : "C-space, θ1 → and θ2 ↑ from −π to π (" + M + " × " + M + " cells)";
-    wsPanel.style.display = search && S.source === "paint" ? "none" : "";
+    wsPanel.style.display = armCtl.style.display = search && S.source === "paint" ? "none" : "";
     // C-space image: one pixel per cell, scaled up without smoothing.
     off.width = M; off.height = M;
     const ctx0 = off.getContext("2d"), img = ctx0.createImageData(M, M), d = img.data;
