@@ -38,3 +38,16 @@ def test_explorers_start_where_the_grid_puts_their_configurations():
 def test_bad_input_names_the_field(call, field):
     with pytest.raises(ValueError, match=f"^{field}"):
         call()
+
+
+@pytest.mark.parametrize("name", ["04_configuration_space.ipynb", "05_astar.ipynb"])
+def test_the_chapters_carry_the_current_explorer(name):
+    """The static book runs the JavaScript saved in the notebook's widget state: after a change
+    to rapp/live/*.js, chapters 4 and 5 must be re-executed (scripts/execute_notebooks.py)."""
+    import json
+    from pathlib import Path
+
+    nb = json.loads((Path(__file__).resolve().parents[1] / "notebooks" / name).read_text())
+    state = nb["metadata"]["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
+    esm = [m["state"]["_esm"] for m in state.values() if m["model_module"] == "anywidget"]
+    assert esm and all(e == live.explorer_js() for e in esm)
