@@ -17,7 +17,7 @@ const CSS = `
 .rapp-live .rl-ctl button{font:inherit;padding:1px 8px}
 .rapp-live .rl-status{font-family:ui-monospace,monospace;font-size:12px;margin:4px 0}
 .rapp-live .rl-note{font-size:12px;color:#555;margin:4px 0;max-width:640px}
-.rapp-live .rl-cap{font-size:12px;color:#333;margin:2px 0}`;
+.rapp-live .rl-cap{font-size:12px;color:#333;margin:2px 0;max-width:300px}`;
 
 function el(tag, attrs, parent) {
   const e = document.createElement(tag);
