@@ -249,7 +249,8 @@ def test_the_explorer_works_in_jupyterlab_and_tells_python(tmp_path):
             page.keyboard.press("Shift+Enter")
             root = page.locator("[data-rapp-live]")
             root.wait_for()
-            page.wait_for_timeout(500)
+            page.wait_for_function("() => document.querySelector('[data-rapp-live]').dataset.rappFrame >= 1")
+            page.wait_for_timeout(1000)  # handles are placed on the frame after the first drawing
             frame = int(root.get_attribute("data-rapp-frame"))
             box = root.locator('[data-rapp-drag="obstacle-0"]').bounding_box()
             x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
@@ -257,13 +258,13 @@ def test_the_explorer_works_in_jupyterlab_and_tells_python(tmp_path):
             page.mouse.down()
             page.mouse.move(x - 60, y + 20, steps=10)
             page.mouse.up()
-            page.wait_for_timeout(500)
-            assert int(root.get_attribute("data-rapp-frame")) > frame
+            page.wait_for_function(f"() => +document.querySelector('[data-rapp-live]').dataset.rappFrame > {frame}",
+                                   timeout=15_000)
             page.keyboard.press("Escape")
             page.locator(".jp-CodeCell").nth(1).click()
             page.keyboard.press("Shift+Enter")
             out = page.locator(".jp-CodeCell").nth(1).locator(".jp-OutputArea-output")
-            out.wait_for()
+            out.filter(has_text="centre").wait_for()
             text = out.inner_text()
             assert "centre" in text and "[1.75, 0.75]" not in text, text
             browser.close()
