@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import datetime
 import json
+import os
 import platform
 import shutil
 import sys
@@ -99,6 +100,8 @@ def main() -> int:
         "what": "in-page C-space (180 x 180, 4 discs + 1 rectangle) and A* on it, headless Chromium",
         "date": datetime.date.today().isoformat(),
         "machine": platform.platform(),
+        "load_average_1min": round(os.getloadavg()[0], 2),
+        "cpu_count": os.cpu_count(),
         "chromium": version,
         "cells": [M, M],
         "runs": RUNS,
