@@ -376,7 +376,8 @@ function render({ model, el: host }) {
     const J = joints().map(toPx);
     const M0 = gridM();
     const ci = qCell(S.q);
-    const hit = !search && occ && occ[ci[0] * M0 + ci[1]];
+    // Red where the arm collides: at the configuration, or (A* explorer) at the start cell.
+    const hit = occ && (search ? S.search && S.search.blockedEnd === "start" : occ[ci[0] * M0 + ci[1]]);
     w.strokeStyle = hit ? "#D55E00" : "#222"; w.lineWidth = 5; w.lineCap = "round";
     w.beginPath(); w.moveTo(J[0][0], J[0][1]); w.lineTo(J[1][0], J[1][1]); w.lineTo(J[2][0], J[2][1]); w.stroke();
     w.fillStyle = "#222"; w.beginPath(); w.arc(J[0][0], J[0][1], 5, 0, 2 * Math.PI); w.fill();
