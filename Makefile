@@ -37,8 +37,8 @@ $(NODE_STAMP): package.json package-lock.json
 	touch $@
 
 # Copied into book/_static_vendor/offline/, which _config.yml serves as static files.
-$(VENDOR_STAMP): $(NODE_STAMP) scripts/vendor_js.py
-	$(PYTHON) scripts/vendor_js.py
+$(VENDOR_STAMP): $(NODE_STAMP) $(PY_STAMP) scripts/vendor_js.py
+	$(PY) scripts/vendor_js.py
 	touch $@
 
 book: setup

@@ -652,9 +652,13 @@ def plot_astar_step(trace, k, ax=None, *, annotate=True, legend=True):
     else:
         gu = int(g[current])
         hu = float(trace.h[current])
+        # trace.h is the weighted heuristic w·h: name it so when the weight is not 1.
+        d = np.abs(np.subtract(current, trace.goal))
+        gd1 = int(np.where(trace.wraps, np.minimum(d, np.array(trace.occupied.shape) - d), d).sum())
+        h_name = "h" if hu == gd1 else "w·h"
         seam = any((np.abs(np.subtract(v, current)) > 1).any() for v in trace.relaxed[k])
         title = (f"step {k + 1} of {trace.expansions}: expand {current}, "
-                 f"g = {gu}, h = {hu:g}, f = {gu + hu:g}\n"
+                 f"g = {gu}, {h_name} = {hu:g}, f = {gu + hu:g}\n"
                  f"closed: {int(closed.sum())} cells, open list: {int(frontier.sum())} cells"
                  + ("; a step across the seam" if seam else ""))
     ax.set_title(title, fontsize="medium")
@@ -1215,3 +1219,110 @@ def animation_html(anim, *, default_mode="loop"):
     """
     close_animation(anim)
     return anim.to_jshtml(default_mode=default_mode)
+
+
+def plot_torus(occupancy, grid, ax=None, *, path=None, start=None, goal=None, major=2.0, minor=0.9,
+               title=None, elev=-50.0, azim=90.0):
+    """The C-space of a 2-link arm drawn as what it is, a torus: occupied cells, seams, a path.
+
+    Joint 1 goes round the torus' central circle (radius ``major``), joint 2 round its tube
+    (radius ``minor``); each grid cell is a patch of the surface, grey where the arm collides.
+    The two red circles are the seams along which :func:`plot_cspace` cuts the torus open into
+    its flat square (``θ1 = ±π`` and ``θ2 = ±π``); a path that leaves the square through one edge
+    and comes back through the other is one unbroken curve here.
+
+    Parameters
+    ----------
+    occupancy : bool array of ``grid.shape``, two axes that both wrap
+    grid : rapp.JointGrid (or anything with ``axes``, ``shape`` and ``wraps``)
+    ax : a 3-D Axes, optional (``projection="3d"``); a new figure when None
+    path : array_like, shape (k, 2), optional
+        Joint angles (radians), drawn just above the surface (its parts on the far side hidden).
+    start, goal : array_like, shape (2,), optional
+    major, minor : float
+        Radii of the central circle and of the tube.
+    elev, azim : float
+        The viewpoint, degrees (matplotlib's ``view_init``).
+
+    Returns
+    -------
+    Axes3D
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, JointGrid, occupancy
+    >>> arm = Arm([1.0, 1.0]); g = JointGrid(arm, 24)
+    >>> occ = occupancy(arm, [Circle((1.5, 0.5), 0.4)], g)
+    >>> ax = plot_torus(occ, g, path=[[0.0, 0.0], [3.0, 0.0], [-3.0, 0.5]])
+    >>> ax.name, len(ax.collections) >= 1, len(ax.lines)
+    ('3d', True, 3)
+    >>> plt.close(ax.figure)
+    """
+    occ = np.asarray(occupancy, dtype=bool)
+    if occ.ndim != 2 or tuple(occ.shape) != tuple(grid.shape):
+        raise ValueError(f"occupancy must have the grid's shape {tuple(grid.shape)}, got {occ.shape}")
+    if not all(grid.wraps):
+        raise ValueError("plot_torus draws a grid whose two axes wrap (joints without limits)")
+    if ax is None:
+        fig = plt.figure(figsize=(5.0, 5.0), layout="constrained")
+        ax = fig.add_subplot(projection="3d")
+    R, r = float(major), float(minor)
+
+    eye = np.radians([elev, azim])
+    eye = np.array([np.cos(eye[0]) * np.cos(eye[1]), np.cos(eye[0]) * np.sin(eye[1]), np.sin(eye[0])])
+
+    def xyz(u, v, lift=1.0):
+        rr = r * lift
+        return (R + rr * np.cos(v)) * np.cos(u), (R + rr * np.cos(v)) * np.sin(u), rr * np.sin(v)
+
+    def front(u, v, lift):
+        """Points of a curve on the surface, NaN where the surface faces away from the eye:
+        matplotlib does not sort lines against a surface, so a hidden part would show through."""
+        x, y, z = xyz(u, v, lift)
+        normal = np.stack([np.cos(v) * np.cos(u), np.cos(v) * np.sin(u), np.sin(v)], axis=-1)
+        hidden = normal @ eye < -0.05
+        return [np.where(hidden, np.nan, c) for c in (x, y, z)]
+
+    # Cell edges: each sample angle is the centre of its patch, as in plot_cspace's image.
+    edges = [np.asarray(a, float)[0] - np.pi / m + 2 * np.pi * np.arange(m + 1) / m
+             for a, m in zip(grid.axes, grid.shape)]
+    U, V = np.meshgrid(edges[0], edges[1], indexing="ij")
+    # Shaded by hand (a light from the eye's side), so that free cells stay nearly white and
+    # occupied ones clearly grey on every side of the tube.
+    uc, vc = 0.5 * (U[1:, 1:] + U[:-1, :-1]), 0.5 * (V[1:, 1:] + V[:-1, :-1])
+    normal = np.stack([np.cos(vc) * np.cos(uc), np.cos(vc) * np.sin(uc), np.sin(vc)], axis=-1)
+    light = 0.72 + 0.28 * np.clip(normal @ eye, 0.0, 1.0)
+    base = np.where(occ[..., None], np.array(to_rgba(OCCUPIED)[:3]) * 1.15, np.array([1.0, 1.0, 1.0]))
+    colors = np.concatenate([np.clip(base * light[..., None], 0, 1), np.ones(occ.shape + (1,))], axis=-1)
+    # Lines are drawn over the surface (no per-face depth sorting between them): the view is
+    # chosen so that the path lies on the side facing the reader.
+    ax.computed_zorder = False
+    ax.plot_surface(*xyz(U, V), facecolors=colors, rstride=1, cstride=1, linewidth=0,
+                    antialiased=False, shade=False, zorder=1)
+    t = np.linspace(-np.pi, np.pi, 181)
+    seam = dict(color=COLORS["vermillion"], lw=1.6, ls="--")
+    ax.plot(*front(np.full_like(t, np.pi), t, 1.01), **seam, label="seam θ1 = ±π", zorder=3)
+    ax.plot(*front(t, np.full_like(t, np.pi), 1.01), **seam, label="seam θ2 = ±π", zorder=3)
+    if path is not None:
+        p = np.asarray(path, float).reshape(-1, 2)
+        # Densified along each step (by the shorter way round), so the curve hugs the surface.
+        d = np.diff(p, axis=0)
+        d = (d + np.pi) % (2 * np.pi) - np.pi
+        s = np.linspace(0.0, 1.0, 6)[:-1]
+        dense = np.concatenate([(p[:-1, None, :] + s[None, :, None] * d[:, None, :]).reshape(-1, 2), p[-1:]])
+        ax.plot(*front(dense[:, 0], dense[:, 1], 1.04), color=PATH, lw=2.4, label="path", zorder=4)
+    for q, color, name in ((start, START, "start"), (goal, GOAL, "goal")):
+        if q is not None:
+            x, y, z = front(*np.asarray(q, float), 1.06)
+            ax.scatter([x], [y], [z], color=color, s=40, depthshade=False, label=name, zorder=5)
+    lim = R + r
+    ax.set(xlim=(-lim, lim), ylim=(-lim, lim), zlim=(-r, r))
+    ax.set_box_aspect((1, 1, r / lim), zoom=1.35)
+    ax.view_init(elev=elev, azim=azim)  # the eye of front()
+    ax.set_axis_off()
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+__all__.append("plot_torus")

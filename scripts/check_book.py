@@ -17,7 +17,8 @@ page fails when:
 Then every page with sliders is opened in Chromium driven by playwright (offline: requests to
 any host but the local server are refused), and each slider, of a widget or of an animation
 player, is pressed with the arrow keys: the page fails when the figure the slider belongs to
-does not change. The time until every widget on the page is rendered (interactive) and the
+does not change. Every live explorer (rapp.live, `data-rapp-live`) is dragged by a handle and
+must recompute and redraw. The time until every widget on the page is rendered (interactive) and the
 page's weight are reported; a page over 8 MB or a book over 80 MB fails.
 
 Prints one line per page and a summary line; exit status 1 when any page fails.
@@ -259,12 +260,76 @@ def check_sliders(base_url: str, pages: list[tuple[str, int]]) -> dict[str, tupl
     return results
 
 
+def check_live(base_url: str, pages: list[str], shots: Path | None = None) -> dict[str, tuple[list[str], dict]]:
+    """Drag every live explorer (``data-rapp-live``) and check that it redraws.
+
+    For each explorer root the first obstacle handle (``data-rapp-drag="obstacle-…"``), or the
+    goal handle where no workspace is shown, is dragged with the mouse; the explorer must
+    recompute (its ``data-rapp-frame`` counter grows) and its C-space canvas must change. With
+    ``shots`` a screenshot of each explorer is saved before and after the drag. Returns, per page,
+    the problems and the number of explorers dragged.
+    """
+    from playwright.sync_api import sync_playwright
+
+    host = urlparse(base_url).netloc
+    results: dict[str, tuple[list[str], dict]] = {}
+    canvas = "(root) => root.querySelector('canvas[data-rapp-drag=cspace]').toDataURL()"
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
+                                     args=["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"])
+        for rel in pages:
+            page = browser.new_page(viewport={"width": 1280, "height": 900})
+            page.route("**/*", lambda route: route.continue_() if urlparse(route.request.url).netloc
+                       == host or route.request.url.startswith("data:") else route.abort())
+            problems: list[str] = []
+            page.goto(base_url + rel, wait_until="load")
+            try:
+                page.wait_for_selector("[data-rapp-live]", timeout=30_000)
+            except Exception:
+                results[rel] = (["a live explorer did not render within 30 s"], {"live": 0})
+                page.close()
+                continue
+            roots = page.locator("[data-rapp-live]")
+            for i in range(roots.count()):
+                root = roots.nth(i)
+                root.scroll_into_view_if_needed()
+                page.wait_for_timeout(200)
+                handle = root.locator('[data-rapp-drag^="obstacle-"]').first
+                if not handle.is_visible():
+                    handle = root.locator('[data-rapp-drag="goal"]')
+                name = f"explorer {i + 1} ({root.get_attribute('data-rapp-live')})"
+                if shots:
+                    root.screenshot(path=str(shots / f"{Path(rel).stem}-{i + 1}-before.png"))
+                frame, image = root.get_attribute("data-rapp-frame"), root.evaluate(canvas)
+                box = handle.bounding_box()
+                if box is None:
+                    problems.append(f"{name}: no handle to drag")
+                    continue
+                x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+                page.mouse.move(x, y)
+                page.mouse.down()
+                page.mouse.move(x - 45, y + 35, steps=12)
+                page.mouse.up()
+                page.wait_for_timeout(300)
+                if shots:
+                    root.screenshot(path=str(shots / f"{Path(rel).stem}-{i + 1}-after.png"))
+                if root.get_attribute("data-rapp-frame") == frame:
+                    problems.append(f"{name}: dragged, but it did not recompute")
+                elif root.evaluate(canvas) == image:
+                    problems.append(f"{name}: dragged and recomputed, but the C-space picture stayed")
+            results[rel] = (problems, {"live": roots.count()})
+            page.close()
+        browser.close()
+    return results
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("build", nargs="?", default="_build/html", type=Path)
     parser.add_argument("--chromium", default=shutil.which("chromium") or "/usr/bin/chromium")
     parser.add_argument("--budget", type=int, default=20000, help="virtual time per page, ms")
     parser.add_argument("--jobs", type=int, default=2, help="pages opened at once (default 2)")
+    parser.add_argument("--shots", type=Path, help="save screenshots of each live explorer before and after its drag here")
     args = parser.parse_args(argv)
 
     root = args.build.resolve()
@@ -301,6 +366,10 @@ def main(argv: list[str] | None = None) -> int:
                         for p in pages]
         sliders = check_sliders(base_url, [(rel, n) for rel, n in with_widgets
                                            if n or "animation" in (root / rel).read_text(encoding="utf-8")])
+        if args.shots:
+            args.shots.mkdir(parents=True, exist_ok=True)
+        live = check_live(base_url, [p.relative_to(root).as_posix() for p in pages
+                                     if "rappLive" in p.read_text(encoding="utf-8")], args.shots)
     finally:
         server.shutdown()
     book_mb = sum(f.stat().st_size for f in root.rglob("*") if f.is_file()) / 1e6
@@ -313,7 +382,7 @@ def main(argv: list[str] | None = None) -> int:
         html = page.read_text(encoding="utf-8")
         problems += [f"not served: {path}" for path in missing if Path(path).name in html]
         slider_problems, measured = sliders.get(rel, ([], {"slider": 0}))
-        problems += slider_problems
+        problems += slider_problems + live.get(rel, ([], {}))[0]
         stats = dict(stats, slider=measured["slider"])
         mb = page.stat().st_size / 1e6
         if mb > PAGE_BUDGET_MB:
@@ -321,6 +390,8 @@ def main(argv: list[str] | None = None) -> int:
         for key in totals:
             totals[key] += stats[key]
         summary = ", ".join(f"{v} {k}" for k, v in stats.items()) + f"; {mb:.2f} MB"
+        if rel in live:
+            summary += f", {live[rel][1]['live']} live explorers dragged"
         if "ready_s" in measured:
             summary += f", interactive in {measured['ready_s']:.1f} s"
         if problems:

@@ -1,7 +1,8 @@
 """Copy the book's JavaScript and CSS from node_modules/ into book/_static_vendor/offline/.
 
 The book must render offline: MathJax 3 (typesetting), RequireJS and the
-ipywidgets HTML manager (saved widget views) are served from the book itself
+ipywidgets HTML manager (saved widget views) and anywidget's front end (rapp's live
+explorers) are served from the book itself
 instead of CDNs, and so is the Font Awesome CSS of matplotlib's animation controls. `npm ci` installs the versions pinned in package-lock.json;
 this script copies only the files a browser loads. _config.yml lists
 book/_static_vendor in html_static_path, so Sphinx copies it to
@@ -50,9 +51,33 @@ REQUIRE_CONFIG = """\
 // Written by scripts/vendor_js.py: map the widget manager's AMD modules to this folder.
 (function () {
   var here = document.currentScript.src.replace(/[^/]*$/, "");
-  require.config({ paths: { "@jupyter-widgets/html-manager/dist": here + "html-manager" } });
+  require.config({ paths: {
+    "@jupyter-widgets/html-manager/dist": here + "html-manager",
+    // anywidget's front end (the AMD build its Python package ships), for rapp's live explorers.
+    "anywidget": here + "anywidget/index"
+  } });
 })();
 """
+
+
+def anywidget_amd() -> Path | None:
+    """anywidget's AMD front end, from the anywidget Python package pinned in environment.txt.
+
+    Its npm package ships ES modules only; the Python wheel carries the AMD build that the
+    classic notebook (and so the ipywidgets HTML manager, through RequireJS) loads. Looked up in
+    the interpreter running this script, then in the repository's .venv.
+    """
+    try:
+        import anywidget  # noqa: F401  (only its location is needed)
+
+        found = Path(anywidget.__file__).parent / "nbextension" / "index.js"
+        if found.is_file():
+            return found
+    except ImportError:
+        pass
+    for found in sorted(ROOT.glob(".venv/lib/python3*/site-packages/anywidget/nbextension/index.js")):
+        return found
+    return None
 
 
 def main() -> int:
@@ -77,6 +102,12 @@ def main() -> int:
     for font in sorted(dist.glob("*")) if dist.is_dir() else []:
         if font.suffix in FONT_SUFFIXES:
             shutil.copy2(font, DEST / "html-manager" / font.name)
+    amd = anywidget_amd()
+    if amd is None:
+        missing.append("anywidget (pip install -r environment.txt)")
+    else:
+        (DEST / "anywidget").mkdir(parents=True, exist_ok=True)
+        shutil.copy2(amd, DEST / "anywidget" / "index.js")
     (DEST / "require-config.js").write_text(REQUIRE_CONFIG, encoding="utf-8")
     if missing:
         print("vendor_js: missing in node_modules: " + ", ".join(missing), file=sys.stderr)

@@ -3,7 +3,7 @@
 Examples
 --------
 >>> [ex.id for ex in EXERCISES]
-['4.1', '4.2', '4.3', '4.4', '4.5']
+['4.1', '4.2', '4.3', '4.4', '4.5', '4.6']
 >>> _cells_of([np.pi / 2, 3.0], 12)
 [9, 0]
 >>> round(_interval_width(), 3)
@@ -182,6 +182,19 @@ def _judge_missed_collision(answer) -> Judgement:
                            f"{describe(sample)} misses the obstacle. A grid sees only its samples.")
 
 
+# --- 4.6: how far link 1 reaches (answered with the live C-space explorer) ----------------------
+
+def _farthest_reach(L=1.0, r=0.25) -> float:
+    """The largest distance of a disc's centre (radius ``r``) from the base at which a link of
+    length ``L`` pointing at it still touches it: found by bisection on :func:`rapp.collides`."""
+    arm = Arm([L])
+    lo, hi = 0.0, 4.0 * (L + r)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if bool(collides(arm, np.array([-np.pi / 2]), [Circle((0.0, -mid), r)])) else (lo, mid)
+    return lo
+
+
 EXERCISES = (
     Exercise(
         "4.1", 4, "numeric", "The cell of an angle", 1,
@@ -238,5 +251,18 @@ EXERCISES = (
         "4.5", 4, "argue", "A collision between the samples", 2,
         "a tuple (lengths, obstacles, cells, q): q collides, but the sample of its cell does not",
         _judge_missed_collision,
+    ),
+    Exercise(
+        "4.6", 4, "numeric", "When the full columns vanish", 1,
+        "a number: the distance (m) of the small disc's centre from the base at which its band of "
+        "full columns disappears",
+        numeric(_farthest_reach, tol=0.03,
+                mistakes=[(lambda: 1.0, "that is the link's length; the link must reach the disc's "
+                                        "near edge, not its centre."),
+                          (lambda: 0.75, "that is where the disc's near edge is at the start; move the "
+                                         "disc away until link 1 no longer touches it."),
+                          (lambda: 2.25, "at that distance link 2 still reaches the disc, but only link "
+                                         "1 fills whole columns.")],
+                hint="link 1 touches the disc while its near edge, at distance d - r, is within L."),
     ),
 )

@@ -3,7 +3,7 @@
 Examples
 --------
 >>> [ex.id for ex in EXERCISES]
-['5.1', '5.2', '5.3', '5.4', '5.5']
+['5.1', '5.2', '5.3', '5.4', '5.5', '5.6']
 """
 
 from __future__ import annotations
@@ -11,6 +11,10 @@ from __future__ import annotations
 import numpy as np
 
 from rapp import search
+from rapp.arm import Arm
+from rapp.cspace import JointGrid, occupancy
+from rapp.ik import ik
+from rapp.obstacles import Circle
 from rapp.errors import NoPathFound
 from rapp.exercises.core import Exercise, Judgement, describe, implement, numeric
 
@@ -168,6 +172,27 @@ def _ring_wrap_blind() -> int:
     return search.astar_search(np.zeros(20, bool), [2], [17], heuristic_wraps=False).cost
 
 
+# --- 5.6: when weighting starts to cost (answered with the live A* explorer) ---------------------
+
+_WEIGHTS = tuple(1.0 + 0.25 * k for k in range(9))   # the explorer's slider: 1, 1.25, ..., 3
+
+
+def _benchmark_search(w: float) -> int:
+    """Steps of A* with weight ``w`` on the chapter's benchmark grid (100 x 100, start (0, 0),
+    goal the elbow-down configuration for the point (-1.2, 0.8))."""
+    arm = Arm([1.0, 1.0])
+    obstacles = [Circle((1.75, 0.75), 0.6), Circle((0.55, 1.5), 0.5), Circle((0.0, -1.0), 0.25)]
+    grid = JointGrid(arm, 100)
+    occ = occupancy(arm, obstacles, grid)
+    start, goal = (tuple(grid.index(q).tolist()) for q in ([0.0, 0.0], ik(arm, [-1.2, 0.8])[1]))
+    return search.astar_search(occ, start, goal, heuristic_weight=w).cost
+
+
+def _first_longer_weight() -> float:
+    best = _benchmark_search(1.0)
+    return next(w for w in _WEIGHTS if _benchmark_search(w) > best)
+
+
 EXERCISES = (
     Exercise(
         "5.1", 5, "numeric", "GD1 between two cells", 1,
@@ -201,5 +226,17 @@ EXERCISES = (
         "5.5", 5, "argue", "Greedy best-first is not optimal", 2,
         "a tuple (occupied, start, goal) on which greedy best-first returns a longer path than A*",
         _judge_greedy_counterexample,
+    ),
+    Exercise(
+        "5.6", 5, "numeric", "When weighting starts to cost", 1,
+        "a number: the smallest weight w on the explorer's slider (1, 1.25, ..., 3) at which A*'s "
+        "path on the benchmark is longer than the optimum",
+        numeric(_first_longer_weight, tol=1e-9,
+                mistakes=[(lambda: 2.0, "at w = 2 the path is longer, but it was already longer at a "
+                                        "smaller weight; try the weights below it."),
+                          (lambda: 1.25, "at w = 1.25 the path still has the optimal length (fewer "
+                                         "expansions, same steps); look one notch higher.")],
+                hint="set the explorer to the benchmark and raise w one notch at a time; watch the "
+                     "number of steps in the status line."),
     ),
 )

@@ -93,3 +93,11 @@ def test_4_5_collision_between_samples(solution):
     assert "Circle" in check("4.5", (lengths, ["disc"], cells, q)).message
     limited = rapp.Arm([1.0, 1.0], [None, (-0.2, 0.2)])
     assert "joint limit" in check("4.5", (limited, obstacles, cells, q)).message
+
+
+def test_4_6_the_reach_of_link_1(book_exercises):
+    assert check("4.6", 1.25) and check("4.6", 1.27)  # read off the explorer's status line
+    assert "1.25" in book_exercises["4.6"]["solution"]
+    assert "near edge" in check("4.6", 1.0).message
+    assert "link 2" in check("4.6", 2.25).message.lower() or "only link" in check("4.6", 2.25).message
+    assert not check("4.6", 1.4)

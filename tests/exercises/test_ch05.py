@@ -48,3 +48,11 @@ def test_5_5_greedy_counterexample(solution):
     walled = np.ones((3, 3), bool)
     walled[0, 0] = walled[2, 2] = False
     assert "no path" in check("5.5", (walled, (0, 0), (2, 2))).message
+
+
+def test_5_6_the_first_weight_that_lengthens_the_path(book_exercises):
+    assert check("5.6", 1.5)
+    assert "1.5" in book_exercises["5.6"]["solution"]
+    assert "smaller weight" in check("5.6", 2.0).message
+    assert "optimal length" in check("5.6", 1.25).message
+    assert not check("5.6", 3.0)
