@@ -163,31 +163,8 @@ def test_astar_crosses_the_seam_and_stops_at_walls(page):
 
 
 
-def test_fast_enough_to_feel_live(page):
-    """180 x 180 with five obstacles, and A* across it, each in <= 30 ms (median of 21 runs).
-
-    The median, not the worst run: on a shared machine the worst run measures the scheduler.
-    benchmarks/bench_live.py records the distribution.
-    """
-    scene = {"arm": {"link_lengths": [1.0, 1.0]}, "obstacles": [
-        {"type": "circle", "center": [1.75, 0.75], "radius": 0.6},
-        {"type": "circle", "center": [0.55, 1.5], "radius": 0.5},
-        {"type": "circle", "center": [0.0, -1.0], "radius": 0.25},
-        {"type": "circle", "center": [-1.3, -0.9], "radius": 0.3},
-        {"type": "rectangle", "corner": [-1.6, 0.6], "width": 0.5, "height": 0.3, "angle": 0.4}]}
-    grid = rapp.JointGrid(rapp.Arm([1.0, 1.0]), 180)
-    goal = grid.index([2.4, 2.6]).tolist()
-    ms = page.evaluate("""([scene, goal]) => {
-        const R = window.rappLive, t = [[], []];
-        for (let k = 0; k < 26; k++) {
-          const t0 = performance.now();
-          const occ = R.occupancyOf(R.parseScenario(scene), 180, false);
-          const t1 = performance.now();
-          R.astar(occ, [180, 180], [90, 90], goal);
-          if (k >= 5) { t[0].push(t1 - t0); t[1].push(performance.now() - t1); }
-        }
-        return t.map(a => a.sort((x, y) => x - y)[10]); }""", [scene, goal])
-    assert ms[0] <= 30 and ms[1] <= 30, ms
+# The 30 ms goal (180 x 180, five obstacles, and A* across it) is a speed goal: it is measured in
+# benchmarks/bench_live.py (results/live.json), never in a timed unit test.
 
 
 # ------------------------------------------------------------------ the same explorer in JupyterLab
