@@ -144,7 +144,7 @@ def book_targets(root: Path = ROOT) -> dict[str, Target]:
     return targets
 
 
-_REF = re.compile(r"\{(?:ref|numref|prf:ref|eq)\}`(?:[^`<]*<)?(?P<label>[^`<>]+)>?`")
+_REF = re.compile(r"\{(?:ref|numref|prf:ref|eq)\}`(?:[^`<]*<)?(?P<label>[^`<>\n]+)>?`")
 _TERM = re.compile(r"\{term\}`(?:[^`<]*<)?(?P<term>[^`<>]+)>?`")
 
 
