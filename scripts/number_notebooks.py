@@ -15,9 +15,12 @@ metadata), and Jupyter Book 1.x (myst-nb) turns the front-matter rule off inside
 ``---`` block would print as a rule and a heading. So the front matter gets a cell of its own,
 first, tagged ``remove-cell``: myst-nb drops it from the HTML book, Lab reads it. The cell is
 recognised by its metadata (``"rapp": {"frontmatter": true}``), never by its text, and is rewritten
-from the toc on every run: run it after any change to ``_toc.yml`` or after merging notebooks
-(``python scripts/number_notebooks.py``; ``--check`` only reports, exit status 1 when a notebook
-is out of date). Only that cell changes; nothing else in a notebook is touched.
+from the toc on every run. One more thing Lab cannot follow is rewritten in the chapters' text:
+a ``{doc}`` role, which Lab turns into a link to a file that does not exist, becomes a Markdown
+link to the notebook or page with the same title as its text (:func:`doc_links`). Nothing else in
+a notebook changes. Run it after any change to ``_toc.yml`` and after merging notebooks
+(``python scripts/number_notebooks.py``); ``--check`` changes nothing and exits 1 when a notebook
+is out of date.
 """
 
 from __future__ import annotations
@@ -207,6 +210,43 @@ def lab_index(nb, docname: str, targets: dict[str, Target], terms: dict[str, str
                           *parts, "::::"])
 
 
+_DOC = re.compile(r"\{doc\}`(?:(?P<text>[^`<]*?)\s*<(?P<target>[^`<>]+)>|(?P<bare>[^`<>]+))`")
+
+
+def title_of(path: Path) -> str:
+    """The first ``# `` heading of a notebook (its front-matter cell skipped) or Markdown page."""
+    if path.suffix == ".ipynb":
+        nb = nbformat.read(path, as_version=4)
+        text = "\n".join(c.source for c in nb.cells
+                         if c.cell_type == "markdown" and not is_front_matter_cell(c))
+    else:
+        text = path.read_text(encoding="utf-8")
+    m = re.search(r"^# +(.+?)\s*$", text, re.M)
+    return m.group(1) if m else path.stem
+
+
+def doc_links(source: str, here: Path) -> str:
+    """``source`` with each ``{doc}`` role written as a Markdown link to the file itself.
+
+    Sphinx shows ``{doc}`04_configuration_space``` as the chapter's title; JupyterLab
+    (jupyterlab-myst) makes it a link to ``04_configuration_space``, a file that does not exist.
+    ``[Configuration space](04_configuration_space.ipynb)`` reads the same in the book (MyST
+    turns a link to a source file into a link to its page) and opens the notebook in Lab.
+    A target with no notebook or page behind it is left alone, for Sphinx to report.
+    """
+    def link(m: re.Match) -> str:
+        target = (m["target"] or m["bare"]).strip()
+        base = ROOT if target.startswith("/") else here.parent
+        for suffix in (".ipynb", ".md"):
+            path = (base / (target.lstrip("/") + suffix)).resolve()
+            if path.exists():
+                rel = Path(os.path.relpath(path, here.parent)).as_posix()
+                return f"[{(m['text'] or '').strip() or title_of(path)}]({rel})"
+        return m.group(0)
+
+    return _DOC.sub(link, source)
+
+
 def front_matter(number: int) -> str:
     """The source of chapter ``number``'s front-matter cell.
 
@@ -226,13 +266,17 @@ def is_front_matter_cell(cell) -> bool:
     return cell.cell_type == "markdown" and bool(cell.metadata.get("rapp", {}).get(MARK))
 
 
-def numbered(nb, number: int, index: str = ""):
+def numbered(nb, number: int, index: str = "", path: Path | None = None):
     """A copy of notebook ``nb`` whose first cell is chapter ``number``'s front matter.
 
-    ``index`` (from :func:`lab_index`) follows the front matter in the same cell.
+    ``index`` (from :func:`lab_index`) follows the front matter in the same cell. With the
+    notebook's ``path``, its ``{doc}`` roles become links to the files (:func:`doc_links`).
     """
     nb = nbformat.from_dict(nb)
     cells = [c for c in nb.cells if not is_front_matter_cell(c)]
+    for c in cells:
+        if path is not None and c.cell_type == "markdown" and "{doc}`" in c.source:
+            c.source = doc_links(c.source, path)
     source = front_matter(number) + (f"\n{index}" if index else "")
     cell = nbformat.v4.new_markdown_cell(
         source, metadata={"tags": ["remove-cell"], "rapp": {MARK: True}})
@@ -264,7 +308,7 @@ def main(argv: list[str] | None = None) -> int:
         if not path.exists():
             continue  # a Markdown page: Sphinx numbers it, Lab never opens it
         nb = nbformat.read(path, as_version=4)
-        new = numbered(nb, number, lab_index(nb, docname, targets, terms))
+        new = numbered(nb, number, lab_index(nb, docname, targets, terms), path)
         if nbformat.writes(new) == nbformat.writes(nb):
             continue
         stale.append(path.relative_to(ROOT).as_posix())
