@@ -90,3 +90,17 @@ def test_figure_numbers_follow_the_notebook_order():
     index = nb.cells[0].source
     for k, name in enumerate(names, 1):
         assert f":label: {name}\n:enumerator: 5.{k}\n" in index
+
+
+@pytest.mark.parametrize("number,path", CHAPTERS, ids=[p.stem for _, p in CHAPTERS])
+def test_unlabelled_equations_come_after_the_labelled_ones(number, path):
+    # The book numbers labelled display equations only (math_number_all off); jupyterlab-myst
+    # numbers every one and has no per-equation switch that Sphinx also accepts. Their numbers
+    # agree while no unlabelled equation comes before a labelled one.
+    nb = nbformat.read(path, as_version=4)
+    body = "\n\n".join(c.source for c in nb.cells[1:] if c.cell_type == "markdown")
+    kinds = ["L" if m.group(1) else "U"
+             for m in re.finditer(r"\$\$.+?\$\$[ \t]*(\([\w.:-]+\))?", body, re.S)]
+    assert "UL" not in "".join(kinds), (
+        "an unlabelled $$ equation before a labelled one: Lab's numbers would run ahead of the "
+        "book's; give it a label or move it")
