@@ -17,8 +17,9 @@ first, tagged ``remove-cell``: myst-nb drops it from the HTML book, Lab reads it
 recognised by its metadata (``"rapp": {"frontmatter": true}``), never by its text, and is rewritten
 from the toc on every run. One more thing Lab cannot follow is rewritten in the chapters' text:
 a ``{doc}`` role, which Lab turns into a link to a file that does not exist, becomes a Markdown
-link to the notebook or page with the same title as its text (:func:`doc_links`). Nothing else in
-a notebook changes. Run it after any change to ``_toc.yml`` and after merging notebooks
+link to the notebook or page with the same title as its text (:func:`doc_links`), and a role
+whose text runs over a line break is put on one line (:func:`one_line_roles`). Nothing else in a
+notebook changes. Run it after any change to ``_toc.yml`` and after merging notebooks
 (``python scripts/number_notebooks.py``); ``--check`` changes nothing and exits 1 when a notebook
 is out of date.
 """
@@ -247,6 +248,21 @@ def doc_links(source: str, here: Path) -> str:
     return _DOC.sub(link, source)
 
 
+_ROLE_ACROSS_LINES = re.compile(r"\{[\w:-]+\}`[^`]*\n[^`]*`")
+
+
+def one_line_roles(source: str) -> str:
+    """``source`` with each role whose text runs over a line break put on one line.
+
+    Sphinx reads ``{ref}`[LaValle 1998]⏎  <ref-lavalle-rrt>``` as text and target; jupyterlab-myst
+    takes all of it for the target and finds none. Joining the lines changes nothing in the book.
+
+    >>> one_line_roles("see {ref}`[A]\\n  <ref-a>` and {eq}`x`")
+    'see {ref}`[A] <ref-a>` and {eq}`x`'
+    """
+    return _ROLE_ACROSS_LINES.sub(lambda m: re.sub(r"\s*\n\s*", " ", m.group(0)), source)
+
+
 def front_matter(number: int) -> str:
     """The source of chapter ``number``'s front-matter cell.
 
@@ -275,8 +291,9 @@ def numbered(nb, number: int, index: str = "", path: Path | None = None):
     nb = nbformat.from_dict(nb)
     cells = [c for c in nb.cells if not is_front_matter_cell(c)]
     for c in cells:
-        if path is not None and c.cell_type == "markdown" and "{doc}`" in c.source:
-            c.source = doc_links(c.source, path)
+        if c.cell_type == "markdown":
+            text = one_line_roles(c.source)
+            c.source = doc_links(text, path) if path is not None else text
     source = front_matter(number) + (f"\n{index}" if index else "")
     cell = nbformat.v4.new_markdown_cell(
         source, metadata={"tags": ["remove-cell"], "rapp": {MARK: True}})
