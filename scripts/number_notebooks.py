@@ -176,7 +176,8 @@ def _link(target: Target, here: str) -> str:
 def _entry(t: Target, here: str) -> str:
     where = "" if t.docname == here else f"In {_link(t, here)}."
     if t.kind == "section":
-        return f"({t.label})=\n###### {t.text}\n\n{where}"
+        # not a heading: Lab would lift the cell's first heading out of the fold as its title
+        return f":::{{admonition}} {t.text}\n:label: {t.label}\n{where}\n:::"
     if t.kind == "paragraph":
         return f"({t.label})=\n{t.text} … {where}"
     number = f":enumerator: {t.number}\n" if t.number else ""
