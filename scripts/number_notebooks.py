@@ -41,6 +41,12 @@ ROOT = Path(__file__).resolve().parents[1]
 MARK = "frontmatter"
 
 
+def read(path: Path):
+    """A notebook, unvalidated: nbformat.read validates it against the schema, which takes longer
+    than everything else here, and every notebook is read several times."""
+    return nbformat.v4.reads(path.read_text(encoding="utf-8"))
+
+
 def chapter_numbers(toc_path: Path = ROOT / "_toc.yml") -> dict[str, int]:
     """Chapter number of every file in the numbered parts of the toc, as the book numbers them.
 
@@ -120,7 +126,7 @@ def book_targets(root: Path = ROOT) -> dict[str, Target]:
     for docname in docnames:
         path = root / f"{docname}.ipynb"
         if path.exists():
-            nb = nbformat.read(path, as_version=4)
+            nb = read(path)
             blocks = [c for c in nb.cells if not is_front_matter_cell(c)]
         elif (root / f"{docname}.md").exists():
             blocks = [nbformat.v4.new_markdown_cell((root / f"{docname}.md").read_text(encoding="utf-8"))]
@@ -218,7 +224,7 @@ _DOC = re.compile(r"\{doc\}`(?:(?P<text>[^`<]*?)\s*<(?P<target>[^`<>]+)>|(?P<bar
 def title_of(path: Path) -> str:
     """The first ``# `` heading of a notebook (its front-matter cell skipped) or Markdown page."""
     if path.suffix == ".ipynb":
-        nb = nbformat.read(path, as_version=4)
+        nb = read(path)
         text = "\n".join(c.source for c in nb.cells
                          if c.cell_type == "markdown" and not is_front_matter_cell(c))
     else:
@@ -325,9 +331,9 @@ def main(argv: list[str] | None = None) -> int:
         path = ROOT / f"{docname}.ipynb"
         if not path.exists():
             continue  # a Markdown page: Sphinx numbers it, Lab never opens it
-        nb = nbformat.read(path, as_version=4)
+        nb = read(path)
         new = numbered(nb, number, lab_index(nb, docname, targets, terms), path)
-        if nbformat.writes(new) == nbformat.writes(nb):
+        if new == nb:
             continue
         stale.append(path.relative_to(ROOT).as_posix())
         if not args.check:

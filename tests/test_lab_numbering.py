@@ -9,6 +9,7 @@ moves in the toc, or a notebook merged without re-running the script, fails here
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import re
 import sys
@@ -37,6 +38,11 @@ def numbered_chapters() -> list[tuple[int, Path]]:
 CHAPTERS = numbered_chapters()
 
 
+@functools.cache
+def load(path: Path):
+    return nbformat.read(path, as_version=4)  # validated here, once per notebook
+
+
 def test_every_notebook_is_up_to_date_with_the_toc():
     # The script in --check mode changes nothing and names every stale notebook.
     assert number_notebooks.main(["--check"]) == 0, (
@@ -45,7 +51,7 @@ def test_every_notebook_is_up_to_date_with_the_toc():
 
 @pytest.mark.parametrize("number,path", CHAPTERS, ids=[p.stem for _, p in CHAPTERS])
 def test_first_cell_is_lab_only_front_matter_with_the_chapter_number(number, path):
-    nb = nbformat.read(path, as_version=4)
+    nb = load(path)
     first = nb.cells[0]
     assert first.cell_type == "markdown"
     assert "remove-cell" in first.metadata.get("tags", []), "the HTML book must not show it"
@@ -61,7 +67,7 @@ def test_first_cell_is_lab_only_front_matter_with_the_chapter_number(number, pat
 @pytest.mark.parametrize("number,path", CHAPTERS, ids=[p.stem for _, p in CHAPTERS])
 def test_lab_numbers_exercises_as_the_catalog_does(number, path):
     # rapp.exercises.check("N.k") is the k-th exercise box of chapter N, in reading order.
-    nb = nbformat.read(path, as_version=4)
+    nb = load(path)
     body = "\n\n".join(c.source for c in nb.cells[1:] if c.cell_type == "markdown")
     boxes = len(re.findall(r"^(?:`{3,}|:{3,})\{exercise\}", body, re.M))
     ids = sorted(int(e.id.split(".")[1]) for e in rapp.exercises.catalog() if e.chapter == number)
@@ -71,7 +77,7 @@ def test_lab_numbers_exercises_as_the_catalog_does(number, path):
 @pytest.mark.parametrize("number,path", CHAPTERS, ids=[p.stem for _, p in CHAPTERS])
 def test_every_reference_has_a_target_in_lab(number, path):
     # What Lab parses: every Markdown cell, the front-matter cell's index included.
-    nb = nbformat.read(path, as_version=4)
+    nb = load(path)
     text = "\n\n".join(c.source for c in nb.cells if c.cell_type == "markdown")
     defined = set(re.findall(r"^\(([\w.:-]+)\)=", text, re.M))
     defined |= set(re.findall(r"^\s*:label:\s*(\S+)", text, re.M))
@@ -82,7 +88,7 @@ def test_every_reference_has_a_target_in_lab(number, path):
 
 def test_figure_numbers_follow_the_notebook_order():
     # Chapter 5's code-cell figures, counted here by hand, against the script's index.
-    nb = nbformat.read(ROOT / "notebooks" / "05_astar.ipynb", as_version=4)
+    nb = load(ROOT / "notebooks" / "05_astar.ipynb")
     names = [c.metadata["mystnb"]["figure"]["name"] for c in nb.cells
              if c.cell_type == "code" and "figure" in c.metadata.get("mystnb", {})]
     targets = number_notebooks.book_targets()
@@ -97,7 +103,7 @@ def test_unlabelled_equations_come_after_the_labelled_ones(number, path):
     # The book numbers labelled display equations only (math_number_all off); jupyterlab-myst
     # numbers every one and has no per-equation switch that Sphinx also accepts. Their numbers
     # agree while no unlabelled equation comes before a labelled one.
-    nb = nbformat.read(path, as_version=4)
+    nb = load(path)
     body = "\n\n".join(c.source for c in nb.cells[1:] if c.cell_type == "markdown")
     kinds = ["L" if m.group(1) else "U"
              for m in re.finditer(r"\$\$.+?\$\$[ \t]*(\([\w.:-]+\))?", body, re.S)]
