@@ -30,8 +30,8 @@ import argparse
 import os
 import re
 import sys
-from dataclasses import dataclass
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 import nbformat
