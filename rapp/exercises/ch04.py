@@ -256,7 +256,7 @@ EXERCISES = (
         "4.6", 4, "numeric", "When the full columns vanish", 1,
         "a number: the distance (m) of the small disc's centre from the base at which its band of "
         "full columns disappears",
-        numeric(_farthest_reach, tol=0.03,
+        numeric(_farthest_reach, abs_tol=0.03,
                 mistakes=[(lambda: 1.0, "that is the link's length; the link must reach the disc's "
                                         "near edge, not its centre."),
                           (lambda: 0.75, "that is where the disc's near edge is at the start; move the "

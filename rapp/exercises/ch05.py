@@ -231,7 +231,7 @@ EXERCISES = (
         "5.6", 5, "numeric", "When weighting starts to cost", 1,
         "a number: the smallest weight w on the explorer's slider (1, 1.25, ..., 3) at which A*'s "
         "path on the benchmark is longer than the optimum",
-        numeric(_first_longer_weight, tol=1e-9,
+        numeric(_first_longer_weight,
                 mistakes=[(lambda: 2.0, "at w = 2 the path is longer, but it was already longer at a "
                                         "smaller weight; try the weights below it."),
                           (lambda: 1.25, "at w = 1.25 the path still has the optimal length (fewer "

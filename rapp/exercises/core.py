@@ -290,8 +290,13 @@ def numeric(expected: Callable[[], Any], *, mistakes: Sequence[tuple[Callable[[]
     # The variants (rapp.exercises.variants) replace this; tests read it (the book prints it anyway).
     judge.expected = expected
     if abs_tol is not None:
+        # 11.3 asks for more digits (three figures would accept a known mistake); 4.6 for fewer
+        # (its answer is read off a live explorer's drag, not computed).
+        finer = abs_tol <= ABS_TOL
         judge.tolerance = (f"*Precision:* an answer within {abs_tol:g} of the exact value is right (this "
-                           "exercise asks for more digits than three significant figures).")
+                           + ("exercise asks for more digits than three significant figures)."
+                              if finer else "exercise is answered by reading the explorer, so fewer "
+                              "digits are enough)."))
     else:
         judge.tolerance = TOLERANCE_COUNT if exact_integer else (TOLERANCE_ANGLES if angles else TOLERANCE)
     return judge

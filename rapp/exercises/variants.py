@@ -12,7 +12,8 @@ student's answers to anyone who has neither the key nor that student's sheet. A 
 their own answers with their code: ``rapp.exercises.check("1.3", 0.42, variant=CODE)``.
 
 Chapter 7 has no variant: its numbers come from planning runs on the chapter's scenarios (7.1,
-7.3) or are an exit code (7.5); 1.1 has a single answer and 4.4 is the chapter's benchmark grid.
+7.3) or are an exit code (7.5); 1.1 has a single answer, 4.4 is the chapter's benchmark grid,
+and 4.6 and 5.6 are read off the chapter's live explorer, which shows the book's scenario.
 
 Examples
 --------
