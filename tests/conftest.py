@@ -10,6 +10,7 @@ the working tree (a test run leaves the checkout exactly as it found it).
 import os
 from pathlib import Path
 
+import pytest
 from hypothesis import settings
 from hypothesis.configuration import set_hypothesis_home_dir
 from hypothesis.database import DirectoryBasedExampleDatabase
@@ -21,8 +22,13 @@ settings.register_profile("ci", derandomize=True, print_blob=True, database=None
 settings.load_profile("ci" if os.environ.get("CI") else "local")
 
 
+@pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection reads the marks
 def pytest_collection_modifyitems(config, items):
-    """Longest files first, so that two workers finish together.
+    """Mark the slow tiers, then put the longest files first, so that two workers finish together.
+
+    Every notebook cell and every JupyterLab browser test is marked ``slow``: ``make check``
+    (``pytest -m "not slow"``) leaves them out, ``make test`` runs them. Other slow tests carry
+    ``@pytest.mark.slow`` themselves.
 
     pytest-xdist (``--dist loadfile --no-loadscope-reorder``) hands out whole files in this
     order. The JupyterLab tests (two minutes in one file) and the notebooks (a kernel each)
@@ -37,4 +43,9 @@ def pytest_collection_modifyitems(config, items):
             return 1
         return 2
 
+    slow = pytest.mark.slow
+    for item in items:
+        path = str(item.fspath)
+        if path.endswith(".ipynb") or path.endswith("test_jupyterlab.py"):
+            item.add_marker(slow)
     items.sort(key=weight)  # stable: each file's items keep their order
