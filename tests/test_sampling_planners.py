@@ -108,6 +108,7 @@ def test_the_time_budget_stops_a_run():
     assert not res.success and 0 < res.iterations < 10**7
 
 
+@pytest.mark.slow
 def test_rrt_star_improves_with_more_iterations():
     s = rapp.load_scenario("default")
     goal = rapp.ik(s.arm, s.goal_xy, q0=s.start_array)[0]
@@ -118,6 +119,7 @@ def test_rrt_star_improves_with_more_iterations():
     assert long.cost <= short.cost + 1e-12
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["rrt_connect", "rrt_star", "prm"])
 @pytest.mark.parametrize("scenario", ["default", "srs_typical", "rectangles", "three_link"])
 def test_every_embedded_scenario_plans_with_every_sampling_planner(name, scenario):

@@ -6,10 +6,11 @@ A reader who downloads one notebook, or opens it next to an installed package, h
 - statically, here and fast: no code cell of a chapter names a path outside its own folder
   (``..``, ``benchmarks/``, ``book/``, ``scripts/``, ``_toc.yml``) or puts the repository on the
   import path;
-- by running every chapter alone: ``conftest.py`` (at the root) starts the kernel of each notebook that
+- by running every chapter alone: ``tests/notebook_kernels.py``, installed by the root
+  ``conftest.py``, starts the kernel of each notebook that
   nbval checks in an empty temporary folder holding a copy of that notebook only, with
   ``PYTHONPATH`` reduced to a folder that holds ``rapp`` and nothing else of the repository
-  (:func:`conftest.alone`). So the run that checks the committed outputs is the stand-alone run,
+  (:func:`notebook_kernels.alone`). So the run that checks the committed outputs is the stand-alone run,
   for every chapter, at no extra cost; the slow test below proves that the mechanism does what it
   says, with nbclient on a notebook that looks around.
 """
@@ -24,9 +25,10 @@ import nbformat
 import nbval.plugin
 import pytest
 
-import conftest
+import notebook_kernels as kernels  # what the root conftest.py installs
 
-NOTEBOOKS = sorted((Path(__file__).resolve().parent.parent / "notebooks").glob("*.ipynb"))
+ROOT = Path(__file__).resolve().parent.parent
+NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 
 # A string literal that leaves the notebook's folder or names the repository's other folders,
 # and the ways of reaching the repository's code without installing it.
@@ -57,8 +59,8 @@ def outside_references(path: Path) -> list[str]:
 def _params():
     for path in NOTEBOOKS:
         marks = []
-        if path.name in conftest.RUN_IN_PLACE:
-            marks = [pytest.mark.xfail(strict=True, reason=conftest.RUN_IN_PLACE[path.name])]
+        if path.name in kernels.RUN_IN_PLACE:
+            marks = [pytest.mark.xfail(strict=True, reason=kernels.RUN_IN_PLACE[path.name])]
         yield pytest.param(path, id=path.stem, marks=marks)
 
 
@@ -90,8 +92,8 @@ def outside_references_of(nb) -> list[str]:
 
 def test_nbval_runs_every_chapter_alone():
     # The hook is installed, and only the chapters listed in RUN_IN_PLACE are exempt.
-    assert nbval.plugin.IPyNbFile.setup is conftest._setup_alone
-    assert set(conftest.RUN_IN_PLACE) <= {p.name for p in NOTEBOOKS}
+    assert nbval.plugin.IPyNbFile.setup is kernels.setup_alone
+    assert set(kernels.RUN_IN_PLACE) <= {p.name for p in NOTEBOOKS}
 
 
 PROBE = r"""
@@ -114,12 +116,12 @@ def test_alone_gives_an_empty_folder_and_only_rapp(tmp_path):
 
     notebook = tmp_path / "probe.ipynb"
     nbformat.write(nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(PROBE)]), notebook)
-    with conftest.alone(notebook) as (folder, env):
+    with kernels.alone(notebook) as (folder, env):
         nb = nbformat.read(folder / notebook.name, as_version=4)
         NotebookClient(nb, timeout=60, kernel_name="python3",
                        resources={"metadata": {"path": str(folder)}}).execute(cwd=str(folder), env=env)
     seen = json.loads(nb.cells[0].outputs[0]["text"])
     assert seen["files"] == ["probe.ipynb"]
-    assert seen["rapp"] == str(conftest.RAPP_PACKAGE)
+    assert seen["rapp"] == str(kernels.RAPP_PACKAGE)
     assert not any(seen["importable"].values()), seen["importable"]
     assert not seen["parent_has_benchmarks"]

@@ -156,6 +156,7 @@ def test_triangular_when_the_move_is_short():
     assert edge.breakpoints.tolist() == [0.0, 2.0, 4.0]
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None)
 @given(moves())
 def test_trapezoidal_move_is_minimum_time_and_synchronized(move):
