@@ -58,7 +58,8 @@ def problems(draw):
     return arm, obstacles, start, goal
 
 
-@pytest.mark.parametrize("name", sorted(PLANNERS))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "rrt_star" else n
+                                  for n in sorted(PLANNERS)])  # RRT*: seconds per example
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(problem=problems(), seed=st.integers(0, 1000))
 def test_every_returned_path_is_collision_free_and_joins_start_to_goal(name, problem, seed):

@@ -81,6 +81,7 @@ def test_ik_2link_symbolic_law_of_cosines_and_back_substitution():
         assert float(sol["elbow_down"][1].subs(sub)) >= 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("make, order", [(cubic_coefficients_symbolic, 3),
                                          (quintic_coefficients_symbolic, 5)])
 def test_boundary_value_solutions_satisfy_their_system(make, order):

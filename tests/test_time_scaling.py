@@ -206,6 +206,7 @@ def test_slowest_joint_timing_alone_would_break_another_joint():
 # --------------------------------------------------------------------------- paths
 
 
+@pytest.mark.slow
 @settings(max_examples=100, deadline=None)
 @given(paths())
 def test_trapezoidal_path_stops_at_every_waypoint_within_limits(case):
