@@ -29,6 +29,7 @@ SLOW_DOCTESTS = {
     "rapp.plotting.save_gif",              # writes a GIF, frame by frame
     "rapp.widgets.rrt_explorer",           # grows and draws every step of an RRT
     "rapp.cases.rrt_report.compare_with_astar",
+    "rapp.widgets.arm_explorer",           # renders every view of the explorer
 }
 
 

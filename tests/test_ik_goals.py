@@ -96,6 +96,7 @@ def test_constructed_3link_goals_always_find_their_free_solution():
     assert np.mean(free_fraction) < 0.25
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n", [4, 5])
 def test_constructed_goals_with_more_links(n):
     # Before: 7 of the 10 four-link and 6 of the 10 five-link cases were false "no path".

@@ -79,7 +79,8 @@ def test_every_returned_path_is_collision_free_and_joins_start_to_goal(name, pro
     assert res.cost == pytest.approx(np.linalg.norm(np.diff(res.path, axis=0), axis=1).sum())
 
 
-@pytest.mark.parametrize("name", sorted(PLANNERS))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "rrt_star" else n
+                                  for n in sorted(PLANNERS)])
 def test_same_seed_same_result(name):
     s = rapp.load_scenario("rectangles")
     runs = [PLANNERS[name](s.arm, s.start_array, s.goal_q, s.obstacles, 7) for _ in range(2)]

@@ -339,6 +339,7 @@ def test_cubic_and_quintic_minimum_durations_derived_with_sympy():
         assert minimum_duration([p0, pf], "quintic", vm, am) == pytest.approx(f5(d, vm, am), rel=1e-12)
 
 
+@pytest.mark.slow
 @settings(max_examples=100, deadline=None)
 @given(moves(max_joints=3))
 def test_polynomial_minimum_duration_of_one_move_is_the_slowest_joints(move):
