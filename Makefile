@@ -1,6 +1,7 @@
 # The two commands of the README:
 #   make book   set up .venv and node_modules, build the book into _build/html, check it in Chromium
 #   make test   set up .venv, run every test (unit, property, doctests, notebooks via nbval)
+#   make check  the fast tier while working: every test not marked slow (no notebooks, no browser)
 # Other targets: make setup, make notebooks (re-execute notebooks/*.ipynb in place), make clean,
 #   make student-book (the book without solutions, into _build/student/_build/html).
 
@@ -19,7 +20,7 @@ VENDOR_STAMP := book/_static_vendor/offline/.stamp
 export PIP_DISABLE_PIP_VERSION_CHECK := 1
 export NO_COLOR := 1
 
-.PHONY: setup setup-python setup-js book test notebooks clean student-book
+.PHONY: setup setup-python setup-js book test check notebooks clean student-book
 
 setup: setup-python setup-js
 setup-python: $(PY_STAMP)
@@ -54,6 +55,9 @@ student-book: setup
 
 test: setup-python
 	$(PY) -m pytest
+
+check: setup-python
+	$(PY) -m pytest -m "not slow"
 
 notebooks: setup-python
 	$(PY) scripts/execute_notebooks.py

@@ -5,7 +5,7 @@ The 3-link grids (64^3 and 128^3) are also timed against the previous rapp grid
 every cell) and both are checked cell by cell against ``rapp.collides``.
 
 Run from the repository root:  python benchmarks/bench_core.py
-Prints a table and writes benchmarks/results/core.json. Times are best-of-k
+Prints a table and writes rapp/recorded/core.json. Times are best-of-k
 wall-clock seconds (time.perf_counter); ratios are baseline / rapp, measured in
 the same run on the same machine.
 """
@@ -16,18 +16,15 @@ import datetime
 import json
 import os
 import platform
-import sys
 import time
 import tracemalloc
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import baseline  # noqa: E402
-
-import rapp  # noqa: E402
-from rapp.reference import occupancy as _occupancy_reference  # noqa: E402  (the previous rapp grid)
+import rapp
+from rapp import baseline
+from rapp.reference import occupancy as _occupancy_reference  # (the previous rapp grid)
 
 HERE = Path(__file__).resolve().parent
 LINKS = [1.0, 1.0]
@@ -174,8 +171,7 @@ def run():
         "memory": "peak_bytes_per_cell_*: tracemalloc peak during one occupancy call / cells",
     }
     out = {"machine": info, "results": results}
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "core.json").write_text(json.dumps(out, indent=2) + "\n")
+    (HERE.parent / "rapp" / "recorded" / "core.json").write_text(json.dumps(out, indent=2) + "\n")
 
     print(f"{'case':30s} {'baseline [s]':>12s} {'rapp [s]':>11s} {'ratio':>9s}")
     for name, slow, fast in rows:

@@ -12,7 +12,7 @@ The second comparison: ``rapp.ik_2link(arm, targets)`` on 10,000 targets of the 
 the batched call writes); every solution must put the tip within 1e-9 m of its target.
 
 Run: ``python benchmarks/bench_ik.py`` -> prints a table, writes
-``benchmarks/results/ik.json``.
+``rapp/recorded/ik.json``.
 """
 
 from __future__ import annotations
@@ -137,7 +137,7 @@ def main():
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
     }
     result["analytic_2link"] = analytic_2link()
-    out = Path(__file__).resolve().parent / "results" / "ik.json"
+    out = Path(__file__).resolve().parent.parent / "rapp" / "recorded" / "ik.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(result, indent=2) + "\n")
     print(f"wrote {out}")

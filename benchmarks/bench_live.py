@@ -9,7 +9,7 @@ one convex polygon); A* runs between two far cells whose shortest path crosses t
 timed as the explorer runs it (``rappLive.occupancyOf`` with one layer per obstacle, as drawn,
 and ``rappLive.Search`` run to the end), after warm-up, and the median, the worst
 and the 95th percentile are recorded with the path length (checked equal to ``rapp.astar``'s) in
-benchmarks/results/live.json.
+rapp/recorded/live.json.
 """
 
 from __future__ import annotations
@@ -111,7 +111,7 @@ def main() -> int:
         "rapp_astar_path_steps": want,
         "goal_ms": 30,
     }
-    out = ROOT / "benchmarks" / "results" / "live.json"
+    out = ROOT / "rapp" / "recorded" / "live.json"
     tmp = out.with_suffix(".json.tmp")
     tmp.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     tmp.replace(out)

@@ -5,7 +5,7 @@ another's) on an arm of n equal links reaching round a disc, with the grid limit
 reads the process's peak resident memory (``ru_maxrss``). The cost of a cell is the peak above
 the process's size after importing rapp and loading the scenario, divided by the number of
 cells. ``rapp.scenario`` accepts a grid only when ``cells * bytes_per_cell(n)`` fits ``MEMORY_BUDGET``; this script checks that the model is
-above every measurement and writes ``benchmarks/results/memory.json``.
+above every measurement and writes ``rapp/recorded/memory.json``.
 
 Run from the repository root: ``python benchmarks/bench_memory.py`` (about two minutes).
 """
@@ -80,7 +80,7 @@ def main() -> None:
         "model_over_measured_min": worst,
         "limits": largest,
     }
-    path = Path(__file__).parent / "results" / "memory.json"
+    path = Path(__file__).resolve().parent.parent / "rapp" / "recorded" / "memory.json"
     path.write_text(json.dumps(result, indent=2) + "\n")
     print(f"model / measured >= {worst:.2f} (must be >= 1); written {path}")
     if worst < 1:

@@ -8,7 +8,7 @@ default resolution). rapp certifies every edge (``rapp.segment_collision_free``)
 OMPL's check is a sampling resolution. Both: 20 seeds, time to a solution, median and max.
 
 Run from the repository root, with OMPL installed (``pip install -r benchmarks/requirements.txt``):
-``python benchmarks/bench_planners.py``. Writes ``benchmarks/results/planners_ompl.json``.
+``python benchmarks/bench_planners.py``. Writes ``rapp/recorded/planners_ompl.json``.
 """
 
 from __future__ import annotations
@@ -99,7 +99,7 @@ def main() -> None:
     result["median_ratio_ompl_over_rapp"] = (result["ompl_rrt_connect"]["median_s"]
                                              / result["rapp_rrt_connect"]["median_s"])
     print(json.dumps(result, indent=2))
-    (Path(__file__).parent / "results" / "planners_ompl.json").write_text(
+    (Path(__file__).resolve().parent.parent / "rapp" / "recorded" / "planners_ompl.json").write_text(
         json.dumps(result, indent=2) + "\n")
 
 

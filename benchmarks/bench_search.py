@@ -18,7 +18,7 @@ round (the machine is shared; best-of-k per method), it times
 
 All three path lengths are asserted equal (and equal to the BFS optimum).
 Prints a table of times and ratios (other / rapp, > 1 means rapp is faster) and
-writes benchmarks/results/search.json. The numba kernel is compiled (or loaded
+writes rapp/recorded/search.json. The numba kernel is compiled (or loaded
 from its cache) before timing; that one-off time is recorded separately.
 """
 
@@ -168,8 +168,7 @@ def run():
         "first_call_s": warmup,
         "timing": f"best-of-{ROUNDS} time.perf_counter seconds, the three methods interleaved per round",
     }
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "search.json").write_text(
+    (HERE.parent / "rapp" / "recorded" / "search.json").write_text(
         json.dumps({"machine": info, "results": results}, indent=2) + "\n")
 
     print(f"{'case':12s} {'steps':>5s} {'expanded':>9s} {'rapp [ms]':>10s} {'scipy [ms]':>11s}"

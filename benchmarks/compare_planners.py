@@ -10,7 +10,7 @@ Usage, from the repository root::
     python benchmarks/compare_planners.py                   # 30 scenarios x 20 seeds, all cores
     python benchmarks/compare_planners.py --scenarios 4 --seeds 3 --out /tmp/small.json
 
-Writes ``rapp/data/planner_comparison.json`` (package data, which chapter 14 reads through
+Writes ``rapp/recorded/planners.json`` (package data, which chapter 14 reads through
 :func:`rapp.compare.recorded_results`): one record per run, and per planner (overall and per
 scenario class) the success rate with its Wilson 95 % interval, and the mean time to a solution
 and path lengths with Student-t 95 % intervals over the successful runs.
@@ -38,7 +38,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ompl_torus import path_of, state, torus_setup  # noqa: E402  OMPL's side, shared
 
 OMPL_PLANNERS = ("ompl_rrt_connect", "ompl_rrt_star")
-RECORDED = Path(__file__).resolve().parent.parent / "rapp" / "data" / "planner_comparison.json"
+RECORDED = Path(__file__).resolve().parent.parent / "rapp" / "recorded" / "planners.json"
 
 
 def ompl_available() -> bool:

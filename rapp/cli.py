@@ -40,10 +40,9 @@ from rapp.errors import (InvalidValue, NoIKSolution, NoPathFound, PathNotFollowa
 from rapp.files import atomic_output
 from rapp import planner, results, scenario
 
-# matplotlib and rapp.plotting (about 1 s to import, twice a whole plan) are imported only where
-# a figure in another format than PNG, or an animation, is made; a PNG is drawn by rapp.raster with
-# Pillow (about 40 ms to import). So `check`, `list`, a plan and a plan with --plot fig.png start
-# fast, and --plot fig.png costs a small fraction of the plan.
+# matplotlib and rapp.plotting (about 1 s to import, twice a whole plan) are imported only when
+# --plot or --animate is given: `check`, `list` and a plan without a figure start fast. A figure
+# costs that import on top of the plan; benchmarks/bench_cli.py records how much.
 
 __all__ = ["main", "build_parser", "printable"]
 
@@ -136,9 +135,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help="scenario file or embedded name (see 'rapp list')")
     pp.add_argument("--out", metavar="RESULT.json", help="write the result as JSON (atomically)")
     pp.add_argument("--plot", metavar="FIG.png",
-                    help="save a figure of the plan (atomically); the extension picks the "
-                    "format: .png is drawn with Pillow (fast); .svg, .pdf, .jpg, ... with "
-                    "matplotlib")
+                    help="save a figure of the plan (atomically), drawn with matplotlib; the "
+                    "extension picks the format: .png, .svg, .pdf, ...")
     pp.add_argument("--animate", metavar="ANIM.gif",
                     help="save an animation of the arm (atomically): .gif, or .mp4 when "
                     "ffmpeg is installed")
@@ -206,8 +204,6 @@ def _plot_formats() -> dict:
 def _check_format(path: str, option: str) -> None:
     ext = os.path.splitext(path)[1].lower()
     if option == "--plot":
-        if ext == ".png":
-            return  # rapp.raster writes it: no need to ask matplotlib (and pay for its import)
         formats = _plot_formats()
         usable = ", ".join("." + e for e, why in sorted(formats.items()) if not why)
         if not ext:
@@ -288,14 +284,6 @@ def _writing(option: str):
         raise InvalidValue(f"cannot write: {e.strerror or e}", field=option) from e
 
 
-def _save_png(p, s, path: str) -> None:
-    """The plan figure as a PNG drawn by :mod:`rapp.raster` (Pillow): matplotlib is not imported."""
-    from rapp import raster
-
-    with _writing("--plot"), atomic_output(path, suffix=".png") as tmp:
-        raster.save_plan(p, s, tmp)
-
-
 def _agg() -> None:
     """matplotlib's file-only backend, chosen before pyplot is imported: no display is opened."""
     import matplotlib
@@ -304,20 +292,19 @@ def _agg() -> None:
 
 
 def _save_plot(p, s, path: str) -> None:
-    """The plan figure in a format other than PNG, drawn and written by matplotlib."""
-    _agg()
-    import matplotlib.pyplot as plt
+    """The plan figure of :func:`rapp.plotting.plot_plan`, on a figure of its own (no pyplot)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
     from rapp import plotting
 
     ext = os.path.splitext(path)[1]
-    fig = plotting.plot_plan(p, s)
-    try:
-        with _writing("--plot"), atomic_output(path, suffix=ext) as tmp:
-            # The target's name decides the format, whatever the temporary file is called.
-            fig.savefig(tmp, dpi=100, format=ext[1:].lower())
-    finally:
-        plt.close(fig)
+    fig = Figure(figsize=plotting.PLAN_FIGSIZE, layout="constrained")
+    FigureCanvasAgg(fig)  # the canvas that writes every format _plot_formats lists
+    plotting.plot_plan(p, s, fig=fig)
+    with _writing("--plot"), atomic_output(path, suffix=ext) as tmp:
+        # The target's name decides the format, whatever the temporary file is called.
+        fig.savefig(tmp, dpi=100, format=ext[1:].lower())
 
 
 def _save_animation(p, s, path: str) -> None:
@@ -390,8 +377,7 @@ def _cmd_plan(args, out, err, caught) -> int:
         with _writing("--out"):
             results.save_result(p, args.out, timings=args.timings)
     if args.plot:
-        png = os.path.splitext(args.plot)[1].lower() == ".png"
-        (_save_png if png else _save_plot)(p, s, args.plot)
+        _save_plot(p, s, args.plot)
     if args.animate:
         _save_animation(p, s, args.animate)
     if not args.quiet:

@@ -29,7 +29,6 @@ Examples
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import platform
@@ -37,7 +36,6 @@ import time
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import asdict, dataclass
 from datetime import date
-from importlib import resources
 
 import numpy as np
 
@@ -48,8 +46,8 @@ __all__ = ["make_scenarios", "scenario_class", "Task", "Record", "planners_for",
            "wilson", "mean_interval", "summarize", "tasks", "run", "recorded_results",
            "RESULTS_FILE", "ASTAR_CELLS", "SAMPLING", "TIME_BUDGET", "RRT_STAR_BUDGET", "STEP"]
 
-#: The recorded comparison, package data (``rapp/data``).
-RESULTS_FILE = "data/planner_comparison.json"
+#: The recorded comparison: package data, ``rapp/recorded/planners.json`` (:func:`rapp.recorded.load`).
+RESULTS_FILE = "recorded/planners.json"
 
 #: A* resolutions (cells per joint) by number of joints: coarse, medium, fine.
 ASTAR_CELLS = {2: (24, 48, 96), 3: (16, 32, 48), 4: (8, 14, 20)}
@@ -317,4 +315,6 @@ def run(scenarios: int = 30, seeds: int = 20, executor: Executor | None = None, 
 
 def recorded_results() -> dict:
     """The recorded comparison (30 scenarios x 20 seeds, every planner), from the package data."""
-    return json.loads(resources.files("rapp").joinpath(RESULTS_FILE).read_text(encoding="utf-8"))
+    from rapp.recorded import load
+
+    return load("planners")

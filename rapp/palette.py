@@ -1,8 +1,8 @@
 """The colours of every rapp figure, in one place and free of matplotlib.
 
-:mod:`rapp.plotting` (matplotlib) and :mod:`rapp.raster` (Pillow) both draw
-with these, so a figure looks the same whichever writer made it, and the
-command line can name a colour without paying for matplotlib's import.
+:mod:`rapp.plotting` draws every figure with these; they live here, free of
+matplotlib, so that code which draws nothing can name a colour without paying
+for matplotlib's import.
 
 The palette is Okabe & Ito's, which stays distinguishable under the common
 colour-vision deficiencies; text is dark grey on white, so that figures read

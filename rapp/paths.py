@@ -179,8 +179,8 @@ def split_at_seam(path, lo, span, wraps):
     Angles of wrapping joints are wrapped into ``[lo, lo + span)``. At a
     crossing the line runs on past the border to where the unwrapped step
     ends, stops (NaN), and resumes from the matching point beyond the opposite
-    border, so no drawn segment jumps across the plot. Both
-    :mod:`rapp.plotting` and :mod:`rapp.raster` draw joint paths with it.
+    border, so no drawn segment jumps across the plot.
+    :mod:`rapp.plotting` draws joint paths with it.
 
     Parameters
     ----------

@@ -34,13 +34,11 @@ from matplotlib.ticker import MaxNLocator
 
 from rapp.collision import closest_point_on_segment
 from rapp.cspace import cell_extent as _extent
-# The colours live in rapp.palette, split_at_seam in rapp.paths and the pi ticks in rapp.raster
-# (no matplotlib there), so that rapp.raster draws the same figure without it; the colours and
-# split_at_seam stay importable from here.
+# The colours live in rapp.palette and split_at_seam in rapp.paths (no matplotlib there), so that
+# code that draws nothing can name them; both stay importable from here.
 from rapp.palette import (ARM, COLORS, EFFECTOR, GOAL, JOINT_COLORS, OBSTACLE, OCCUPIED, PATH,
                           START, TEXT)
 from rapp.paths import even_indices as _subsample, split_at_seam
-from rapp.raster import pi_ticks
 
 __all__ = [
     "COLORS",
@@ -279,8 +277,26 @@ def plot_workspace(arm, ax=None, *, unit="m", color=COLORS["sky"]):
     return _workspace_frame(ax, arm, unit)
 
 
+def pi_ticks(lo: float, hi: float) -> list:
+    """Ticks ``(value, label)`` at the multiples of pi/2 within ``[lo, hi]``; empty if fewer than 2.
+
+    Examples
+    --------
+    >>> [label for _, label in pi_ticks(-np.pi, np.pi)]
+    ['−π', '−π/2', '0', 'π/2', 'π']
+    >>> pi_ticks(0.0, 1.0)
+    []
+    """
+    k = np.arange(np.ceil(lo / (np.pi / 2) - 1e-9), np.floor(hi / (np.pi / 2) + 1e-9) + 1)
+    names = {-4: "−2π", -3: "−3π/2", -2: "−π", -1: "−π/2", 0: "0", 1: "π/2", 2: "π",
+             3: "3π/2", 4: "2π"}
+    if len(k) < 2:
+        return []
+    return [(float(i * np.pi / 2), names.get(int(i), f"{i / 2:g}π")) for i in k]
+
+
 def _pi_ticks(axis, lo, hi):
-    """Ticks at multiples of pi/2 within [lo, hi], labelled with pi (as rapp.raster's figure)."""
+    """Ticks at multiples of pi/2 within [lo, hi], labelled with pi."""
     ticks = pi_ticks(lo, hi)
     if ticks:
         axis.set_ticks([v for v, _ in ticks], [label for _, label in ticks])
@@ -371,6 +387,10 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
     return style_axes(ax)
 
 
+#: Size (inches) of :func:`plot_plan`'s figure; ``python -m rapp plan --plot`` draws at 100 dpi.
+PLAN_FIGSIZE = (10.5, 5.0)
+
+
 def plot_plan(plan, scenario=None, *, fig=None, ghosts=6, unit="m", expanded=None, axes=None):
     """C-space beside workspace, the plan drawn in both.
 
@@ -406,7 +426,7 @@ def plot_plan(plan, scenario=None, *, fig=None, ghosts=6, unit="m", expanded=Non
     >>> plt.close(fig)
     """
     if axes is None:
-        fig = _figure(fig, (10.5, 5.0))
+        fig = _figure(fig, PLAN_FIGSIZE)
         fig.clear()
         fig.patch.set_facecolor("white")
         ax_c, ax_w = subplots(fig, 1, 2)

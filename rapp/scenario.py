@@ -92,7 +92,7 @@ MAX_LINKS = 16
 MEMORY_BUDGET = 1.5e9
 #: Peak bytes per grid cell of the whole pipeline (occupancy, certified cells, search,
 #: shortcut, timing, verification), measured by ``benchmarks/bench_memory.py`` and recorded
-#: in ``benchmarks/results/memory.json``; an arm with n joints needs at most about
+#: in ``rapp/recorded/memory.json``; an arm with n joints needs at most about
 #: ``bytes_per_cell(n)`` (the search's neighbour tables grow with n, hence the square).
 BYTES_PER_CELL_FIXED = 60
 BYTES_PER_CELL_PER_JOINT = 40

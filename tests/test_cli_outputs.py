@@ -120,9 +120,7 @@ def test_two_outputs_through_a_symlink_are_refused(capsys, tmp_path, no_planning
 
 @pytest.mark.parametrize("name", ["f.png", "f.svg"])
 def test_plot_interrupted_while_writing_keeps_the_old_file(capsys, tmp_path, monkeypatch, name):
-    # A PNG is written by Pillow (rapp.raster), any other format by matplotlib.
     from matplotlib.figure import Figure
-    from PIL import Image
 
     fig = tmp_path / name
     fig.write_bytes(b"the previous figure")
@@ -132,7 +130,6 @@ def test_plot_interrupted_while_writing_keeps_the_old_file(capsys, tmp_path, mon
             fh.write(b"\x89PNG half")
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(Image.Image, "save", half_written)
     monkeypatch.setattr(Figure, "savefig", half_written)
     code, out, err = run(capsys, "plan", "default", "--plot", str(fig), "-q")
     assert code == 130 and one_line(err) == "rapp: interrupted"
@@ -173,7 +170,7 @@ def test_interrupt_inside_the_animation_writer_is_130(capsys, tmp_path, monkeypa
 
 
 @pytest.mark.parametrize("where,name", [
-    ("rapp.planner.plan", "f.png"), ("rapp.raster.render_plan", "f.png"),
+    ("rapp.planner.plan", "f.png"), ("rapp.plotting.plot_plan", "f.png"),
     ("rapp.plotting.plot_plan", "f.svg"), ("rapp.scenario.load_scenario", "f.png")])
 def test_an_error_raised_while_handling_an_interrupt_is_130(capsys, tmp_path, monkeypatch, where,
                                                             name):
@@ -194,15 +191,13 @@ def test_a_failed_write_names_the_option_and_leaves_nothing(capsys, tmp_path, mo
     import errno
 
     from matplotlib.figure import Figure
-    from PIL import Image
 
     def disk_full(self, fname, *a, **k):
         with open(fname, "wb") as fh:
             fh.write(b"\x89PNG half")
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), fname)
 
-    monkeypatch.setattr(Image.Image, "save", disk_full)  # a PNG: rapp.raster, with Pillow
-    monkeypatch.setattr(Figure, "savefig", disk_full)  # other formats: matplotlib
+    monkeypatch.setattr(Figure, "savefig", disk_full)
     code, out, err = run(capsys, "plan", "default", "--plot", str(tmp_path / name), "-q")
     assert code == 2
     assert one_line(err) == f"rapp: error: --plot: cannot write: {os.strerror(errno.ENOSPC)}"
@@ -449,3 +444,20 @@ def test_a_closed_pipe_ends_quietly(tmp_path):
     err = proc.stderr.read().decode()
     assert proc.wait(timeout=120) == 141
     assert err == ""
+
+
+def test_plot_png_is_the_book_figure_drawn_without_pyplot(capsys, tmp_path):
+    # One renderer: rapp.plotting.plot_plan, at PLAN_FIGSIZE and 100 dpi, on a figure of its own.
+    import matplotlib.pyplot as plt
+    from PIL import Image
+
+    from rapp.plotting import PLAN_FIGSIZE
+
+    open_before = plt.get_fignums()
+    fig = tmp_path / "f.png"
+    code, out, err = run(capsys, "plan", "default", "--plot", str(fig), "-q")
+    assert code == 0, err
+    with Image.open(fig) as image:
+        assert image.format == "PNG"
+        assert image.size == tuple(round(100 * inches) for inches in PLAN_FIGSIZE)
+    assert plt.get_fignums() == open_before  # no pyplot figure made, none left open

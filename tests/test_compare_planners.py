@@ -74,7 +74,7 @@ def test_the_command_line_runs_rapps_planners_through_the_package():
     a, b = cli.run_task(task), cp.run_task(task)
     assert a.success and (a.planner, a.length_rad, a.shortcut_length_rad) == (
         b.planner, b.length_rad, b.shortcut_length_rad)
-    assert cli.RECORDED.is_file() and cli.RECORDED.parent.name == "data"
+    assert cli.RECORDED.is_file() and cli.RECORDED.parent.name == "recorded"
 
 
 def test_the_recorded_results_ship_with_the_package():

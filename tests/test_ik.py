@@ -432,6 +432,7 @@ def test_numeric_ok_is_exactly_the_tip_check(arm, tol):
     assert ok.mean() > 0.5
 
 
+@pytest.mark.slow
 @settings(max_examples=30, deadline=None)
 @given(st.integers(3, 6), st.integers(0, 2**31 - 1), st.sampled_from([1e-15, 1e-12, 1e-9]),
        st.booleans())

@@ -80,6 +80,7 @@ def check_goal_set(arm, goal, discs, free, count, cap=64):
     assert np.all(d[~np.eye(len(free), dtype=bool)] > 1e-6)
 
 
+@pytest.mark.slow
 def test_constructed_3link_goals_always_find_their_free_solution():
     # Before the dense search, 28 of these 50 cases (224 of 400 with seed 1)
     # ended in "every one of the 32 IK solutions ... collides".
@@ -95,6 +96,7 @@ def test_constructed_3link_goals_always_find_their_free_solution():
     assert np.mean(free_fraction) < 0.25
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n", [4, 5])
 def test_constructed_goals_with_more_links(n):
     # Before: 7 of the 10 four-link and 6 of the 10 five-link cases were false "no path".

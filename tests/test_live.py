@@ -164,7 +164,7 @@ def test_astar_crosses_the_seam_and_stops_at_walls(page):
 
 
 # The 30 ms goal (180 x 180, five obstacles, and A* across it) is a speed goal: it is measured in
-# benchmarks/bench_live.py (results/live.json), never in a timed unit test.
+# benchmarks/bench_live.py (rapp/recorded/live.json), never in a timed unit test.
 
 
 # ------------------------------------------------------------------ the same explorer in JupyterLab

@@ -293,6 +293,7 @@ def test_rrt_with_a_wide_goal_region_ends_exactly_on_the_goal():
         assert p.report.ok and p.report["goal reached"].value <= 1e-9
 
 
+@pytest.mark.slow
 def test_defaults_plan_a_nine_link_arm():
     n = 9
     d = {"arm": {"link_lengths": [2.0 / n] * n}, "start": [0.0] * n,

@@ -95,6 +95,7 @@ def test_palette_is_distinct_and_visible_on_white():
 # ----------------------------------------------------------------------------- arm, obstacles
 
 
+@pytest.mark.slow
 @settings(max_examples=30, deadline=None)
 @given(st.lists(st.floats(0.2, 3.0), min_size=1, max_size=4).flatmap(
     lambda L: st.tuples(st.just(L), st.lists(st.floats(-4, 4), min_size=len(L), max_size=len(L)))))

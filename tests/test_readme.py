@@ -31,3 +31,10 @@ def test_readme_names_the_two_commands_ci_runs():
     ci = (Path(__file__).resolve().parents[1] / ".ci" / "run").read_text(encoding="utf-8")
     for command in ("make book", "make test"):
         assert command in README and command in ci
+
+
+def test_readme_documents_the_fast_tier_that_make_check_runs():
+    makefile = (Path(__file__).resolve().parents[1] / "Makefile").read_text(encoding="utf-8")
+    recipe = re.search(r"^check:.*\n\t(.*)$", makefile, re.M)
+    assert recipe and recipe.group(1).endswith('-m pytest -m "not slow"')
+    assert "make check" in README and 'pytest -m "not slow"' in README

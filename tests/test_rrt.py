@@ -31,6 +31,7 @@ START2 = np.array([0.0, 0.0])
 GOAL2 = np.array([2.3, 0.4])  # reaching the goal means swinging past the circle
 
 
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None)
 @given(seed=st.integers(0, 10**6), step=st.floats(0.1, 0.6), steer=st.sampled_from(["step", "fraction"]))
 def test_path_is_collision_free_and_joins_start_to_goal(seed, step, steer):

@@ -46,6 +46,7 @@ problems = st.sampled_from([
 ])
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(problem=problems, seed=st.integers(0, 10**6), step=st.floats(0.1, 0.9),
        steer=st.sampled_from(["step", "fraction"]), bias=st.sampled_from([0.0, 0.1, 0.5, 1.0]),

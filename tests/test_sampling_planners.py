@@ -58,7 +58,8 @@ def problems(draw):
     return arm, obstacles, start, goal
 
 
-@pytest.mark.parametrize("name", sorted(PLANNERS))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "rrt_star" else n
+                                  for n in sorted(PLANNERS)])  # RRT*: seconds per example
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(problem=problems(), seed=st.integers(0, 1000))
 def test_every_returned_path_is_collision_free_and_joins_start_to_goal(name, problem, seed):
@@ -78,7 +79,8 @@ def test_every_returned_path_is_collision_free_and_joins_start_to_goal(name, pro
     assert res.cost == pytest.approx(np.linalg.norm(np.diff(res.path, axis=0), axis=1).sum())
 
 
-@pytest.mark.parametrize("name", sorted(PLANNERS))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "rrt_star" else n
+                                  for n in sorted(PLANNERS)])
 def test_same_seed_same_result(name):
     s = rapp.load_scenario("rectangles")
     runs = [PLANNERS[name](s.arm, s.start_array, s.goal_q, s.obstacles, 7) for _ in range(2)]
@@ -108,6 +110,7 @@ def test_the_time_budget_stops_a_run():
     assert not res.success and 0 < res.iterations < 10**7
 
 
+@pytest.mark.slow
 def test_rrt_star_improves_with_more_iterations():
     s = rapp.load_scenario("default")
     goal = rapp.ik(s.arm, s.goal_xy, q0=s.start_array)[0]
@@ -118,6 +121,7 @@ def test_rrt_star_improves_with_more_iterations():
     assert long.cost <= short.cost + 1e-12
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["rrt_connect", "rrt_star", "prm"])
 @pytest.mark.parametrize("scenario", ["default", "srs_typical", "rectangles", "three_link"])
 def test_every_embedded_scenario_plans_with_every_sampling_planner(name, scenario):

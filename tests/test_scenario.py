@@ -393,10 +393,8 @@ def test_the_grid_limit_follows_the_memory_model():
     for n in range(1, 9):
         assert max_cells(n) * sc.bytes_per_cell(n) <= sc.MEMORY_BUDGET < 2e9
     # The model is above every measurement of benchmarks/bench_memory.py.
-    import json
-    from pathlib import Path
-    rec = json.loads((Path(__file__).parent.parent / "benchmarks" / "results" / "memory.json")
-                     .read_text())
+    from rapp import recorded
+    rec = recorded.load("memory")
     for case in rec["cases"]:
         assert sc.bytes_per_cell(case["joints"]) >= case["bytes_per_cell"], case
         assert case["peak_mb"] < 2000

@@ -61,6 +61,7 @@ def test_seed003_printed_jacobian_has_sign_errors():
     assert sp.simplify(sp.diff(y, t2) + l2 * sp.sin(t1 + t2) + l3 * sp.sin(t1 + t2 + t3)) == 0
 
 
+@pytest.mark.slow
 def test_ik_2link_symbolic_law_of_cosines_and_back_substitution():
     sol = ik_2link_symbolic()
     x, y, l1, l2 = sol["symbols"]
@@ -80,6 +81,7 @@ def test_ik_2link_symbolic_law_of_cosines_and_back_substitution():
         assert float(sol["elbow_down"][1].subs(sub)) >= 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("make, order", [(cubic_coefficients_symbolic, 3),
                                          (quintic_coefficients_symbolic, 5)])
 def test_boundary_value_solutions_satisfy_their_system(make, order):

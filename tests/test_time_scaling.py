@@ -156,6 +156,7 @@ def test_triangular_when_the_move_is_short():
     assert edge.breakpoints.tolist() == [0.0, 2.0, 4.0]
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None)
 @given(moves())
 def test_trapezoidal_move_is_minimum_time_and_synchronized(move):
@@ -205,6 +206,7 @@ def test_slowest_joint_timing_alone_would_break_another_joint():
 # --------------------------------------------------------------------------- paths
 
 
+@pytest.mark.slow
 @settings(max_examples=100, deadline=None)
 @given(paths())
 def test_trapezoidal_path_stops_at_every_waypoint_within_limits(case):
@@ -337,6 +339,7 @@ def test_cubic_and_quintic_minimum_durations_derived_with_sympy():
         assert minimum_duration([p0, pf], "quintic", vm, am) == pytest.approx(f5(d, vm, am), rel=1e-12)
 
 
+@pytest.mark.slow
 @settings(max_examples=100, deadline=None)
 @given(moves(max_joints=3))
 def test_polynomial_minimum_duration_of_one_move_is_the_slowest_joints(move):

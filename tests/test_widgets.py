@@ -41,6 +41,7 @@ def move(widget, name, value):
     return control.values[slider.index]
 
 
+@pytest.mark.slow
 def test_arm_explorer_views_follow_the_model():
     w = W.arm_explorer(ARM, OBS, cells=24, steps=13)
     sliders = W.sliders_of(w)
@@ -58,6 +59,7 @@ def test_arm_explorer_views_follow_the_model():
     assert selected(w) == (svg, status)  # the same position shows the same view
 
 
+@pytest.mark.slow
 def test_arm_explorer_three_links_keeps_limits_and_at_most_400_views():
     arm = Arm([1.0, 0.7, 0.4], [None, (-2.0, 2.0), None])
     w = W.arm_explorer(arm, OBS, q=[0.3, 5.0, 0.0])
@@ -69,6 +71,7 @@ def test_arm_explorer_three_links_keeps_limits_and_at_most_400_views():
     assert np.prod([len(s.options) for s in sliders.values()]) <= 400
 
 
+@pytest.mark.slow
 def test_collision_explorer_flags_the_mis_false_collision():
     # 9 values per slider, 0.5 m apart (81 views, not the default 17 x 17 = 289): every view is
     # drawn by the same code whatever the resolution, and the positions this test visits are

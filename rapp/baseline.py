@@ -8,8 +8,17 @@
   ignores the wrap of the torus (the grid's neighbours do wrap).
 
 This is what rapp's vectorized ``occupancy`` and heap-based ``astar`` are timed
-against. It is deliberately not optimised; it must still be *correct* so that
-the comparison is fair (bench_core.py checks that both grids agree).
+against (``benchmarks/bench_core.py``, recorded in :mod:`rapp.recorded`). It is
+deliberately not optimised; it must still be *correct* so that the comparison is
+fair (the benchmark checks that both grids agree). It lives in the package so that
+the performance chapter can run and count it with only ``rapp`` installed; nothing
+else in ``rapp`` uses it.
+
+Examples
+--------
+>>> occ = naive_occupancy([1.0, 1.0], [(1.75, 0.75, 0.6)], 8)
+>>> occ.shape, bool(occ.any()), bool(occ.all())
+((8, 8), True, False)
 """
 
 from __future__ import annotations
@@ -19,7 +28,19 @@ import itertools
 import numpy as np
 
 
+__all__ = ["naive_segment_hits_circle", "naive_forward_kinematics", "naive_occupancy",
+           "naive_greedy"]
+
+
 def naive_segment_hits_circle(a, b, c, r):
+    """Whether segment ``a``-``b`` meets the disc of centre ``c`` and radius ``r`` (touching counts).
+
+    Examples
+    --------
+    >>> a, b = np.array([0.0, 0.0]), np.array([2.0, 0.0])
+    >>> bool(naive_segment_hits_circle(a, b, np.array([1.0, 0.5]), 0.5))
+    True
+    """
     ab = b - a
     den = np.dot(ab, ab)
     t = np.dot(c - a, ab) / den if den > 0 else 0.0
@@ -29,6 +50,13 @@ def naive_segment_hits_circle(a, b, c, r):
 
 
 def naive_forward_kinematics(lengths, q):
+    """Joint positions, base first, of one configuration ``q``: a Python loop over the links.
+
+    Examples
+    --------
+    >>> [p.round(6).tolist() for p in naive_forward_kinematics([1.0, 1.0], [0.0, np.pi / 2])]
+    [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]
+    """
     pts = [np.array([0.0, 0.0])]
     phi = 0.0
     for L, qi in zip(lengths, q):
@@ -38,7 +66,11 @@ def naive_forward_kinematics(lengths, q):
 
 
 def naive_occupancy(lengths, circles, M):
-    """``circles``: list of ``(cx, cy, r)``. Every axis wraps: theta_i = 2 pi i / M - pi."""
+    """The C-space grid, one cell at a time: ``circles`` is a list of ``(cx, cy, r)``.
+
+    Every axis wraps: theta_i = 2 pi i / M - pi, the angles of ``rapp.JointGrid(arm, M)``.
+    See the module's example.
+    """
     n = len(lengths)
     theta = [2 * np.pi * i / M - np.pi for i in range(M)]
     obs = [(np.array([cx, cy]), r) for cx, cy, r in circles]
@@ -55,7 +87,15 @@ def naive_occupancy(lengths, circles, M):
 
 
 def naive_greedy(occ, start, goal):
-    """Greedy best-first on a 2-D torus grid; returns a list of index tuples or None."""
+    """Greedy best-first on a 2-D torus grid; returns a list of index tuples or None.
+
+    Examples
+    --------
+    >>> occ = np.zeros((6, 6), dtype=bool); occ[1:5, 3] = True
+    >>> path = naive_greedy(occ, (2, 1), (2, 5))
+    >>> path[0], path[-1], all(not occ[c] for c in path)
+    ((2, 1), (2, 5), True)
+    """
     M0, M1 = occ.shape
     ii, jj = np.indices(occ.shape)
     h = np.abs(ii - goal[0]) + np.abs(jj - goal[1])  # ignores the wrap

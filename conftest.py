@@ -1,4 +1,5 @@
-"""Test configuration shared by every test module.
+"""Test configuration shared by every test, doctest and notebook (at the root, so that it holds
+however pytest is started: `pytest`, `pytest notebooks/05_astar.ipynb`, `pytest -m "not slow"`).
 
 Under CI (``CI`` set in the environment, as ``.ci/run`` does) hypothesis runs
 derandomized: the same examples every run, so a landing never depends on luck.
@@ -8,8 +9,10 @@ the working tree (a test run leaves the checkout exactly as it found it).
 """
 
 import os
+import sys
 from pathlib import Path
 
+import pytest
 from hypothesis import settings
 from hypothesis.configuration import set_hypothesis_home_dir
 from hypothesis.database import DirectoryBasedExampleDatabase
@@ -21,8 +24,22 @@ settings.register_profile("ci", derandomize=True, print_blob=True, database=None
 settings.load_profile("ci" if os.environ.get("CI") else "local")
 
 
+#: Doctests that take seconds (a docstring cannot carry a mark): they run in `make test` only.
+SLOW_DOCTESTS = {
+    "rapp.plotting.save_gif",              # writes a GIF, frame by frame
+    "rapp.widgets.rrt_explorer",           # grows and draws every step of an RRT
+    "rapp.cases.rrt_report.compare_with_astar",
+    "rapp.widgets.arm_explorer",           # renders every view of the explorer
+}
+
+
+@pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection reads the marks
 def pytest_collection_modifyitems(config, items):
-    """Longest files first, so that two workers finish together.
+    """Mark the slow tiers, then put the longest files first, so that two workers finish together.
+
+    Every notebook cell, every JupyterLab browser test and the doctests of ``SLOW_DOCTESTS`` are
+    marked ``slow``: ``make check`` (``pytest -m "not slow"``) leaves them out, ``make test`` runs
+    them. Other slow tests carry ``@pytest.mark.slow`` themselves.
 
     pytest-xdist (``--dist loadfile --no-loadscope-reorder``) hands out whole files in this
     order. The JupyterLab tests (two minutes in one file) and the notebooks (a kernel each)
@@ -37,4 +54,16 @@ def pytest_collection_modifyitems(config, items):
             return 1
         return 2
 
+    slow = pytest.mark.slow
+    for item in items:
+        path = str(item.fspath)
+        if path.endswith(".ipynb") or path.endswith("test_jupyterlab.py") or item.name in SLOW_DOCTESTS:
+            item.add_marker(slow)
     items.sort(key=weight)  # stable: each file's items keep their order
+
+
+# ---- notebooks run alone (tests/notebook_kernels.py) ------------------------------------------
+sys.path.insert(0, str(Path(__file__).resolve().parent / "tests"))
+import notebook_kernels  # noqa: E402  one module object, shared with the tests that read it
+
+notebook_kernels.install()
