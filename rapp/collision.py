@@ -274,7 +274,7 @@ def link_clearances(arm, q, obstacles) -> np.ndarray:
     >>> link_clearances(Arm([1.0, 1.0]), [0.0, 0.0], [Circle((1.5, 1.0), 0.5)]).tolist()
     [0.6180339887498949, 0.5]
     """
-    k = collision_kernel.kernels()
+    k = collision_kernel.loaded(np.size(q) // arm.n)
     if k is None:
         from rapp import reference
 
@@ -332,7 +332,7 @@ def collides(arm, q, obstacles) -> np.ndarray:
     >>> collides(arm, [[0.4, 0.0], [np.pi / 2, 0.0], [-2.4, 0.0]], obs).tolist()
     [True, False, True]
     """
-    k = collision_kernel.kernels()
+    k = collision_kernel.loaded(np.size(q) // arm.n)
     if k is None:
         from rapp import reference
 
@@ -459,7 +459,7 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     >>> segment_collision_free(arm, [[0.0, 0.0], [0.0, 0.0]], [[0.5, 0.0], [3.0, 0.0]], obs).tolist()
     [True, False]
     """
-    k = collision_kernel.kernels()
+    k = collision_kernel.loaded(max(np.size(q0), np.size(q1)) // arm.n)
     if k is None:
         from rapp import reference
 

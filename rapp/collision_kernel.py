@@ -29,13 +29,14 @@ from __future__ import annotations
 
 import functools
 import math
+import sys
 from collections import namedtuple
 
 import numpy as np
 
 from rapp.obstacles import Circle, Polygon
 
-__all__ = ["pack", "kernels", "Kernels"]
+__all__ = ["pack", "kernels", "loaded", "Kernels", "LOAD_FROM"]
 
 #: The compiled functions (see :func:`kernels`).
 Kernels = namedtuple("Kernels", "collides clearances certify")
@@ -263,6 +264,29 @@ def _certify(lengths, q0, dq, bounds, circles, pv, pn, pr, offsets, min_interval
                 hi[r] = nhi[r]
             count = kept
     return out
+
+
+#: Calls with at least this many configurations (or edges) load the compiled kernel; smaller
+#: ones use it only once numba is imported (:func:`loaded`). Importing numba costs a few
+#: tenths of a second, more than a command that checks a few hundred configurations spends
+#: in numpy: ``python -m rapp plan`` should not pay it for a 2-link A* plan.
+LOAD_FROM = 4096
+
+
+def loaded(work: int = 0):
+    """:func:`kernels` if numba is already imported or ``work >= LOAD_FROM``, else None.
+
+    The answers are the same either way (the numpy versions of :mod:`rapp.reference`);
+    only the time differs. The sampling planners call :func:`kernels` themselves.
+
+    Examples
+    --------
+    >>> loaded(LOAD_FROM) is kernels()
+    True
+    """
+    if work >= LOAD_FROM or "numba" in sys.modules:
+        return kernels()
+    return None
 
 
 @functools.cache
