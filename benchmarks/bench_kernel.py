@@ -6,8 +6,9 @@ discs and a rectangle):
 * ``rapp.collides`` for one configuration: the compiled kernel (``rapp.collision_kernel``)
   against the numpy version it replaced (``rapp.reference.collides``), alternately; also a
   batch of 10,000 configurations, and ``segment_collision_free`` for one short edge.
-* ``rrt_connect`` and ``prm`` over 20 seeds: with the kernel and with the numpy versions
-  (the kernel switched off as when numba is missing), the same seeds growing the same trees
+* ``rrt_connect`` and ``prm`` over 20 seeds: with the kernel (and PRM's compiled Dijkstra)
+  and with the numpy versions and PRM's Python Dijkstra (switched off as when numba is
+  missing), the same seeds growing the same trees
   (checked node by node); ratio of the summed times.
 * Start-up: ``python -m rapp plan`` (the default scenario) against ``python -c "import
   numpy"``, alternately, CPU seconds (user + sys) of each finished process, median of 7.
@@ -20,6 +21,7 @@ recorded before and after. Run from the repository root:
 from __future__ import annotations
 
 import datetime
+import importlib
 import json
 import os
 import platform
@@ -41,6 +43,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_core import LINKS3, OBSTACLES3, START3, GOAL3  # noqa: E402  the problem, defined once
 
 HERE = Path(__file__).resolve().parent
+PRM = importlib.import_module("rapp.prm")  # the module (rapp.prm is the function)
 SEEDS = 20
 
 
@@ -65,11 +68,11 @@ class numpy_only:
     """Within ``with numpy_only():`` rapp runs the numpy versions, as when numba is missing."""
 
     def __enter__(self):
-        self.saved = collision_kernel.kernels
-        collision_kernel.kernels = lambda: None
+        self.saved = collision_kernel.kernels, PRM._compiled_dijkstra
+        collision_kernel.kernels = PRM._compiled_dijkstra = lambda: None
 
     def __exit__(self, *exc):
-        collision_kernel.kernels = self.saved
+        collision_kernel.kernels, PRM._compiled_dijkstra = self.saved
 
 
 def single_checks(arm, obstacles):

@@ -338,10 +338,13 @@ def collides(arm, q, obstacles) -> np.ndarray:
 
         return reference.collides(arm, q, obstacles)
     packed = pack(obstacles)
-    q = _checked(arm, q)
-    if q.ndim == 1:
-        return k.collides(arm.lengths, q[None, :], *packed)[0]
-    return k.collides(arm.lengths, q.reshape(-1, arm.n), *packed).reshape(q.shape[:-1])
+    n = arm.n
+    if type(q) is not np.ndarray or q.dtype != np.float64 or not q.ndim or q.shape[-1] != n:
+        q = arm.check_q(q)
+    hit, ok = k.collides(arm.lengths, q.reshape(-1, n), *packed, MAX_ANGLE)
+    if not ok:  # the kernel checks the angles' range; the message is check_q's
+        arm.check_q(q)
+    return hit[0] if q.ndim == 1 else hit.reshape(q.shape[:-1])
 
 
 def _checked(arm, q):

@@ -21,7 +21,7 @@ Examples
 >>> from rapp import Arm, Circle
 >>> k = kernels()
 >>> packed = pack([Circle((1.5, 0.0), 0.2)])
->>> k is None or k.collides(np.array([1.0, 1.0]), np.zeros((1, 2)), *packed).tolist() == [True]
+>>> k is None or k.collides(np.array([1.0, 1.0]), np.zeros((1, 2)), *packed, 1e100)[0].tolist() == [True]
 True
 """
 
@@ -58,10 +58,13 @@ def pack(obstacles) -> tuple:
     >>> c.tolist(), pv.shape, off.tolist()
     ([[0.0, 1.0, 0.5]], (4, 2), [0, 4])
     """
-    obstacles = tuple(obstacles)
+    if not isinstance(obstacles, (list, tuple)):
+        obstacles = tuple(obstacles)
+    # The cache holds the obstacles themselves, so while an entry lives no other object can
+    # take one of its ids: equal ids are the same obstacles.
     key = tuple(map(id, obstacles))
     hit = _PACKED.get(key)
-    if hit is not None and hit[0] == obstacles and all(a is b for a, b in zip(hit[0], obstacles)):
+    if hit is not None:
         return hit[1]
     circles, pv, pn, pr, offsets = [], [], [], [], [0]
     for ob in obstacles:
@@ -86,7 +89,7 @@ def pack(obstacles) -> tuple:
         arr.setflags(write=False)
     if len(_PACKED) >= 64:
         _PACKED.clear()
-    _PACKED[key] = (obstacles, out)
+    _PACKED[key] = (tuple(obstacles), out)
     return out
 
 
@@ -177,10 +180,15 @@ def _link_clearance(ax, ay, bx, by, circles, pv, pn, pr, offsets):
     return d
 
 
-def _collides(lengths, q, circles, pv, pn, pr, offsets):
-    """Collision of every configuration of ``q`` ``(m, n)``: bool ``(m,)``."""
+def _collides(lengths, q, circles, pv, pn, pr, offsets, max_abs):
+    """Collision of every configuration of ``q`` ``(m, n)``: bool ``(m,)``, and whether every
+    angle is finite and at most ``max_abs`` in magnitude (else the answer means nothing)."""
     m, n = q.shape
     out = np.zeros(m, dtype=np.bool_)
+    for i in range(m):
+        for j in range(n):
+            if not abs(q[i, j]) <= max_abs:  # also False for NaN
+                return out, False
     pts = np.empty((n + 1, 2))
     for i in range(m):
         _fk(lengths, q[i], pts)
@@ -189,7 +197,7 @@ def _collides(lengths, q, circles, pv, pn, pr, offsets):
                           circles, pv, pn, pr, offsets):
                 out[i] = True
                 break
-    return out
+    return out, True
 
 
 def _clearances(lengths, q, circles, pv, pn, pr, offsets):

@@ -8,6 +8,7 @@ numba everything falls back to the numpy versions.
 
 from __future__ import annotations
 
+import importlib
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -17,6 +18,8 @@ import rapp
 from rapp import collision_kernel, reference
 from rapp.collision import collides, link_clearances, segment_collision_free
 from rapp.prm import prm
+
+prm_module = importlib.import_module("rapp.prm")
 from rapp.rrt import rrt
 from rapp.rrt_connect import rrt_connect
 from rapp.rrt_star import rrt_star
@@ -122,6 +125,24 @@ def test_the_certification_limit_is_raised_with_the_numpy_message():
 
 def _without_numba(monkeypatch):
     monkeypatch.setattr(collision_kernel, "kernels", lambda: None)
+    monkeypatch.setattr(prm_module, "_compiled_dijkstra", lambda: None)
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(st.integers(2, 200), st.integers(0, 2**32 - 1))
+def test_prm_compiled_dijkstra_is_its_python_loop(n, seed):
+    # Weights drawn from {1, 2, uniform}: many exact ties, which both must break alike.
+    rng = np.random.default_rng(seed)
+    edges = {}
+    for _ in range(int(rng.integers(0, 6 * n))):
+        i, j = sorted(int(x) for x in rng.integers(0, n, 2))
+        if i != j:
+            edges[(i, j)] = float(rng.choice([1.0, 2.0, rng.uniform()]))
+    targets = rng.integers(0, n, 3)
+    parent, hit = prm_module._dijkstra(n, edges, [0], targets)
+    fast_parent, fast_hit = prm_module._shortest(n, edges, [0], targets)
+    assert fast_hit == hit
+    assert np.array_equal(fast_parent, parent)
 
 
 @pytest.mark.parametrize("planner", [rrt_connect, prm, rrt, rrt_star])
