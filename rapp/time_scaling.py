@@ -31,6 +31,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -290,6 +291,32 @@ class TrapezoidMoves:
         return q, qd, qdd
 
 
+def _one_move(a, b, vmax, amax):
+    """``(ends, velocity)`` of one move in Python floats, the operations of :func:`_timing`
+    and :func:`_pieces` one by one (so the same floats); None where a value is not finite
+    (the numpy path then raises its message)."""
+    tv = ta2 = 0.0
+    for x0, x1, v, acc in zip(a, b, vmax, amax):
+        d = abs(x1 - x0)
+        tv = max(tv, d / v)
+        ta2 = max(ta2, d / acc)
+    if not (math.isfinite(tv) and math.isfinite(ta2)):
+        return None
+    if tv * tv > ta2:
+        tb = ta2 / tv
+        tc = max(tv - tb, 0.0)
+    else:
+        tb, tc = math.sqrt(ta2), 0.0
+    e1 = clock_after(0.0, tb)
+    e2 = clock_after(e1, tc) if tc > 0 else e1
+    e3 = clock_after(e2, tb)
+    den = 0.5 * e1 + (e2 - e1) + 0.5 * (e3 - e2)
+    vel = [(x1 - x0) / den for x0, x1 in zip(a, b)]
+    if not (math.isfinite(e3) and all(map(math.isfinite, vel))):
+        return None
+    return (e1, e2, e3), vel
+
+
 def trapezoidal_moves(p0, pf, vmax, amax) -> TrapezoidMoves:
     """Many :func:`trapezoidal` moves at once, as plain arrays: the same durations, no objects.
 
@@ -332,6 +359,11 @@ def trapezoidal_moves(p0, pf, vmax, amax) -> TrapezoidMoves:
                          f"time), move {int(np.argmax(still))} does not move")
     n = a.shape[1]
     vmax, amax = _limit(vmax, "vmax", n), _limit(amax, "amax", n)
+    if a.shape[0] == 1:  # one move: Python floats cost less than a dozen numpy calls
+        one = _one_move(a[0].tolist(), b[0].tolist(), vmax.tolist(), amax.tolist())
+        if one is not None:
+            ends, vel = one
+            return TrapezoidMoves(a, b, np.array([ends]), np.array([vel]))
     tb, tc = _timing(b - a, vmax, amax)
     msg = "the waypoints move too far for vmax and amax: the duration overflows float64"
     with np.errstate(all="ignore"):
