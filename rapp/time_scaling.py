@@ -317,6 +317,39 @@ def _one_move(a, b, vmax, amax):
     return (e1, e2, e3), vel
 
 
+def _floats(x):
+    """A vector (list, tuple or 1-D array) or a number as a list of Python floats, else None."""
+    if isinstance(x, np.ndarray):
+        if x.ndim > 1:
+            return None
+        x = x.tolist()
+    if isinstance(x, (int, float)) and not isinstance(x, bool):
+        return [float(x)]
+    if not isinstance(x, (list, tuple)) or not x:
+        return None
+    try:
+        out = [float(v) for v in x]
+    except (TypeError, ValueError):
+        return None
+    return out if all(map(math.isfinite, out)) else None
+
+
+def _one_move_checked(p0, pf, vmax, amax):
+    """One well-formed move timed in Python floats, or None: the numpy path then times it (or
+    refuses it with its message)."""
+    a, b, v, acc = _floats(p0), _floats(pf), _floats(vmax), _floats(amax)
+    if a is None or b is None or v is None or acc is None or len(a) != len(b) or a == b:
+        return None
+    n = len(a)
+    if len(v) not in (1, n) or len(acc) not in (1, n) or min(v) <= 0 or min(acc) <= 0:
+        return None
+    one = _one_move(a, b, v * n if len(v) == 1 else v, acc * n if len(acc) == 1 else acc)
+    if one is None:
+        return None
+    ends, vel = one
+    return TrapezoidMoves(np.array([a]), np.array([b]), np.array([ends]), np.array([vel]))
+
+
 def trapezoidal_moves(p0, pf, vmax, amax) -> TrapezoidMoves:
     """Many :func:`trapezoidal` moves at once, as plain arrays: the same durations, no objects.
 
@@ -345,6 +378,9 @@ def trapezoidal_moves(p0, pf, vmax, amax) -> TrapezoidMoves:
     >>> bool(moves.duration[0] == trapezoidal([0.0, 0.0], [2.0, -1.0], 1.0, 1.0).duration)
     True
     """
+    one = _one_move_checked(p0, pf, vmax, amax)
+    if one is not None:
+        return one
     a, b = finite_array(p0, "p0"), finite_array(pf, "pf")
     if a.ndim == 1:
         a = a[None, :]
@@ -359,11 +395,6 @@ def trapezoidal_moves(p0, pf, vmax, amax) -> TrapezoidMoves:
                          f"time), move {int(np.argmax(still))} does not move")
     n = a.shape[1]
     vmax, amax = _limit(vmax, "vmax", n), _limit(amax, "amax", n)
-    if a.shape[0] == 1:  # one move: Python floats cost less than a dozen numpy calls
-        one = _one_move(a[0].tolist(), b[0].tolist(), vmax.tolist(), amax.tolist())
-        if one is not None:
-            ends, vel = one
-            return TrapezoidMoves(a, b, np.array([ends]), np.array([vel]))
     tb, tc = _timing(b - a, vmax, amax)
     msg = "the waypoints move too far for vmax and amax: the duration overflows float64"
     with np.errstate(all="ignore"):

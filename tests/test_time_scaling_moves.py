@@ -31,6 +31,11 @@ def test_the_durations_and_pieces_are_those_of_trapezoidal(case):
     for i in range(len(p0)):
         pp = trapezoidal(p0[i], pf[i], vmax, amax)
         assert fast.duration[i] == pp.duration  # equal floats, not close ones
+        one = trapezoidal_moves(p0[i], pf[i], vmax, amax)  # one move: the Python-float path
+        assert one.ends[0].tolist() == fast.ends[i].tolist()
+        assert one.velocity[0].tolist() == fast.velocity[i].tolist()
+        assert trapezoidal_moves(p0[i].tolist(), pf[i].tolist(), vmax.tolist(),
+                                 amax.tolist()).duration[0] == pp.duration
         assert np.unique(fast.ends[i]).tolist() == pp.breakpoints[1:].tolist()
         t = np.linspace(0.0, pp.duration, 23)
         for got, want in zip(fast.sample(np.broadcast_to(t, (len(p0), 23)))[:2], pp.sample(t)[:2]):
