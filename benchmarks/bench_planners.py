@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 import rapp
+from rapp import collision_kernel
 from rapp.rrt_connect import rrt_connect
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -73,6 +74,7 @@ def time_ompl(arm, obstacles):
 def main() -> None:
     arm, obstacles = problem()
     q = np.zeros(arm.n)
+    collision_kernel.kernels()  # OMPL's checker is rapp.collides, compiled: load it first
     rapp.collides(arm, q, obstacles)
     k = 2000
     t0 = time.perf_counter()

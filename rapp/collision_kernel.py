@@ -274,16 +274,20 @@ def _certify(lengths, q0, dq, bounds, circles, pv, pn, pr, offsets, min_interval
     return out
 
 
-#: Calls with at least this many configurations (or edges) load the compiled kernel; smaller
-#: ones use it only once numba is imported (:func:`loaded`). Importing numba costs a few
-#: tenths of a second, more than a command that checks a few hundred configurations spends
-#: in numpy: ``python -m rapp plan`` should not pay it for a 2-link A* plan.
+#: Once the checks of a process add up to this many configurations (or edges), the compiled
+#: kernel is loaded; before that they use it only if numba is already imported
+#: (:func:`loaded`). Importing numba costs a few tenths of a second, more than a command that
+#: checks a few hundred configurations spends in numpy: ``python -m rapp plan`` should not
+#: pay it for a 2-link A* plan, while a loop of single checks soon does.
 LOAD_FROM = 4096
+
+_work = [0]
 
 
 def loaded(work: int = 0):
-    """:func:`kernels` if numba is already imported or ``work >= LOAD_FROM``, else None.
+    """:func:`kernels` once numba is imported or the checks so far reach ``LOAD_FROM``, else None.
 
+    ``work`` is the number of configurations (or edges) of the call, added to the count.
     The answers are the same either way (the numpy versions of :mod:`rapp.reference`);
     only the time differs. The sampling planners call :func:`kernels` themselves.
 
@@ -292,7 +296,8 @@ def loaded(work: int = 0):
     >>> loaded(LOAD_FROM) is kernels()
     True
     """
-    if work >= LOAD_FROM or "numba" in sys.modules:
+    _work[0] += work
+    if _work[0] >= LOAD_FROM or "numba" in sys.modules:
         return kernels()
     return None
 
