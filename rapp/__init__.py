@@ -15,6 +15,11 @@ Examples
 [2.0, 0.0]
 """
 
+import importlib
+import importlib.util
+import sys
+import types
+
 from rapp.errors import (
     FileNotFound,
     GridTooCoarse,
@@ -27,22 +32,6 @@ from rapp.errors import (
     RappError,
     ScenarioError,
 )
-from rapp.arm import Arm, wrap_angle
-from rapp.obstacles import Circle, Polygon
-from rapp.collision import clearance, collides, path_collision_free, segment_collision_free
-from rapp.cspace import JointGrid, occupancy
-from rapp.search import astar, bfs_distances
-from rapp.ik import ik, ik_2link, ik_numeric, jacobian
-from rapp.manipulability import condition_number, manipulability, manipulability_ellipse
-from rapp.trajectory import PiecewisePolynomial, cubic, quintic, time_path, via_points
-from rapp.scenario import Scenario, echo, list_scenarios, load_scenario
-from rapp.verify import Report, verify
-from rapp.results import Plan, load_result, save_result
-from rapp.rrt import RRTResult, rrt
-from rapp.rrt_connect import rrt_connect
-from rapp.rrt_star import rrt_star
-from rapp.prm import prm
-from rapp.planner import plan
 
 __all__ = [
     # errors
@@ -66,20 +55,63 @@ __all__ = [
 
 __version__ = "0.1.0"
 
+# Where each contract name lives. They are imported on first use (module __getattr__, the
+# lazy-loading pattern of scikit-image), so `import rapp` costs little more than numpy and
+# `python -m rapp plan` loads only what a plan needs.
+_LAZY = {
+    "arm": ("Arm", "wrap_angle"),
+    "obstacles": ("Circle", "Polygon"),
+    "collision": ("clearance", "collides", "path_collision_free", "segment_collision_free"),
+    "cspace": ("JointGrid", "occupancy"),
+    "search": ("astar", "bfs_distances"),
+    "ik": ("ik", "ik_2link", "ik_numeric", "jacobian"),
+    "manipulability": ("condition_number", "manipulability", "manipulability_ellipse"),
+    "trajectory": ("PiecewisePolynomial", "cubic", "quintic", "time_path", "via_points"),
+    "scenario": ("Scenario", "echo", "list_scenarios", "load_scenario"),
+    "verify": ("Report", "verify"),
+    "results": ("Plan", "load_result", "save_result"),
+    "rrt": ("RRTResult", "rrt"),
+    "rrt_connect": ("rrt_connect",),
+    "rrt_star": ("rrt_star",),
+    "prm": ("prm",),
+    "planner": ("plan",),
+}
+_HOME = {name: module for module, names in _LAZY.items() for name in names}
+
+
+class _Package(types.ModuleType):
+    """The package module, refusing one thing: a submodule named like a contract function.
+
+    Importing ``rapp.ik`` (or ``rapp.rrt``, ``rapp.prm``, ...) makes the import system bind
+    the submodule to the package's attribute of that name; ``rapp.ik`` is the function, as
+    it always was, so that binding is skipped (the submodule stays in ``sys.modules``).
+    """
+
+    def __setattr__(self, name, value):
+        if name in _HOME and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
 
 
 def __getattr__(name):
-    """``rapp.exercises`` (the readers' answer checks) is imported on first use.
+    """A contract name is imported from its module on first use, and a submodule by its name.
 
-    Its chapter modules import the case studies, and those import sympy: loading them with
-    ``import rapp`` would cost every user, the command line included, about half a second.
+    ``rapp.exercises`` (the readers' answer checks) and ``rapp.symbolic`` (sympy) are among the
+    submodules loaded only when named: importing them with rapp would cost every user, the
+    command line included, about half a second or more.
     """
-    if name == "exercises":
-        import importlib
-
-        return importlib.import_module("rapp.exercises")
+    module = _HOME.get(name)
+    if module is not None:
+        value = getattr(importlib.import_module(f"rapp.{module}"), name)
+        globals()[name] = value
+        return value
+    if not name.startswith("_") and importlib.util.find_spec(f"rapp.{name}") is not None:
+        return importlib.import_module(f"rapp.{name}")
     raise AttributeError(f"module 'rapp' has no attribute {name!r}")
 
 
 def __dir__():
-    return sorted(set(globals()) | {"exercises"})
+    return sorted(set(globals()) | set(_HOME) | {"exercises"})
+
+
+sys.modules[__name__].__class__ = _Package

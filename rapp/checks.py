@@ -15,7 +15,9 @@ from __future__ import annotations
 import math
 import operator
 
-__all__ = ["positive_integer", "finite_number"]
+import numpy as np
+
+__all__ = ["positive_integer", "finite_number", "sorted_unique"]
 
 
 def positive_integer(value, name: str, lo: int = 1) -> int:
@@ -59,3 +61,18 @@ def finite_number(value, name: str, *, above: float | None = None, at_least: flo
             f" >= {at_least:g}" if at_least is not None else "")
         raise ValueError(f"{name} must be a finite number{bound}, got {value!r}")
     return v
+
+
+def sorted_unique(values):
+    """The distinct values of a 1-D array, sorted: ``np.unique(values)`` for numbers without NaN.
+
+    ``np.unique`` imports ``numpy.ma`` on its first call (some 20 ms, a fifth of
+    ``python -m rapp plan``'s start-up); sorting and dropping repeats does not.
+
+    Examples
+    --------
+    >>> sorted_unique(np.array([3, 1, 3, 2])).tolist()
+    [1, 2, 3]
+    """
+    values = np.sort(np.asarray(values).ravel())
+    return values[np.r_[True, values[1:] != values[:-1]]] if values.size else values

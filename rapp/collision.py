@@ -22,9 +22,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from rapp.errors import CertificationLimit
-from rapp.obstacles import Circle, Polygon
+from rapp.arm import MAX_ANGLE
 from rapp.checks import finite_number, positive_integer
+from rapp import collision_kernel
+from rapp.collision_kernel import pack
+from rapp.obstacles import Circle, Polygon
 
 __all__ = [
     "closest_point_on_segment",
@@ -52,11 +54,6 @@ __all__ = [
 #: at most about a thousand pending; only an arm huge relative to its clearance
 #: (links of 1e20 beside an obstacle 1 away) comes near the limit.
 MAX_PENDING_INTERVALS = 1 << 14
-
-# Segments bisected together, and configurations per clearance evaluation: they
-# bound the temporaries (about n * k * 16 bytes per configuration for a k-gon).
-_GROUP = 256
-_CHUNK = 4096
 
 
 #: Multiplying a row vector (x, y) by this gives (-y, x): a quarter turn, exactly.
@@ -277,8 +274,14 @@ def link_clearances(arm, q, obstacles) -> np.ndarray:
     >>> link_clearances(Arm([1.0, 1.0]), [0.0, 0.0], [Circle((1.5, 1.0), 0.5)]).tolist()
     [0.6180339887498949, 0.5]
     """
-    pts = arm.joint_positions(q)
-    return segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
+    k = collision_kernel.loaded(np.size(q) // arm.n)
+    if k is None:
+        from rapp import reference
+
+        return reference.link_clearances(arm, q, obstacles)
+    packed = pack(obstacles)
+    q = _checked(arm, q)
+    return k.clearances(arm.lengths, q.reshape(-1, arm.n), *packed).reshape(q.shape)
 
 
 def segment_clearances(a, b, obstacles) -> np.ndarray:
@@ -329,23 +332,27 @@ def collides(arm, q, obstacles) -> np.ndarray:
     >>> collides(arm, [[0.4, 0.0], [np.pi / 2, 0.0], [-2.4, 0.0]], obs).tolist()
     [True, False, True]
     """
-    pts = arm.joint_positions(q)
-    a, b = pts[..., :-1, :], pts[..., 1:, :]
-    circles, polygons = [], []
-    for ob in obstacles:
-        (circles if isinstance(check_obstacle(ob), Circle) else polygons).append(ob)
-    hit = np.zeros(a.shape[:-1], dtype=bool)
-    if circles:
-        # Every link against every disc in one broadcast (links on axis -2, discs on -1): the
-        # same arithmetic as one disc at a time, with a fixed number of numpy calls, which is
-        # what a sampling planner calling this for one configuration at a time pays for.
-        centers = np.array([c.center for c in circles])
-        radii = np.array([c.radius for c in circles])
-        d = segment_point_distance(a[..., None, :], b[..., None, :], centers)
-        hit |= (d <= radii).any(axis=-1)
-    for ob in polygons:
-        hit |= segment_hits_polygon(a, b, ob)
-    return hit.any(axis=-1)
+    k = collision_kernel.loaded(np.size(q) // arm.n)
+    if k is None:
+        from rapp import reference
+
+        return reference.collides(arm, q, obstacles)
+    packed = pack(obstacles)
+    n = arm.n
+    if type(q) is not np.ndarray or q.dtype != np.float64 or not q.ndim or q.shape[-1] != n:
+        q = arm.check_q(q)
+    hit, ok = k.collides(arm.lengths, q.reshape(-1, n), *packed, MAX_ANGLE)
+    if not ok:  # the kernel checks the angles' range; the message is check_q's
+        arm.check_q(q)
+    return hit[0] if q.ndim == 1 else hit.reshape(q.shape[:-1])
+
+
+def _checked(arm, q):
+    """``arm.check_q(q)``, with the common case (a float array in range) in two numpy calls."""
+    if type(q) is np.ndarray and q.dtype == np.float64 and q.ndim and q.shape[-1] == arm.n \
+            and q.size and np.abs(q).max() <= MAX_ANGLE:
+        return q
+    return arm.check_q(q)
 
 
 def clearance(arm, q, obstacles) -> np.ndarray:
@@ -394,70 +401,6 @@ def reach_matrix(arm) -> np.ndarray:
     c = np.concatenate(([0.0], np.cumsum(arm.lengths)))
     R = c[None, 1:] - c[:-1, None]
     return np.where(np.arange(n)[:, None] <= np.arange(n)[None, :], R, 0.0)
-
-
-class _GroupTooLarge(Exception):
-    """Internal: several segments together exceed the pending limit; retry them one by one."""
-
-
-def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
-    """Certification of the segments ``q0 + t dq`` by bisection: bool ``(m,)``.
-
-    Raises :class:`_GroupTooLarge` when more than ``cap`` intervals of several
-    segments are pending, :class:`CertificationLimit` when one segment alone needs more.
-    """
-    m = q0.shape[0]
-    free = np.ones(m, dtype=bool)
-    owner = np.arange(m)
-    lo = np.zeros(m)
-    hi = np.ones(m)
-    worst = np.full(m, np.inf)  # per segment: smallest clearance that failed to certify
-    touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
-    while owner.size:
-        if owner.size > cap:
-            if owner[0] != owner[-1]:  # owners stay sorted: several segments pending
-                raise _GroupTooLarge
-            i = owner[0]
-            raise CertificationLimit(_limit_message(arm, q0[i], q1[i], bounds[i], worst[i], cap))
-        mid = 0.5 * (lo + hi)
-        half = 0.5 * (hi - lo)
-        q = q0[owner] + mid[:, None] * dq[owner]
-        d = np.empty(q.shape)
-        for s in range(0, len(q), _CHUNK):
-            pts = arm.joint_positions(q[s:s + _CHUNK])
-            d[s:s + _CHUNK] = segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
-        # Touching counts as collision, and a clearance below the rounding of the arm's own
-        # coordinates cannot be told from touching: without this, a link grazing a vertex
-        # along a whole stretch would be bisected until the interval limit.
-        hit = (d <= touch).any(axis=-1)
-        need = bounds[owner] * half[:, None]
-        certified = (need < d).all(axis=-1)
-        stuck = ~certified & ~hit & (hi - lo < min_interval)
-        free[owner[hit | stuck]] = False
-        keep = ~certified & free[owner]
-        if not keep.any():  # the common case for a short edge: settled at the first level
-            break
-        failed = np.where(need >= d, d, np.inf).min(axis=-1)
-        np.minimum.at(worst, owner[keep], failed[keep])
-        owner, lo, mid, hi = owner[keep], lo[keep], mid[keep], hi[keep]
-        # Children interleaved so that owners stay sorted.
-        owner = np.repeat(owner, 2)
-        lo, hi = np.stack((lo, mid), axis=1).ravel(), np.stack((mid, hi), axis=1).ravel()
-    return free
-
-
-def _limit_message(arm, q0, q1, bounds, clearance, cap):
-    scale = float(np.sum(arm.lengths))
-    sweep = float(bounds.max())
-    return (
-        f"the segment q0={q0.tolist()} -> q1={q1.tolist()} could not be certified "
-        f"collision-free within {cap} sub-intervals (rapp.collision.MAX_PENDING_INTERVALS): "
-        f"the arm is too large relative to its clearance. Its links add up to {scale:.3g} "
-        f"and sweep up to {sweep:.3g} along the segment, but the clearance where "
-        f"certification failed is only {clearance:.3g}, so the pieces would have to be "
-        f"shorter than {2 * clearance / sweep:.3g} of the segment. Use units in which the arm "
-        "and its clearances are of comparable size, or shorter segments"
-    )
 
 
 def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9,
@@ -519,7 +462,13 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     >>> segment_collision_free(arm, [[0.0, 0.0], [0.0, 0.0]], [[0.5, 0.0], [3.0, 0.0]], obs).tolist()
     [True, False]
     """
-    obstacles = [check_obstacle(ob) for ob in obstacles]
+    k = collision_kernel.loaded(max(np.size(q0), np.size(q1)) // arm.n)
+    if k is None:
+        from rapp import reference
+
+        return reference.segment_collision_free(arm, q0, q1, obstacles, min_interval=min_interval,
+                                                max_intervals=max_intervals)
+    packed = pack(obstacles)
     q0, q1 = arm.check_q(q0, "q0"), arm.check_q(q1, "q1")
     try:
         q0, q1 = np.broadcast_arrays(q0, q1)
@@ -528,22 +477,21 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     min_interval = finite_number(min_interval, "min_interval", above=0.0)
     cap = positive_integer(max_intervals, "max_intervals", lo=2)
     shape = q0.shape[:-1]
-    q0, q1 = q0.reshape(-1, arm.n), q1.reshape(-1, arm.n)
+    if not len(obstacles):
+        return np.ones(shape, dtype=bool)
+    # Copies where broadcast (numba wants real arrays).
+    q0, q1 = np.ascontiguousarray(q0.reshape(-1, arm.n)), np.ascontiguousarray(q1.reshape(-1, arm.n))
     dq = q1 - q0
     bounds = np.abs(dq) @ reach_matrix(arm)  # (m, n); finite: angles and lengths are bounded
-    free = np.ones(q0.shape[0], dtype=bool)
-    if not obstacles:
-        return free.reshape(shape)
-    for g in range(0, q0.shape[0], _GROUP):
-        sl = slice(g, g + _GROUP)
-        try:
-            free[sl] = _bisect(arm, q0[sl], q1[sl], dq[sl], bounds[sl], obstacles, min_interval, cap)
-        except _GroupTooLarge:
-            for i in range(g, min(g + _GROUP, q0.shape[0])):
-                one = slice(i, i + 1)
-                free[i] = _bisect(arm, q0[one], q1[one], dq[one], bounds[one], obstacles,
-                                  min_interval, cap)[0]
-    return free.reshape(shape)
+    touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
+    code = k.certify(arm.lengths, q0, dq, bounds, *packed, min_interval, cap, touch)
+    if (code < 0).any():  # more intervals than allowed: the numpy version raises the message
+        from rapp import reference
+
+        i = int(np.argmax(code < 0))
+        reference.segment_collision_free(arm, q0[i], q1[i], obstacles, min_interval=min_interval,
+                                         max_intervals=cap)
+    return (code > 0).reshape(shape)
 
 
 def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9,

@@ -14,6 +14,8 @@ from typing import Mapping
 
 import numpy as np
 
+from rapp.checks import sorted_unique
+
 from rapp.arm import Arm
 from rapp.collision import segment_collision_free
 
@@ -224,4 +226,4 @@ def even_indices(k: int, most: int) -> np.ndarray:
     >>> even_indices(3, 8).tolist()
     [0, 1, 2]
     """
-    return np.unique(np.linspace(0, k - 1, min(k, most)).round().astype(int))
+    return sorted_unique(np.linspace(0, k - 1, min(k, most)).round().astype(int))

@@ -15,7 +15,9 @@ high-dimensional configuration spaces. Bohlin and Kavraki (2000), Path planning 
 
 from __future__ import annotations
 
+import functools
 import heapq
+import itertools
 
 import numpy as np
 
@@ -26,6 +28,117 @@ from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import Budget, check_start_and_goals, uniform_samples, unwrapped_chain
 
 __all__ = ["prm"]
+
+
+def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target):
+    """Dijkstra over a CSR graph (node u's neighbours ``dst[start[u]:stop[u]]``), for numba.
+
+    The heap holds ``(distance, node)`` pairs compared as heapq compares the tuples of
+    :func:`_dijkstra`, and every neighbour list is in the order :func:`_dijkstra` builds, so
+    both pop the same nodes in the same order and return the same parents.
+    """
+    dist = np.full(n, np.inf)
+    parent = np.full(n, -1, dtype=np.int64)
+    cap = len(sources) + len(dst) + 1
+    hd = np.empty(cap)
+    hu = np.empty(cap, dtype=np.int64)
+    size = 0
+    for s in sources:
+        dist[s] = 0.0
+        # push (0, s)
+        i = size
+        size += 1
+        while i > 0:
+            p = (i - 1) >> 1
+            if 0.0 < hd[p] or (0.0 == hd[p] and s < hu[p]):
+                hd[i] = hd[p]
+                hu[i] = hu[p]
+                i = p
+            else:
+                break
+        hd[i] = 0.0
+        hu[i] = s
+    while size:
+        d = hd[0]
+        u = hu[0]
+        size -= 1
+        if size:  # sift the last entry down from the root
+            ld = hd[size]
+            lu = hu[size]
+            i = 0
+            while True:
+                c = 2 * i + 1
+                if c >= size:
+                    break
+                if c + 1 < size and (hd[c + 1] < hd[c] or (hd[c + 1] == hd[c] and hu[c + 1] < hu[c])):
+                    c += 1
+                if hd[c] < ld or (hd[c] == ld and hu[c] < lu):
+                    hd[i] = hd[c]
+                    hu[i] = hu[c]
+                    i = c
+                else:
+                    break
+            hd[i] = ld
+            hu[i] = lu
+        if d > dist[u]:
+            continue
+        if is_target[u]:
+            return parent, u
+        for e in range(start[u], stop[u]):
+            v = dst[e]
+            nd = d + wt[e]
+            if nd < dist[v]:
+                dist[v] = nd
+                parent[v] = u
+                i = size
+                size += 1
+                while i > 0:
+                    p = (i - 1) >> 1
+                    if nd < hd[p] or (nd == hd[p] and v < hu[p]):
+                        hd[i] = hd[p]
+                        hu[i] = hu[p]
+                        i = p
+                    else:
+                        break
+                hd[i] = nd
+                hu[i] = v
+    return parent, -1
+
+
+@functools.cache
+def _compiled_dijkstra():
+    """:func:`_dijkstra_kernel` compiled by numba (cached on disk), or None without numba."""
+    try:
+        import numba
+    except ImportError:
+        return None
+    try:
+        return numba.njit(cache=True, nogil=True)(_dijkstra_kernel)
+    except RuntimeError:  # no writable cache directory: compile on every run
+        return numba.njit(nogil=True)(_dijkstra_kernel)
+
+
+def _shortest(nodes_n: int, edges: dict, sources, targets):
+    """:func:`_dijkstra`, compiled when numba is there: the same parents and the same target."""
+    kernel = _compiled_dijkstra()
+    if kernel is None or not edges:
+        return _dijkstra(nodes_n, edges, sources, targets)
+    m = len(edges)
+    ij = np.fromiter(itertools.chain.from_iterable(edges), dtype=np.int64, count=2 * m)
+    w = np.fromiter(edges.values(), dtype=float, count=m)
+    # Both directions of edge k at positions 2k, 2k + 1; a stable sort by source keeps every
+    # neighbour list in edge order, the order _dijkstra appends them in.
+    src = ij
+    dst = ij.reshape(-1, 2)[:, ::-1].ravel()
+    order = np.argsort(src, kind="stable")
+    dst, wt = dst[order], np.repeat(w, 2)[order]
+    counts = np.bincount(src, minlength=nodes_n)
+    stop = np.cumsum(counts)
+    is_target = np.zeros(nodes_n, dtype=np.bool_)
+    is_target[np.asarray(targets, dtype=np.int64)] = True
+    parent, hit = kernel(nodes_n, stop - counts, stop, dst, wt,
+                         np.asarray(sources, dtype=np.int64), is_target)
+    return parent, int(hit)
 
 
 def _dijkstra(nodes_n: int, edges: dict, sources, targets):
@@ -112,7 +225,7 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
             nodes = _grow(arm, rng, nodes, samples, obstacles)
             _add_candidate_edges(arm, nodes, neighbours, edges, 0 if first_new <= 1 + len(goals)
                                  else first_new)
-        parent, hit = _dijkstra(len(nodes), edges, [0], goal_ids)
+        parent, hit = _shortest(len(nodes), edges, [0], goal_ids)
         if hit < 0:
             grow = True
             continue

@@ -15,6 +15,14 @@ reference              the fast function it checks
 :func:`certified_free` :func:`rapp.cspace.certified_free` (link clearances on
                        every prefix cell)
 =====================  ==========================================================
+:func:`collides`       :func:`rapp.collision.collides` (numpy over a batch; the
+                       compiled kernel of :mod:`rapp.collision_kernel` replaced it)
+:func:`link_clearances` :func:`rapp.collision.link_clearances`
+:func:`segment_collision_free` :func:`rapp.collision.segment_collision_free` (the
+                       bisection as numpy arrays, level by level)
+=====================  ==========================================================
+
+Without numba, :mod:`rapp.collision` runs these numpy versions itself.
 
 Examples
 --------
@@ -32,12 +40,22 @@ import math
 
 import numpy as np
 
-from rapp.checks import positive_integer
-from rapp.collision import check_obstacle, motion_bounds, segment_clearances
+from rapp.checks import finite_number, positive_integer
+from rapp.collision import (
+    MAX_PENDING_INTERVALS,
+    check_obstacle,
+    motion_bounds,
+    reach_matrix,
+    segment_clearances,
+    segment_hits_polygon,
+    segment_point_distance,
+)
+from rapp.errors import CertificationLimit
 from rapp.cspace import check_grid, prefix_grid
 from rapp.obstacles import Circle
 
-__all__ = ["occupancy", "certified_free", "circle_hits", "polygon_hits"]
+__all__ = ["occupancy", "certified_free", "circle_hits", "polygon_hits", "collides", "link_clearances",
+           "segment_collision_free"]
 
 
 def circle_hits(P, cos_phi, sin_phi, L, center, r):
@@ -169,3 +187,156 @@ def certified_free(arm, obstacles, grid, *, chunk: int = 200_000) -> np.ndarray:
             ok[lo:lo + chunk] = d > need[j]
         out &= ok.reshape(prefix + (1,) * (n - j - 1))
     return out
+
+
+# Segments bisected together, and configurations per clearance evaluation: they
+# bound the temporaries (about n * k * 16 bytes per configuration for a k-gon).
+_GROUP = 256
+_CHUNK = 4096
+
+
+def collides(arm, q, obstacles) -> np.ndarray:
+    """:func:`rapp.collision.collides` in numpy: every link against every obstacle, batched.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, Polygon
+    >>> import rapp.collision
+    >>> arm = Arm([1.0, 1.0])
+    >>> obs = [Circle((1.75, 0.75), 0.6), Polygon.rectangle((-2, -2), 1, 1)]
+    >>> q = [[0.4, 0.0], [np.pi / 2, 0.0], [-2.4, 0.0]]
+    >>> collides(arm, q, obs).tolist() == rapp.collision.collides(arm, q, obs).tolist()
+    True
+    """
+    pts = arm.joint_positions(q)
+    a, b = pts[..., :-1, :], pts[..., 1:, :]
+    circles, polygons = [], []
+    for ob in obstacles:
+        (circles if isinstance(check_obstacle(ob), Circle) else polygons).append(ob)
+    hit = np.zeros(a.shape[:-1], dtype=bool)
+    if circles:
+        # Every link against every disc in one broadcast (links on axis -2, discs on -1): the
+        # same arithmetic as one disc at a time, with a fixed number of numpy calls, which is
+        # what a sampling planner calling this for one configuration at a time pays for.
+        centers = np.array([c.center for c in circles])
+        radii = np.array([c.radius for c in circles])
+        d = segment_point_distance(a[..., None, :], b[..., None, :], centers)
+        hit |= (d <= radii).any(axis=-1)
+    for ob in polygons:
+        hit |= segment_hits_polygon(a, b, ob)
+    return hit.any(axis=-1)
+
+
+def link_clearances(arm, q, obstacles) -> np.ndarray:
+    """:func:`rapp.collision.link_clearances` in numpy, ``(..., n)``.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> link_clearances(Arm([1.0, 1.0]), [0.0, 0.0], [Circle((1.5, 1.0), 0.5)]).tolist()
+    [0.6180339887498949, 0.5]
+    """
+    pts = arm.joint_positions(q)
+    return segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
+
+
+def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9,
+                           max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
+    """:func:`rapp.collision.segment_collision_free` in numpy: groups of segments bisected level by level.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> arm, obs = Arm([1.0, 1.0]), [Circle((0.0, 1.5), 0.3)]
+    >>> segment_collision_free(arm, [[0.0, 0.0], [0.0, 0.0]], [[0.5, 0.0], [3.0, 0.0]], obs).tolist()
+    [True, False]
+    """
+    obstacles = [check_obstacle(ob) for ob in obstacles]
+    q0, q1 = arm.check_q(q0, "q0"), arm.check_q(q1, "q1")
+    try:
+        q0, q1 = np.broadcast_arrays(q0, q1)
+    except ValueError:
+        raise ValueError(f"q0 and q1 must broadcast together, got shapes {q0.shape} and {q1.shape}") from None
+    min_interval = finite_number(min_interval, "min_interval", above=0.0)
+    cap = positive_integer(max_intervals, "max_intervals", lo=2)
+    shape = q0.shape[:-1]
+    q0, q1 = q0.reshape(-1, arm.n), q1.reshape(-1, arm.n)
+    dq = q1 - q0
+    bounds = np.abs(dq) @ reach_matrix(arm)  # (m, n); finite: angles and lengths are bounded
+    free = np.ones(q0.shape[0], dtype=bool)
+    if not obstacles:
+        return free.reshape(shape)
+    for g in range(0, q0.shape[0], _GROUP):
+        sl = slice(g, g + _GROUP)
+        try:
+            free[sl] = _bisect(arm, q0[sl], q1[sl], dq[sl], bounds[sl], obstacles, min_interval, cap)
+        except _GroupTooLarge:
+            for i in range(g, min(g + _GROUP, q0.shape[0])):
+                one = slice(i, i + 1)
+                free[i] = _bisect(arm, q0[one], q1[one], dq[one], bounds[one], obstacles,
+                                  min_interval, cap)[0]
+    return free.reshape(shape)
+
+
+class _GroupTooLarge(Exception):
+    """Internal: several segments together exceed the pending limit; retry them one by one."""
+
+
+def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
+    """Certification of the segments ``q0 + t dq`` by bisection: bool ``(m,)``.
+
+    Raises :class:`_GroupTooLarge` when more than ``cap`` intervals of several
+    segments are pending, :class:`CertificationLimit` when one segment alone needs more.
+    """
+    m = q0.shape[0]
+    free = np.ones(m, dtype=bool)
+    owner = np.arange(m)
+    lo = np.zeros(m)
+    hi = np.ones(m)
+    worst = np.full(m, np.inf)  # per segment: smallest clearance that failed to certify
+    touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
+    while owner.size:
+        if owner.size > cap:
+            if owner[0] != owner[-1]:  # owners stay sorted: several segments pending
+                raise _GroupTooLarge
+            i = owner[0]
+            raise CertificationLimit(_limit_message(arm, q0[i], q1[i], bounds[i], worst[i], cap))
+        mid = 0.5 * (lo + hi)
+        half = 0.5 * (hi - lo)
+        q = q0[owner] + mid[:, None] * dq[owner]
+        d = np.empty(q.shape)
+        for s in range(0, len(q), _CHUNK):
+            pts = arm.joint_positions(q[s:s + _CHUNK])
+            d[s:s + _CHUNK] = segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
+        # Touching counts as collision, and a clearance below the rounding of the arm's own
+        # coordinates cannot be told from touching: without this, a link grazing a vertex
+        # along a whole stretch would be bisected until the interval limit.
+        hit = (d <= touch).any(axis=-1)
+        need = bounds[owner] * half[:, None]
+        certified = (need < d).all(axis=-1)
+        stuck = ~certified & ~hit & (hi - lo < min_interval)
+        free[owner[hit | stuck]] = False
+        keep = ~certified & free[owner]
+        if not keep.any():  # the common case for a short edge: settled at the first level
+            break
+        failed = np.where(need >= d, d, np.inf).min(axis=-1)
+        np.minimum.at(worst, owner[keep], failed[keep])
+        owner, lo, mid, hi = owner[keep], lo[keep], mid[keep], hi[keep]
+        # Children interleaved so that owners stay sorted.
+        owner = np.repeat(owner, 2)
+        lo, hi = np.stack((lo, mid), axis=1).ravel(), np.stack((mid, hi), axis=1).ravel()
+    return free
+
+
+def _limit_message(arm, q0, q1, bounds, clearance, cap):
+    scale = float(np.sum(arm.lengths))
+    sweep = float(bounds.max())
+    return (
+        f"the segment q0={q0.tolist()} -> q1={q1.tolist()} could not be certified "
+        f"collision-free within {cap} sub-intervals (rapp.collision.MAX_PENDING_INTERVALS): "
+        f"the arm is too large relative to its clearance. Its links add up to {scale:.3g} "
+        f"and sweep up to {sweep:.3g} along the segment, but the clearance where "
+        f"certification failed is only {clearance:.3g}, so the pieces would have to be "
+        f"shorter than {2 * clearance / sweep:.3g} of the segment. Use units in which the arm "
+        "and its clearances are of comparable size, or shorter segments"
+    )

@@ -18,6 +18,7 @@ import time
 import numpy as np
 
 from rapp.checks import finite_number, positive_integer
+from rapp import collision_kernel
 from rapp.collision import collides
 from rapp.errors import NoPathFound
 
@@ -128,6 +129,10 @@ def check_start_and_goals(arm, start, goal, obstacles):
     start = arm.check_q(start, "start").reshape(arm.n)
     goals = arm.check_q(np.atleast_2d(goal), "goal").reshape(-1, arm.n)
     obstacles = list(obstacles)
+    if obstacles:
+        # A sampling planner checks thousands of single configurations and edges: load the
+        # compiled collision kernel (rapp.collision_kernel) for them, whatever their size.
+        collision_kernel.kernels()
     if obstacles and collides(arm, start, obstacles):
         raise NoPathFound("the start configuration collides")
     if obstacles:

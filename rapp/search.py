@@ -23,7 +23,8 @@ inner loop only reads Python lists and a bytearray, which is several times
 faster than tuples of indices. :func:`astar` runs the same search, in the same
 order, compiled with numba (``@njit(cache=True)``, see :func:`_astar_kernel`)
 when numba can be imported, and falls back to :func:`astar_search` when it
-cannot; numba is imported on the first call of :func:`astar`, not with rapp.
+cannot. numba is imported on the first search of a grid of :data:`COMPILE_FROM`
+cells or more, not with rapp: a smaller grid is searched in Python until then.
 """
 
 from __future__ import annotations
@@ -32,14 +33,16 @@ import functools
 
 import heapq
 import operator
+import sys
 from dataclasses import dataclass
 
 import numpy as np
 
 from rapp.errors import InvalidCell, NoPathFound
-from rapp.checks import finite_number, positive_integer
+from rapp.checks import sorted_unique, finite_number, positive_integer
 
 __all__ = [
+    "COMPILE_FROM",
     "SearchResult",
     "HeuristicCheck",
     "astar",
@@ -623,6 +626,11 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     return 1, expansions, none
 
 
+#: Grids of at least this many cells are searched by the compiled kernel even when numba is
+#: not imported yet; smaller ones by :func:`astar_search` (the same cells, the same path).
+COMPILE_FROM = 1 << 16
+
+
 @functools.cache
 def _compiled_astar():
     """:func:`_astar_kernel` compiled by numba (cached on disk), or None without numba."""
@@ -685,8 +693,10 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     ...
     rapp.errors.InvalidCell: start cell (0, 4) is outside the grid of shape (4, 4)
     """
-    kernel = _compiled_astar()
     occ = _grid(occupied)
+    # Importing numba costs more than this Python loop spends on a small grid (a command
+    # planning on 100 x 100 cells would pay it for nothing); once it is imported, use it.
+    kernel = _compiled_astar() if occ.size >= COMPILE_FROM or "numba" in sys.modules else None
     if kernel is None or occ.size >= 2**31 - 1:  # int32 cells; keys cell - g * size in int64
         r = astar_search(
             occupied,
@@ -770,7 +780,7 @@ def bfs_distances(occupied, start, wraps=True):
         while frontier.size:
             level += 1
             cand = nb[frontier].ravel()
-            cand = np.unique(cand[~seen[cand]])
+            cand = sorted_unique(cand[~seen[cand]])  # np.unique would import numpy.ma
             seen[cand] = True
             dist[cand] = level
             frontier = cand

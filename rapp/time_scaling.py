@@ -31,14 +31,17 @@ Examples
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import numpy as np
 
 # rapp.trajectory's argument checks, so that a bad or overflowing input is refused with the
 # same messages in both modules.
 from rapp.trajectory import PiecewisePolynomial, finite_array, overflow_checked, step_lengths, time_path
 
-__all__ = ["trapezoidal", "trapezoidal_path", "minimum_duration", "peak_rates", "PROFILES",
-           "clock_after", "clean_waypoints"]
+__all__ = ["trapezoidal", "trapezoidal_moves", "TrapezoidMoves", "trapezoidal_path",
+           "minimum_duration", "peak_rates", "PROFILES", "clock_after", "clean_waypoints"]
 
 #: The profiles :func:`minimum_duration` knows: the three of
 #: :func:`rapp.trajectory.time_path` and the trapezoid of :func:`trapezoidal_path`.
@@ -234,6 +237,175 @@ def trapezoidal(p0, pf, vmax, amax) -> PiecewisePolynomial:
     n = w.shape[1]
     return PiecewisePolynomial.from_local(*_pieces(w, _limit(vmax, "vmax", n),
                                                   _limit(amax, "amax", n)))
+
+
+def _clock_after_array(t: np.ndarray, length: np.ndarray) -> np.ndarray:
+    """:func:`clock_after` of arrays, element by element (the same floats)."""
+    b = t + length
+    short = b - t < length
+    while short.any():
+        b = np.where(short, np.nextafter(b, np.inf), b)
+        short = b - t < length
+    return b
+
+
+@dataclass(frozen=True)
+class TrapezoidMoves:
+    """``m`` independent rest-to-rest trapezoids as plain arrays (see :func:`trapezoidal_moves`).
+
+    Move ``i`` accelerates over ``[0, ends[i, 0]]``, cruises to ``ends[i, 1]`` (equal to
+    ``ends[i, 0]`` for a triangle) and decelerates to ``ends[i, 2] = duration[i]``, every
+    joint at ``velocity[i]`` while cruising: the breakpoints and coefficients
+    :func:`trapezoidal` builds for that move, without building it.
+    """
+
+    p0: np.ndarray        #: (m, n) start configurations
+    pf: np.ndarray        #: (m, n) goal configurations
+    ends: np.ndarray      #: (m, 3) end of the acceleration, of the cruise, of the move
+    velocity: np.ndarray  #: (m, n) cruise velocity of every joint
+
+    @property
+    def duration(self) -> np.ndarray:
+        """``(m,)`` durations, equal to ``trapezoidal(p0[i], pf[i], ...).duration``."""
+        return self.ends[:, 2]
+
+    def sample(self, t):
+        """``q, qd, qdd`` of every move at times ``t`` of shape ``(m,)`` or ``(m, k)``.
+
+        Each shaped ``t.shape + (n,)``; times are clipped to ``[0, duration]``.
+        """
+        t = np.asarray(t, dtype=float)
+        extra = (slice(None),) + (None,) * (t.ndim - 1)
+        e1, e2, e3 = (self.ends[:, j][extra] for j in range(3))
+        t = np.clip(t, 0.0, e3)[..., None]
+        e1, e2, e3 = e1[..., None], e2[..., None], e3[..., None]
+        h1, h3 = e1, e3 - e2
+        v, p0, pf = self.velocity[extra], self.p0[extra], self.pf[extra]
+        acc, dec = 0.5 * (v / h1), -0.5 * (v / h3)
+        tau2 = t - e2
+        q = np.where(t <= e1, p0 + acc * t * t,
+                     np.where(t <= e2, p0 + 0.5 * v * h1 + v * (t - e1),
+                              pf - 0.5 * v * h3 + v * tau2 + dec * tau2 * tau2))
+        qd = np.where(t <= e1, 2 * acc * t, np.where(t <= e2, v, v + 2 * dec * tau2))
+        qdd = np.where(t <= e1, 2 * acc, np.where(t <= e2, 0.0 * v, 2 * dec))
+        return q, qd, qdd
+
+
+def _one_move(a, b, vmax, amax):
+    """``(ends, velocity)`` of one move in Python floats, the operations of :func:`_timing`
+    and :func:`_pieces` one by one (so the same floats); None where a value is not finite
+    (the numpy path then raises its message)."""
+    tv = ta2 = 0.0
+    for x0, x1, v, acc in zip(a, b, vmax, amax):
+        d = abs(x1 - x0)
+        tv = max(tv, d / v)
+        ta2 = max(ta2, d / acc)
+    if not (math.isfinite(tv) and math.isfinite(ta2)):
+        return None
+    if tv * tv > ta2:
+        tb = ta2 / tv
+        tc = max(tv - tb, 0.0)
+    else:
+        tb, tc = math.sqrt(ta2), 0.0
+    e1 = clock_after(0.0, tb)
+    e2 = clock_after(e1, tc) if tc > 0 else e1
+    e3 = clock_after(e2, tb)
+    den = 0.5 * e1 + (e2 - e1) + 0.5 * (e3 - e2)
+    vel = [(x1 - x0) / den for x0, x1 in zip(a, b)]
+    if not (math.isfinite(e3) and all(map(math.isfinite, vel))):
+        return None
+    return (e1, e2, e3), vel
+
+
+def _floats(x):
+    """A vector (list, tuple or 1-D array) or a number as a list of Python floats, else None."""
+    if isinstance(x, np.ndarray):
+        if x.ndim > 1:
+            return None
+        x = x.tolist()
+    if isinstance(x, (int, float)) and not isinstance(x, bool):
+        return [float(x)]
+    if not isinstance(x, (list, tuple)) or not x:
+        return None
+    try:
+        out = [float(v) for v in x]
+    except (TypeError, ValueError):
+        return None
+    return out if all(map(math.isfinite, out)) else None
+
+
+def _one_move_checked(p0, pf, vmax, amax):
+    """One well-formed move timed in Python floats, or None: the numpy path then times it (or
+    refuses it with its message)."""
+    a, b, v, acc = _floats(p0), _floats(pf), _floats(vmax), _floats(amax)
+    if a is None or b is None or v is None or acc is None or len(a) != len(b) or a == b:
+        return None
+    n = len(a)
+    if len(v) not in (1, n) or len(acc) not in (1, n) or min(v) <= 0 or min(acc) <= 0:
+        return None
+    one = _one_move(a, b, v * n if len(v) == 1 else v, acc * n if len(acc) == 1 else acc)
+    if one is None:
+        return None
+    ends, vel = one
+    return TrapezoidMoves(np.array([a]), np.array([b]), np.array([ends]), np.array([vel]))
+
+
+def trapezoidal_moves(p0, pf, vmax, amax) -> TrapezoidMoves:
+    """Many :func:`trapezoidal` moves at once, as plain arrays: the same durations, no objects.
+
+    The timing of :func:`trapezoidal` (blend and cruise times set by the tightest joint,
+    every piece's end rounded up on the clock as :func:`clock_after` does) computed for
+    ``m`` moves in one pass of numpy, the arguments checked once. For timing many moves
+    (a benchmark, a planner comparing candidate paths) where a
+    :class:`~rapp.trajectory.PiecewisePolynomial` per move would cost most of the time.
+
+    Parameters
+    ----------
+    p0, pf : array_like, shape (m, n) or (n,)
+        Start and goal of every move; each goal differs from its start.
+    vmax, amax : float or (n,), > 0
+        Limits, one for all joints or one per joint.
+
+    Returns
+    -------
+    TrapezoidMoves
+
+    Examples
+    --------
+    >>> moves = trapezoidal_moves([[0.0, 0.0], [0.0, 0.0]], [[2.0, -1.0], [0.1, 0.0]], 1.0, 1.0)
+    >>> moves.duration.tolist()
+    [3.0, 0.6324555320336759]
+    >>> bool(moves.duration[0] == trapezoidal([0.0, 0.0], [2.0, -1.0], 1.0, 1.0).duration)
+    True
+    """
+    one = _one_move_checked(p0, pf, vmax, amax)
+    if one is not None:
+        return one
+    a, b = finite_array(p0, "p0"), finite_array(pf, "pf")
+    if a.ndim == 1:
+        a = a[None, :]
+    if b.ndim == 1:
+        b = b[None, :]
+    if a.ndim != 2 or a.shape != b.shape or a.shape[1] < 1:
+        raise ValueError(f"p0 and pf must be (m, n) configurations of the same shape, "
+                         f"got {np.shape(p0)} and {np.shape(pf)}")
+    still = ~np.any(b != a, axis=1)
+    if still.any():
+        raise ValueError(f"pf must differ from p0 in every move (a move of length 0 takes no "
+                         f"time), move {int(np.argmax(still))} does not move")
+    n = a.shape[1]
+    vmax, amax = _limit(vmax, "vmax", n), _limit(amax, "amax", n)
+    tb, tc = _timing(b - a, vmax, amax)
+    msg = "the waypoints move too far for vmax and amax: the duration overflows float64"
+    with np.errstate(all="ignore"):
+        e1 = _clock_after_array(np.zeros_like(tb), tb)
+        e2 = np.where(tc > 0, _clock_after_array(e1, tc), e1)
+        e3 = overflow_checked(_clock_after_array(e2, tb), msg)
+        h1, h2, h3 = e1, e2 - e1, e3 - e2
+        vel = (b - a) / (0.5 * h1 + h2 + 0.5 * h3)[:, None]
+    overflow_checked(vel, "the waypoints move too far or too little for vmax and amax: "
+                     "the velocities or accelerations overflow float64")
+    return TrapezoidMoves(a, b, np.stack((e1, e2, e3), axis=1), vel)
 
 
 def trapezoidal_path(waypoints, vmax, amax, *, wraps=None) -> PiecewisePolynomial:

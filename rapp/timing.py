@@ -44,6 +44,8 @@ from decimal import ROUND_CEILING, Decimal
 
 import numpy as np
 
+from rapp.checks import sorted_unique
+
 from rapp.collision import segment_collision_free
 from rapp.errors import InvalidValue
 from rapp.scenario import MAX_DURATION, MIN_DURATION
@@ -76,7 +78,7 @@ def sample_times(duration: float, samples: int, breakpoints) -> np.ndarray:
     if sparse.size:
         h = np.diff(bp)[sparse, None]
         extra = bp[sparse, None] + h * np.array([0.0, 0.25, 0.5, 0.75, 1.0])
-        t = np.unique(np.concatenate((t, extra.ravel())))
+        t = sorted_unique(np.concatenate((t, extra.ravel())))
     t[-1] = duration
     return t
 
@@ -201,7 +203,7 @@ def _sample(pp: PiecewisePolynomial, path, duration: float, samples: int, every_
     t = sample_times(duration, samples, pp.breakpoints)
     if every_breakpoint:   # every sample chord then lies on one edge of the path
         bp = pp.breakpoints[(pp.breakpoints > 0) & (pp.breakpoints < duration)]
-        t = np.unique(np.concatenate((t, bp)))
+        t = sorted_unique(np.concatenate((t, bp)))
     q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
     q[0], q[-1] = path[0], path[-1]
     return t, q, qd, qdd

@@ -32,7 +32,7 @@ from math import comb
 
 import numpy as np
 
-from rapp.checks import positive_integer
+from rapp.checks import sorted_unique, positive_integer
 
 __all__ = [
     "cubic",
@@ -732,7 +732,7 @@ def _smoothstep_polyline(w, T, t, seg, total):
     bp = np.concatenate(([0.0], np.cumsum(dur)))
     bp[-1] = T
     inner = (bp[:-1, None] + dur[:, None] * np.array([0.25, 0.5, 0.75])).ravel()
-    t = np.unique(np.concatenate((t, bp, inner)))
+    t = sorted_unique(np.concatenate((t, bp, inner)))
     j = np.clip(np.searchsorted(bp, t, side="right") - 1, 0, len(dur) - 1)
     live = dur[j] > 0
     T_j = np.where(live, dur[j], 1.0)

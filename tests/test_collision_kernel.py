@@ -1,0 +1,183 @@
+"""The compiled collision kernel against the numpy implementations it replaced (rapp.reference).
+
+Properties: the compiled ``collides``, ``link_clearances`` and ``segment_collision_free`` give
+the numpy answers on random arms, obstacles and configurations (touching counts as collision
+in both); the sampling planners grow the same trees from the same seeds with either; without
+numba everything falls back to the numpy versions.
+"""
+
+from __future__ import annotations
+
+import importlib
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import rapp
+from rapp import collision_kernel, reference
+from rapp.collision import collides, link_clearances, segment_collision_free
+from rapp.prm import prm
+
+prm_module = importlib.import_module("rapp.prm")
+from rapp.rrt import rrt
+from rapp.rrt_connect import rrt_connect
+from rapp.rrt_star import rrt_star
+
+pytestmark = pytest.mark.skipif(collision_kernel.kernels() is None, reason="numba is not installed")
+
+LINKS3 = [1.0, 0.8, 0.5]
+OBSTACLES3 = [
+    rapp.Circle((1.4, 0.9), 0.35),
+    rapp.Circle((-0.4, 1.5), 0.3),
+    rapp.Circle((0.2, -1.3), 0.3),
+    rapp.Circle((1.0, -1.0), 0.3),
+    rapp.Polygon.rectangle((-1.9, -0.6), 0.5, 1.0),
+]
+
+
+@st.composite
+def worlds(draw):
+    n = draw(st.integers(1, 4))
+    lengths = draw(st.lists(st.floats(0.2, 1.5), min_size=n, max_size=n))
+    obstacles = []
+    for _ in range(draw(st.integers(0, 3))):
+        c = draw(st.tuples(st.floats(-3, 3), st.floats(-3, 3)))
+        obstacles.append(rapp.Circle(c, draw(st.floats(0.05, 0.8))))
+    for _ in range(draw(st.integers(0, 2))):
+        corner = draw(st.tuples(st.floats(-3, 3), st.floats(-3, 3)))
+        obstacles.append(rapp.Polygon.rectangle(corner, draw(st.floats(0.1, 1.0)),
+                                                draw(st.floats(0.1, 1.0)),
+                                                draw(st.floats(-np.pi, np.pi))))
+    seed = draw(st.integers(0, 2**32 - 1))
+    return rapp.Arm(lengths), obstacles, np.random.default_rng(seed)
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(worlds())
+def test_collides_is_the_numpy_answer(world):
+    arm, obstacles, rng = world
+    q = rng.uniform(-np.pi, np.pi, (200, arm.n))
+    fast = collides(arm, q, obstacles)
+    slow = reference.collides(arm, q, obstacles)
+    # Only a configuration within rounding of touching may differ (cos/sin's last bits).
+    near = np.abs(reference.link_clearances(arm, q, obstacles).min(axis=-1)) < 1e-9
+    assert (fast == slow)[~near].all()
+    assert fast.shape == slow.shape == (200,)
+    assert isinstance(collides(arm, q[0], obstacles), np.bool_)
+    assert bool(collides(arm, q[0], obstacles)) == bool(slow[0])
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(worlds())
+def test_link_clearances_are_the_numpy_values(world):
+    arm, obstacles, rng = world
+    q = rng.uniform(-np.pi, np.pi, (50, 2, arm.n))
+    fast = link_clearances(arm, q, obstacles)
+    slow = reference.link_clearances(arm, q, obstacles)
+    assert fast.shape == slow.shape == (50, 2, arm.n)
+    np.testing.assert_allclose(fast, slow, rtol=0, atol=1e-12)
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(worlds())
+def test_edge_certificates_are_the_numpy_ones(world):
+    arm, obstacles, rng = world
+    q0 = rng.uniform(-np.pi, np.pi, (40, arm.n))
+    q1 = q0 + rng.uniform(-0.6, 0.6, (40, arm.n))
+    fast = segment_collision_free(arm, q0, q1, obstacles)
+    slow = reference.segment_collision_free(arm, q0, q1, obstacles)
+    assert (fast == slow).all()
+
+
+def test_touching_counts_as_collision_in_the_kernel():
+    arm = rapp.Arm([1.0, 1.0])
+    # The arm along +x ends at (2, 0); a disc of radius 1 centred at (3, 0) touches its tip,
+    # a square with a corner at (2, 0) too.
+    assert collides(arm, [0.0, 0.0], [rapp.Circle((3.0, 0.0), 1.0)])
+    assert collides(arm, [0.0, 0.0], [rapp.Polygon.rectangle((2.0, 0.0), 1.0, 1.0)])
+    assert not collides(arm, [0.0, 0.0], [rapp.Circle((3.0, 0.0), 0.999)])
+    assert not segment_collision_free(arm, [0.0, 0.5], [0.0, -0.5], [rapp.Circle((3.0, 0.0), 1.0)])
+
+
+def test_bad_input_is_refused_as_before():
+    arm = rapp.Arm([1.0, 1.0])
+    for q in ([0.0, np.nan], [0.0, 1e101], [0.0, np.inf], [0.0, 0.0, 0.0], "x"):
+        with pytest.raises(ValueError) as fast:
+            collides(arm, q, OBSTACLES3)
+        with pytest.raises(ValueError) as slow:
+            reference.collides(arm, q, OBSTACLES3)
+        assert str(fast.value) == str(slow.value)
+    with pytest.raises(ValueError, match="obstacles must be rapp.Circle or rapp.Polygon"):
+        collides(arm, [0.0, 0.0], [(1.0, 2.0)])
+
+
+def test_the_certification_limit_is_raised_with_the_numpy_message():
+    # Links of 1e6 beside a clearance of 1 need 2**18 pieces.
+    arm = rapp.Arm([1e6, 1e6])
+    obs = [rapp.Circle((0.0, -2.0), 1.0)]
+    with pytest.raises(rapp.errors.CertificationLimit) as fast:
+        segment_collision_free(arm, [0.0, 0.0], [0.5, 0.0], obs)
+    with pytest.raises(rapp.errors.CertificationLimit) as slow:
+        reference.segment_collision_free(arm, [0.0, 0.0], [0.5, 0.0], obs)
+    assert str(fast.value) == str(slow.value)
+
+
+def _without_numba(monkeypatch):
+    monkeypatch.setattr(collision_kernel, "kernels", lambda: None)
+    monkeypatch.setattr(prm_module, "_compiled_dijkstra", lambda: None)
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(st.integers(2, 200), st.integers(0, 2**32 - 1))
+def test_prm_compiled_dijkstra_is_its_python_loop(n, seed):
+    # Weights drawn from {1, 2, uniform}: many exact ties, which both must break alike.
+    rng = np.random.default_rng(seed)
+    edges = {}
+    for _ in range(int(rng.integers(0, 6 * n))):
+        i, j = sorted(int(x) for x in rng.integers(0, n, 2))
+        if i != j:
+            edges[(i, j)] = float(rng.choice([1.0, 2.0, rng.uniform()]))
+    targets = rng.integers(0, n, 3)
+    parent, hit = prm_module._dijkstra(n, edges, [0], targets)
+    fast_parent, fast_hit = prm_module._shortest(n, edges, [0], targets)
+    assert fast_hit == hit
+    assert np.array_equal(fast_parent, parent)
+
+
+@pytest.mark.parametrize("planner", [rrt_connect, prm, rrt, rrt_star])
+def test_same_seeds_grow_the_same_trees(planner, monkeypatch):
+    arm = rapp.Arm(LINKS3)
+    kw = {"max_iterations": 300} if planner is rrt_star else {}
+    seeds = range(3)
+    fast = [planner(arm, (0, 0, 0), (-2, 0.5, 0.5), OBSTACLES3, seed=s, raise_on_failure=False, **kw)
+            for s in seeds]
+    _without_numba(monkeypatch)
+    slow = [planner(arm, (0, 0, 0), (-2, 0.5, 0.5), OBSTACLES3, seed=s, raise_on_failure=False, **kw)
+            for s in seeds]
+    for f, s in zip(fast, slow):
+        assert f.success == s.success
+        assert np.array_equal(f.nodes, s.nodes)
+        assert np.array_equal(f.parent, s.parent)
+        assert np.array_equal(f.path, s.path)
+
+
+def test_line_path_is_unchanged(monkeypatch):
+    from rapp.cartesian import line_path
+
+    arm = rapp.Arm([1.0, 1.0])
+    obs = [rapp.Circle((-0.5, 1.4), 0.25), rapp.Polygon.rectangle((0.2, -1.5), 0.6, 0.4)]
+    fast = line_path(arm, [0.3, 0.6], [1.2, 0.9], obs)
+    _without_numba(monkeypatch)
+    slow = line_path(arm, [0.3, 0.6], [1.2, 0.9], obs)
+    assert len(fast) > 2
+    assert np.array_equal(fast, slow)
+
+
+def test_without_numba_the_numpy_versions_answer(monkeypatch):
+    arm = rapp.Arm(LINKS3)
+    q = np.random.default_rng(1).uniform(-np.pi, np.pi, (100, 3))
+    fast = collides(arm, q, OBSTACLES3), link_clearances(arm, q, OBSTACLES3)
+    _without_numba(monkeypatch)
+    assert np.array_equal(collides(arm, q, OBSTACLES3), fast[0])
+    np.testing.assert_allclose(link_clearances(arm, q, OBSTACLES3), fast[1], rtol=0, atol=1e-12)
