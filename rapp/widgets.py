@@ -18,8 +18,10 @@ Examples
 from __future__ import annotations
 
 import dataclasses
+import functools
 import html
 
+import matplotlib
 import numpy as np
 from matplotlib.figure import Figure
 
@@ -43,6 +45,20 @@ __all__ = [
     "sliders_of",
     "selected",
 ]
+
+
+def _book_style(explorer):
+    """Build ``explorer`` in the book's figure style, whatever the session's matplotlib defaults.
+
+    Type sizes are fixed when text is created, and an explorer's views are all drawn while it
+    is built, so the style must hold for the whole call: the figure is drawn at 72 dpi, a point
+    is a pixel, and the smallest text (10 pt) stays about 10 CSS px in the book's column.
+    """
+    @functools.wraps(explorer)
+    def styled(*args, **kwargs):
+        with matplotlib.rc_context(plotting.BOOK_STYLE):
+            return explorer(*args, **kwargs)
+    return styled
 
 
 def _figure(w, h):
@@ -72,6 +88,7 @@ def sliders_of(widget):
     return {s.description: s for s in _slider_list(widget)}
 
 
+@_book_style
 def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
     """A slider per joint; the arm in the workspace and, for 2 joints, its point in C-space.
 
@@ -137,6 +154,7 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
     return view_stack(fig, controls, view, title="Arm explorer")
 
 
+@_book_style
 def collision_explorer(a=(0.0, 0.0), b=(1.0, 0.0), center=(1.6, 0.1), radius=0.3, *,
                        extent=2.0, steps=17):
     """Segment against disc: move the disc and watch the closest point of the segment follow.
@@ -188,6 +206,7 @@ def collision_explorer(a=(0.0, 0.0), b=(1.0, 0.0), center=(1.6, 0.1), radius=0.3
     return view_stack(fig, controls, view, title="Segment–circle collision")
 
 
+@_book_style
 def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0, 3.0, 5.0)):
     """Plan scenarios at several grid sizes and heuristic weights, and compare.
 
@@ -262,6 +281,7 @@ def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0,
     return view_stack(fig, controls, view, title="Planner playground")
 
 
+@_book_style
 def trajectory_explorer(t0=0.0, tf=2.0, p0=0.0, pf=1.0, v0=0.0, vf=0.0, a0=0.0, af=0.0, *,
                         accelerations=None):
     """Cubic against quintic for the same boundary values; sliders set the end accelerations.
@@ -315,6 +335,7 @@ def trajectory_explorer(t0=0.0, tf=2.0, p0=0.0, pf=1.0, v0=0.0, vf=0.0, a0=0.0, 
     return view_stack(fig, controls, view, title="Cubic vs quintic")
 
 
+@_book_style
 def astar_explorer(occupied, start, goal, *, weights=(1.0,), wraps=True, step=None):
     """Step through A* one expansion at a time, for one or several heuristic weights.
 
@@ -372,6 +393,7 @@ def astar_explorer(occupied, start, goal, *, weights=(1.0,), wraps=True, step=No
     return view_stack(fig, controls, view, title="A*, one expansion at a time")
 
 
+@_book_style
 def rrt_explorer(arm, result, trace, *, occupancy=None, grid=None, goal=None, step=None):
     """Step through the growth of an RRT, one iteration at a time.
 
