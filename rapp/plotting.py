@@ -49,6 +49,7 @@ __all__ = [
     "book_style",
     "smallest_text_px",
     "book_png",
+    "html_table",
     "style_axes",
     "plot_arm",
     "plot_obstacles",
@@ -175,6 +176,23 @@ def book_png(fig, *, max_width=BOOK_WIDTH_IN):
         img.save(out, format="PNG", optimize=True, pnginfo=chunks)
         encoded.append(out.getvalue())
     return min(encoded, key=len)
+
+
+def html_table(header, rows):
+    """A plain HTML table for a notebook (IPython ``HTML``): a header row, then ``rows``.
+
+    Cells are inserted as given (they may hold markup such as ``<sub>``).
+
+    Examples
+    --------
+    >>> html_table(["a", "b"], [(1, 2)]).data
+    '<table><thead><tr><th>a</th><th>b</th></tr></thead><tbody><tr><td>1</td><td>2</td></tr></tbody></table>'
+    """
+    from IPython.display import HTML
+
+    head = "".join(f"<th>{h}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{v}</td>" for v in r) + "</tr>" for r in rows)
+    return HTML(f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
 
 
 def book_style():
