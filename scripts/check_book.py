@@ -225,7 +225,7 @@ _SHOWN = """(el) => {
 # the screen holds (a box that scrolls sideways inside its column is what we want on a phone).
 _OVERFLOW = """() => {
     const vw = document.documentElement.clientWidth;
-    const article = document.querySelector('.bd-article') || document.body;
+    const article = document.querySelector('.bd-article') || document.body || document.documentElement;
     const found = [];
     const sel = 'img, svg, canvas, table, pre, iframe, video, mjx-container, .widget-subarea, '
         + '.jupyter-widgets, .animation, .cell_output > *, .widget-slider, .widget-box';
@@ -269,7 +269,7 @@ _FIGURES = """async () => {
         }
         return out;
     }
-    const article = document.querySelector('.bd-article') || document.body;
+    const article = document.querySelector('.bd-article') || document.body || document.documentElement;
     const res = [];
     for (const img of article.querySelectorAll('img')) {
         const shown = img.getBoundingClientRect().width;
@@ -361,12 +361,15 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]]) -> dict[str, t
                 if not _press_changes(page, handle):
                     problems.append(f"slider {name!r}: the arrow keys move it, the figure stays")
             measured["slider"] = pressed
-            measured["height_px"] = page.evaluate("document.documentElement.scrollHeight")
-            measured["figures"] = page.evaluate(_FIGURES)
-            page.set_viewport_size({"width": NARROW, "height": 844})
-            page.wait_for_timeout(400)
-            measured["overflow"] = page.evaluate(_OVERFLOW)
-            measured["height_390_px"] = page.evaluate("document.documentElement.scrollHeight")
+            try:
+                measured["height_px"] = page.evaluate("document.documentElement.scrollHeight")
+                measured["figures"] = page.evaluate(_FIGURES)
+                page.set_viewport_size({"width": NARROW, "height": 844})
+                page.wait_for_timeout(400)
+                measured["overflow"] = page.evaluate(_OVERFLOW)
+                measured["height_390_px"] = page.evaluate("document.documentElement.scrollHeight")
+            except Exception as err:  # a page the browser could not measure is a failure, not a crash
+                problems.append(f"could not measure the page: {str(err).splitlines()[0]}")
             results[rel] = (problems, measured)
             page.close()
         browser.close()
