@@ -42,6 +42,12 @@ from rapp.paths import even_indices as _subsample, split_at_seam
 
 __all__ = [
     "COLORS",
+    "BOOK_STYLE",
+    "BOOK_WIDTH_IN",
+    "book_style",
+    "smallest_text_px",
+    "book_png",
+    "html_table",
     "style_axes",
     "plot_arm",
     "plot_obstacles",
@@ -75,7 +81,148 @@ _LIGHT = MappingProxyType({
     "legend.facecolor": "white",
     "legend.edgecolor": "#bbbbbb",
     "legend.labelcolor": TEXT,
+    # The book's type sizes. A figure is shown at most BOOK_WIDTH_IN wide, about the book's
+    # content column (720-800 CSS px at 1280 px), so a point stays at least a CSS pixel on
+    # screen: inline figures are drawn at 100 dpi (1.39 px per point), widget figures at 72
+    # dpi (1 px per point). "small" (ticks, legends) is 10 pt, the smallest text we draw.
+    "font.size": 12.0,
+    "axes.titlesize": "medium",
+    "axes.labelsize": "medium",
+    "xtick.labelsize": "small",
+    "ytick.labelsize": "small",
+    "legend.fontsize": "small",
+    "legend.title_fontsize": "small",
+    "figure.titlesize": "large",
 })
+
+#: The widest a book figure is drawn, in inches: 750 px at the inline backend's 100 dpi, the
+#: width of the book's content column at 1280 px. Wider figures are scaled down to it (the type
+#: keeps its size in points, so it grows relative to the figure and stays legible).
+BOOK_WIDTH_IN = 7.5
+
+#: The book-wide figure style: white figure, dark text, the book's type sizes, constrained
+#: layout, 100 dpi. :func:`book_style` applies it; every figure this module makes uses it.
+BOOK_STYLE = MappingProxyType(dict(_LIGHT, **{
+    "figure.dpi": 100,
+    "savefig.dpi": 100,
+    "figure.figsize": (7.0, 4.2),
+    "figure.constrained_layout.use": True,
+}))
+
+
+def smallest_text_px(fig, dpi=None):
+    """The size of the smallest visible text of ``fig``, in pixels of its image at ``dpi``.
+
+    Tick labels, legends, titles, annotations: every non-empty visible ``Text`` (tick labels
+    exist once the figure was drawn). ``None`` when the figure has no text. Multiplied by the displayed width over the image's natural width,
+    this is the size a reader sees (``scripts/check_book.py`` does that in the browser).
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(dpi=72); ax = fig.add_subplot(); t = ax.set_title("x", fontsize=12)
+    >>> ax.tick_params(labelsize=9); fig.draw_without_rendering(); smallest_text_px(fig)
+    9.0
+    >>> smallest_text_px(fig, dpi=144)
+    18.0
+    """
+    from matplotlib.text import Text
+
+    sizes = [t.get_fontsize() for t in fig.findobj(Text)
+             if t.get_text().strip() and t.get_visible() and t.figure is fig
+             and (t.axes is None or t.axes.get_visible())]
+    if not sizes:
+        return None
+    return float(min(sizes)) * (fig.dpi if dpi is None else dpi) / 72.0
+
+
+def book_png(fig, *, max_width=BOOK_WIDTH_IN):
+    """``fig`` as the book shows it: a PNG at most ``max_width`` inches wide, with its type size.
+
+    A wider figure is scaled down (its type keeps its point size). The PNG carries
+    ``rapp:text-px`` (the smallest text, in pixels of the image) and ``rapp:dpi`` as text
+    chunks, so the book check can compute the size a reader sees. Colours are reduced to a
+    palette when that makes the file smaller (line art: about three times).
+
+    Examples
+    --------
+    >>> import io; from PIL import Image; from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(12, 3)); ax = fig.add_subplot(); _ = ax.plot([0, 1])
+    >>> im = Image.open(io.BytesIO(book_png(fig)))
+    >>> im.width <= 100 * BOOK_WIDTH_IN + 20, float(im.info["rapp:text-px"]) >= 13.0
+    (True, True)
+    """
+    import io
+
+    from PIL import Image
+    from PIL.PngImagePlugin import PngInfo
+
+    w, h = fig.get_size_inches()
+    if w > max_width:
+        fig.set_size_inches(max_width, h * max_width / w)
+    dpi = fig.dpi
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", facecolor="white")
+    px = smallest_text_px(fig, dpi)  # after the drawing, which fills in the tick labels
+    chunks = PngInfo()
+    chunks.add_text("rapp:dpi", f"{dpi:g}")
+    chunks.add_text("rapp:text-px", "" if px is None else f"{px:.2f}")
+    rgb = Image.open(buf).convert("RGB")
+    encoded = []
+    for img in (rgb, rgb.quantize(colors=256, dither=Image.Dither.NONE)):
+        out = io.BytesIO()
+        img.save(out, format="PNG", optimize=True, pnginfo=chunks)
+        encoded.append(out.getvalue())
+    return min(encoded, key=len)
+
+
+def html_table(header, rows):
+    """A plain HTML table for a notebook (IPython ``HTML``): a header row, then ``rows``.
+
+    Cells are inserted as given (they may hold markup such as ``<sub>``).
+
+    Examples
+    --------
+    >>> html_table(["a", "b"], [(1, 2)]).data
+    '<table><thead><tr><th>a</th><th>b</th></tr></thead><tbody><tr><td>1</td><td>2</td></tr></tbody></table>'
+    """
+    from IPython.display import HTML
+
+    head = "".join(f"<th>{h}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{v}</td>" for v in r) + "</tr>" for r in rows)
+    return HTML(f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
+
+
+def book_style():
+    """Apply the book's figure style to this session (call once, in a chapter's first cell).
+
+    Sets :data:`BOOK_STYLE` as matplotlib's defaults and, inside IPython, shows every
+    figure through :func:`book_png`: at most the width of the book's column, with the size of
+    its smallest text recorded in the image. Returns the style applied.
+
+    Examples
+    --------
+    >>> import matplotlib as mpl
+    >>> with mpl.rc_context():
+    ...     _ = book_style()
+    ...     mpl.rcParams["font.size"], mpl.rcParams["figure.dpi"]
+    (12.0, 100.0)
+    """
+    matplotlib.rcParams.update(BOOK_STYLE)
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover - IPython is in the environment
+        return BOOK_STYLE
+    shell = get_ipython()
+    if shell is not None and hasattr(shell, "display_formatter"):
+        from matplotlib.figure import Figure
+        formatter = shell.display_formatter.formatters["image/png"]
+        formatter.for_type(Figure, book_png)
+        # One image per figure: the inline backend would also offer its own formats.
+        for mime in ("image/svg+xml", "application/pdf", "image/jpeg", "image/retina+png"):
+            if mime in shell.display_formatter.formatters:
+                shell.display_formatter.formatters[mime].pop(Figure, None)
+    return BOOK_STYLE
 
 
 def style_axes(ax):
@@ -1227,7 +1374,9 @@ def animation_html(anim, *, default_mode="loop"):
 
     The figure is closed first: otherwise a notebook's inline backend shows
     its last frame as a still image below the player as well. Wrap the result
-    in ``IPython.display.HTML`` to show it.
+    in ``IPython.display.HTML`` to show it. The frames are stored as palette
+    PNGs (256 colours, no dithering) when that is smaller: line art loses
+    nothing visible and the page carries a third of the bytes.
 
     Examples
     --------
@@ -1237,8 +1386,24 @@ def animation_html(anim, *, default_mode="loop"):
     >>> "<script" in html, plt.fignum_exists(anim._fig.number)
     (True, False)
     """
+    import base64
+    import io
+    import re
+
+    from PIL import Image
+
     close_animation(anim)
-    return anim.to_jshtml(default_mode=default_mode)
+    html = anim.to_jshtml(default_mode=default_mode)
+
+    def smaller(match):
+        raw = base64.b64decode(re.sub(r"[\\\n]", "", match.group(1)))  # to_jshtml wraps lines
+        img = Image.open(io.BytesIO(raw)).convert("RGB").quantize(colors=256, dither=Image.Dither.NONE)
+        out = io.BytesIO()
+        img.save(out, format="PNG", optimize=True)
+        best = min(raw, out.getvalue(), key=len)
+        return "data:image/png;base64," + base64.b64encode(best).decode("ascii")
+
+    return re.sub(r"data:image/png;base64,([A-Za-z0-9+/=\\\n]+)", smaller, html)
 
 
 def plot_torus(occupancy, grid, ax=None, *, path=None, start=None, goal=None, major=2.0, minor=0.9,

@@ -45,6 +45,9 @@ from ipywidgets.widgets.widget_string import HTMLStyle
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.backends.backend_svg import RendererSVG
 from PIL import Image
+from PIL.PngImagePlugin import PngInfo
+
+from rapp.plotting import smallest_text_px
 
 __all__ = ["Control", "view_stack", "sliders_of", "overlays_of", "statuses_of", "selected",
            "values_of", "render_overlay"]
@@ -184,13 +187,20 @@ def render_overlay(fig, artists) -> str:
     return " ".join(svg.split())
 
 
-def _png(fig) -> bytes:
-    """The figure as a palette PNG: line art compresses four times smaller, no visible change."""
+def _png(fig, text_px=None) -> bytes:
+    """The figure as a palette PNG: line art compresses four times smaller, no visible change.
+
+    ``text_px``, the smallest text of every view in pixels of the image, is kept in the PNG
+    (``rapp:text-px``) for the book check, which scales it by the width the page shows.
+    """
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=_DPI, facecolor="white")
     img = Image.open(io.BytesIO(buf.getvalue())).convert("RGB").quantize(colors=64, dither=Image.Dither.NONE)
+    chunks = PngInfo()
+    chunks.add_text("rapp:dpi", f"{_DPI:g}")
+    chunks.add_text("rapp:text-px", "" if text_px is None else f"{text_px:.2f}")
     out = io.BytesIO()
-    img.save(out, format="PNG", optimize=True)
+    img.save(out, format="PNG", optimize=True, pnginfo=chunks)
     return out.getvalue()
 
 
@@ -260,12 +270,13 @@ def view_stack(fig, controls: Mapping[str, Control], view: Callable[..., str], *
     before = _snapshot(fig)
     view(**{n: controls[n].values[i] for n, i in zip(names, first)})
     canvas.draw()
+    text_px = smallest_text_px(fig, _DPI)  # the first view's own text (titles) included
     fig.set_layout_engine("none")
     frozen = [(ax.get_xlim(), ax.get_ylim()) for ax in fig.axes]
     for ax in fig.axes:
         ax.set_autoscale_on(False)
     _clear(fig, _dynamic_artists(fig, before))
-    background = _png(fig)
+    background = _png(fig, text_px)
 
     sizes = [len(controls[n].values) for n in names]
     drawn = {index: draw(index) for index in itertools.product(*map(range, sizes))}

@@ -18,8 +18,10 @@ Examples
 from __future__ import annotations
 
 import dataclasses
+import functools
 import html
 
+import matplotlib
 import numpy as np
 from matplotlib.figure import Figure
 
@@ -28,9 +30,10 @@ from rapp.collision import clearance, collides, line_distance_mis, segment_circl
 from rapp.cspace import JointGrid, occupancy
 from rapp.errors import RappError
 from rapp.planner import plan as run_plan
+from rapp.search import bfs_distances
 from rapp.plotting import subplots
 from rapp.trajectory import cubic, quintic
-from rapp.view_stack import Control, selected, view_stack
+from rapp.view_stack import Control, selected, values_of, view_stack
 from rapp.view_stack import sliders_of as _slider_list
 
 __all__ = [
@@ -42,7 +45,22 @@ __all__ = [
     "rrt_explorer",
     "sliders_of",
     "selected",
+    "values_of",
 ]
+
+
+def _book_style(explorer):
+    """Build ``explorer`` in the book's figure style, whatever the session's matplotlib defaults.
+
+    Type sizes are fixed when text is created, and an explorer's views are all drawn while it
+    is built, so the style must hold for the whole call: the figure is drawn at 72 dpi, a point
+    is a pixel, and the smallest text (10 pt) stays about 10 CSS px in the book's column.
+    """
+    @functools.wraps(explorer)
+    def styled(*args, **kwargs):
+        with matplotlib.rc_context(plotting.BOOK_STYLE):
+            return explorer(*args, **kwargs)
+    return styled
 
 
 def _figure(w, h):
@@ -72,6 +90,7 @@ def sliders_of(widget):
     return {s.description: s for s in _slider_list(widget)}
 
 
+@_book_style
 def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
     """A slider per joint; the arm in the workspace and, for 2 joints, its point in C-space.
 
@@ -82,11 +101,14 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
     grid : rapp.JointGrid, optional
         The C-space grid (2-joint arms); ``JointGrid(arm, cells)`` when None.
     q : array_like, shape (n,), optional
-        The configuration shown first (the nearest slider values; all zeros when None).
+        The configuration shown first, exactly: each angle inside its joint's limits is added to
+        its slider's values (an angle outside them opens at the nearest value). All zeros when
+        None.
     steps : int, optional
-        Values per slider, from each joint's lower to upper limit. Default: 19 for two joints
-        (20 degrees apart on a free joint), fewer for more joints so that the ``steps ** n``
-        views stay under about 400 (the page stays light and becomes interactive quickly).
+        Evenly spaced values per slider, from each joint's lower to upper limit. Default: 19 for
+        two joints (20 degrees apart on a free joint), fewer for more joints so that the views
+        (one per combination of values, ``q``'s included) stay under about 400 (the page stays
+        light and becomes interactive quickly).
 
     Returns
     -------
@@ -99,13 +121,25 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
     >>> w = arm_explorer(Arm([1.0, 1.0]), [Circle((1.5, 0.0), 0.3)], cells=16, steps=5)
     >>> list(sliders_of(w)), "collision" in selected(w)[1]
     (['θ1 (rad)', 'θ2 (rad)'], True)
+    >>> values_of(arm_explorer(Arm([1.0, 1.0]), q=[0.123, -1.5], steps=5))
+    {'q0': 0.123, 'q1': -1.5}
     """
     obstacles = tuple(obstacles)
     n = arm.n
-    steps = int(steps) if steps is not None else max(3, int(np.floor(361 ** (1.0 / n) + 1e-9)))
+    if steps is None:
+        steps = max(3, int(np.floor(361 ** (1.0 / n) + 1e-9)))
+        if q is not None and (steps + 1) ** n > 400:
+            steps -= 1  # room for q's own values
     q0 = np.zeros(n) if q is None else np.asarray(q, dtype=float)
-    controls = {f"q{i}": Control(f"θ{i + 1} (rad)", _steps(arm.lower[i], arm.upper[i], steps),
-                                 default=float(q0[i])) for i in range(n)}
+
+    def values(i):
+        even = _steps(arm.lower[i], arm.upper[i], int(steps))
+        if q is None or not arm.lower[i] <= q0[i] <= arm.upper[i]:
+            return even
+        return sorted(set(even) | {round(float(q0[i]), 4)})
+
+    controls = {f"q{i}": Control(f"θ{i + 1} (rad)", values(i), default=float(q0[i]))
+                for i in range(n)}
     fig = _figure(10.0 if n == 2 else 5.0, 5.0)
     axs = subplots(fig, 1, 2 if n == 2 else 1)
     ax_w = axs[-1] if n == 2 else axs
@@ -137,6 +171,7 @@ def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
     return view_stack(fig, controls, view, title="Arm explorer")
 
 
+@_book_style
 def collision_explorer(a=(0.0, 0.0), b=(1.0, 0.0), center=(1.6, 0.1), radius=0.3, *,
                        extent=2.0, steps=17):
     """Segment against disc: move the disc and watch the closest point of the segment follow.
@@ -188,6 +223,42 @@ def collision_explorer(a=(0.0, 0.0), b=(1.0, 0.0), center=(1.6, 0.1), radius=0.3
     return view_stack(fig, controls, view, title="Segment–circle collision")
 
 
+def _failure_cspace(scenario, cells, ax):
+    """What a failed plan's grid shows: its C-space, the start's free region, the joint limits.
+
+    A failure view teaches only if it shows why: the cells reachable from the start (shaded
+    blue) and whether the goal is among them. Returns that sentence (empty for arms of more than
+    two joints or a Cartesian goal, where the grid has no single goal cell to show).
+    """
+    arm = scenario.arm
+    if arm.n != 2:
+        return ""
+    grid = JointGrid(arm, cells)
+    occ = occupancy(arm, scenario.obstacles, grid)
+    start = grid.index(np.asarray(scenario.start, dtype=float))
+    reach = bfs_distances(occ, tuple(int(i) for i in start), wraps=grid.wraps) >= 0
+    goal = None if scenario.goal_q is None else np.asarray(scenario.goal_q, dtype=float)
+    plotting.plot_cspace(occ, grid, ax, start=np.asarray(scenario.start, dtype=float), goal=goal,
+                         expanded=reach, title="C-space: blue = reachable from the start")
+    lo, hi = ax.get_xlim()
+    for i, axis in enumerate("xy"):
+        if not grid.wraps[i]:  # the angles the joint may not take, outside its limits
+            span = ax.axvspan if axis == "x" else ax.axhspan
+            for a, b in ((-np.pi, arm.lower[i]), (arm.upper[i], np.pi)):
+                if b > a:
+                    span(a, b, facecolor="none", edgecolor=plotting.TEXT, hatch="///", lw=0.0,
+                         alpha=0.5, zorder=1)
+    free = int((~occ).sum())
+    if goal is None:
+        return f"The start reaches {int(reach.sum())} of the grid's {free} free cells."
+    inside = bool(reach[tuple(int(i) for i in grid.index(goal))])
+    where = "and the goal is among them" if inside else "and the goal is not among them"
+    limits = "; hatched: beyond the joint limits" if not all(grid.wraps) else ""
+    return (f"The start reaches {int(reach.sum())} of the grid's {free} free cells (blue), "
+            f"{where}{limits}.")
+
+
+@_book_style
 def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0, 3.0, 5.0)):
     """Plan scenarios at several grid sizes and heuristic weights, and compare.
 
@@ -249,7 +320,9 @@ def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0,
                 ax_w.plot(*s.goal_xy, "*", color=plotting.GOAL, ms=14)
             ax_w.set_title(f"{type(exc).__name__}", fontsize="medium",
                            color=plotting.COLORS["vermillion"])
-            return _badge(False, "", type(exc).__name__) + " " + html.escape(str(exc))
+            told = _failure_cspace(s, int(cells), ax_c)
+            return (_badge(False, "", type(exc).__name__) + " " + html.escape(str(exc))
+                    + ("<br>" + told if told else ""))
         closed = p.expanded if np.ndim(p.occupancy) == 2 else None
         plotting.plot_plan(p, s, expanded=closed, axes=(ax_c, ax_w))
         shown = [f"{k} {v:.4g}" for k, v in p.metrics.items()
@@ -262,6 +335,7 @@ def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0,
     return view_stack(fig, controls, view, title="Planner playground")
 
 
+@_book_style
 def trajectory_explorer(t0=0.0, tf=2.0, p0=0.0, pf=1.0, v0=0.0, vf=0.0, a0=0.0, af=0.0, *,
                         accelerations=None):
     """Cubic against quintic for the same boundary values; sliders set the end accelerations.
@@ -315,6 +389,7 @@ def trajectory_explorer(t0=0.0, tf=2.0, p0=0.0, pf=1.0, v0=0.0, vf=0.0, a0=0.0, 
     return view_stack(fig, controls, view, title="Cubic vs quintic")
 
 
+@_book_style
 def astar_explorer(occupied, start, goal, *, weights=(1.0,), wraps=True, step=None):
     """Step through A* one expansion at a time, for one or several heuristic weights.
 
@@ -372,6 +447,7 @@ def astar_explorer(occupied, start, goal, *, weights=(1.0,), wraps=True, step=No
     return view_stack(fig, controls, view, title="A*, one expansion at a time")
 
 
+@_book_style
 def rrt_explorer(arm, result, trace, *, occupancy=None, grid=None, goal=None, step=None):
     """Step through the growth of an RRT, one iteration at a time.
 

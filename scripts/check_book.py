@@ -14,12 +14,20 @@ page fails when:
 - a matplotlib animation (to_jshtml) has no controls or no frame shown;
 - a saved widget view rendered nothing (no widget DOM next to its view script).
 
-Then every page with sliders is opened in Chromium driven by playwright (offline: requests to
-any host but the local server are refused), and each slider, of a widget or of an animation
-player, is pressed with the arrow keys: the page fails when the figure the slider belongs to
-does not change. Every live explorer (rapp.live, `data-rapp-live`) is dragged by a handle and
-must recompute and redraw. The time until every widget on the page is rendered (interactive) and the
-page's weight are reported; a page over 8 MB or a book over 80 MB fails.
+Then every page is opened in Chromium driven by playwright (offline: requests to any host but
+the local server are refused), at 1280 px and at 390 px, as a reader on a laptop and on a phone
+would see it. Each slider, of a widget or of an animation player, is pressed with the arrow keys:
+the page fails when the figure the slider belongs to does not change. Every live explorer (rapp.live,
+`data-rapp-live`) is dragged by a handle and must recompute and redraw. Measured and reported per
+page: the seconds until the first slider responds and until every widget view rendered, the
+HTML weight, the height at both widths, and the smallest figure text as displayed (the PNG's
+recorded ``rapp:text-px`` times its displayed over its natural width). The page fails when
+
+- an element of the article reaches past the screen's right edge at 390 px (a box that scrolls
+  sideways inside the column is fine);
+- a chapter page is taller than 22,000 px at 1280 px, or weighs over 2.5 MB of HTML;
+- any page weighs over 8 MB; the book fails over 80 MB, and when fewer than 90 % of the figures
+  that carry a text size show it at 9 CSS px or more at 1280 px.
 
 Prints one line per page and a summary line; exit status 1 when any page fails.
 """
@@ -186,6 +194,18 @@ def check_dom(dom: str, page_url: str, root: Path, base_url: str) -> tuple[list[
 
 PAGE_BUDGET_MB = 8.0
 BOOK_BUDGET_MB = 80.0
+# What a reader can take in at one sitting, on a laptop and on a phone (issue 22).
+CHAPTER_HTML_MB = 2.5          # a chapter page's HTML, saved widget views included
+CHAPTER_HEIGHT_PX = 22_000     # a chapter page's height at 1280 px
+MIN_TEXT_PX = 9.0              # the smallest figure text as displayed at 1280 px ...
+MIN_TEXT_SHARE = 0.90          # ... in at least this share of the measured figures
+WIDE, NARROW = 1280, 390       # viewport widths, CSS px
+
+
+def is_chapter(rel: str) -> bool:
+    """Chapter pages (the notebooks) carry the per-page limits; reference pages are reported."""
+    return rel.startswith("notebooks/")
+
 
 # The figure a slider drives: for a widget, the visible images and SVGs of its explorer; for an
 # animation player, its frame. A signature of what is shown, to compare before and after a key.
@@ -202,12 +222,93 @@ _SHOWN = """(el) => {
     return shown.length + ':' + h;
 }"""
 
+# Elements of the article whose right edge is past the screen and that no scrolling box inside
+# the screen holds (a box that scrolls sideways inside its column is what we want on a phone).
+_OVERFLOW = """() => {
+    const vw = document.documentElement.clientWidth;
+    const article = document.querySelector('.bd-article') || document.body || document.documentElement;
+    const found = [];
+    const sel = 'img, svg, canvas, table, pre, iframe, video, mjx-container, .widget-subarea, '
+        + '.jupyter-widgets, .animation, .cell_output > *, .widget-slider, .widget-box';
+    for (const el of article.querySelectorAll(sel)) {
+        const r = el.getBoundingClientRect();
+        if (r.width === 0 || r.height === 0 || r.right <= vw + 1) continue;
+        let held = false;
+        for (let a = el.parentElement; a && a !== document.documentElement; a = a.parentElement) {
+            const ox = getComputedStyle(a).overflowX;
+            if (['auto', 'scroll', 'hidden', 'clip'].includes(ox) && a.getBoundingClientRect().right <= vw + 1) {
+                held = true; break;
+            }
+        }
+        if (!held) {
+            const cls = (el.className && el.className.baseVal !== undefined) ? el.className.baseVal : el.className;
+            found.push(`${el.tagName.toLowerCase()}${cls ? '.' + String(cls).trim().split(/\s+/)[0] : ''}`
+                       + ` to ${Math.round(r.right)} px`);
+        }
+    }
+    return found;
+}"""
 
-def check_sliders(base_url: str, pages: list[tuple[str, int]]) -> dict[str, tuple[list[str], dict]]:
-    """Press the arrow keys on every slider of every page; report what did not change.
+# Every visible figure image of the article: its natural and displayed width and the smallest
+# text it carries (the PNG text chunk rapp:text-px that rapp.plotting.book_png and the widget
+# view stack write), read from the image's own bytes.
+_FIGURES = """async () => {
+    function chunks(bytes) {
+        const out = {};
+        const dv = new DataView(bytes.buffer);
+        if (bytes.length < 8 || bytes[1] !== 0x50) return out;
+        for (let i = 8; i + 8 <= bytes.length;) {
+            const len = dv.getUint32(i);
+            const type = String.fromCharCode(...bytes.slice(i + 4, i + 8));
+            if (type === 'IDAT' || type === 'IEND') break;
+            if (type === 'tEXt') {
+                const data = bytes.slice(i + 8, i + 8 + len);
+                const zero = data.indexOf(0);
+                out[String.fromCharCode(...data.slice(0, zero))] = String.fromCharCode(...data.slice(zero + 1));
+            }
+            i += 12 + len;
+        }
+        return out;
+    }
+    const article = document.querySelector('.bd-article') || document.body || document.documentElement;
+    const res = [];
+    for (const img of article.querySelectorAll('img')) {
+        const shown = img.getBoundingClientRect().width;
+        if (!img.naturalWidth || !shown || img.closest('.animation')) continue;
+        let text = null;
+        try {
+            const meta = chunks(new Uint8Array(await (await fetch(img.src)).arrayBuffer()));
+            if (meta['rapp:text-px']) text = parseFloat(meta['rapp:text-px']);
+        } catch (e) {}
+        res.push({natural: img.naturalWidth, shown: shown, text_px: text,
+                  seen_px: text === null ? null : text * shown / img.naturalWidth});
+    }
+    return res;
+}"""
 
-    ``pages`` are (relative URL, number of saved widget views). Returns, per page, the problems
-    and the numbers measured: sliders pressed, seconds until every widget view rendered.
+_HANDLES = ".widget-slider .noUi-handle, .animation input[type=range]"
+
+
+def _press_changes(page, handle) -> bool:
+    """Press the arrow keys on a slider until what it drives changes (False: it never did)."""
+    before = handle.evaluate(_SHOWN)
+    for key in ("ArrowRight", "ArrowLeft", "ArrowLeft"):
+        handle.focus()
+        page.keyboard.press(key)
+        page.wait_for_timeout(120)
+        if handle.evaluate(_SHOWN) != before:
+            return True
+    return False
+
+
+def check_in_browser(base_url: str, pages: list[tuple[str, int]]) -> dict[str, tuple[list[str], dict]]:
+    """Open every page as a reader would, at 1280 px and at 390 px, and measure it.
+
+    ``pages`` are (relative URL, number of saved widget views). At 1280 px: the seconds until the
+    first slider responds and until every widget view rendered, every slider pressed with the
+    arrow keys (the figure it drives must change), the page's height, and the smallest figure
+    text as displayed. At 390 px: the elements that reach past the screen's right edge. Returns,
+    per page, the problems and the numbers measured.
     """
     from playwright.sync_api import sync_playwright
 
@@ -217,21 +318,36 @@ def check_sliders(base_url: str, pages: list[tuple[str, int]]) -> dict[str, tupl
         browser = pw.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
                                      args=["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"])
         for rel, views in pages:
-            page = browser.new_page(viewport={"width": 1280, "height": 900})
+            page = browser.new_page(viewport={"width": WIDE, "height": 900})
             page.route("**/*", lambda route: route.continue_() if urlparse(route.request.url).netloc
-                       == host or route.request.url.startswith("data:") else route.abort())
+                       == host or route.request.url.startswith(("data:", "blob:")) else route.abort())
             problems: list[str] = []
+            measured: dict = {}
             t0 = time.monotonic()
-            page.goto(base_url + rel, wait_until="load")
-            try:
-                page.wait_for_function(
-                    "(n) => document.querySelectorAll('.widget-subarea').length >= n "
-                    "&& [...document.querySelectorAll('.widget-subarea')].every(a => a.children.length)",
-                    arg=views, timeout=30_000)
-            except Exception:
-                problems.append("widgets did not render within 30 s")
-            ready = time.monotonic() - t0
-            handles = page.locator(".widget-slider .noUi-handle, .animation input[type=range]")
+            page.goto(base_url + rel, wait_until="domcontentloaded")
+            has_slider = views or page.locator(".animation").count()
+            # The first slider that moves its figure: how long a reader waits to use the page.
+            while has_slider and time.monotonic() - t0 < 30:
+                first = page.locator(_HANDLES)
+                if first.count() and first.first.is_visible():
+                    first.first.scroll_into_view_if_needed()
+                    if _press_changes(page, first.first):
+                        measured["first_slider_s"] = time.monotonic() - t0
+                        break
+                page.wait_for_timeout(150)
+            page.wait_for_load_state("load")
+            if views:
+                try:
+                    page.wait_for_function(
+                        "(n) => document.querySelectorAll('.widget-subarea').length >= n "
+                        "&& [...document.querySelectorAll('.widget-subarea')].every(a => a.children.length)",
+                        arg=views, timeout=30_000)
+                except Exception:
+                    problems.append("widgets did not render within 30 s")
+                measured["ready_s"] = time.monotonic() - t0
+            if has_slider and "first_slider_s" not in measured:
+                problems.append("no slider responded within 30 s")
+            handles = page.locator(_HANDLES)
             pressed = 0
             for i in range(handles.count()):
                 handle = handles.nth(i)
@@ -242,19 +358,20 @@ def check_sliders(base_url: str, pages: list[tuple[str, int]]) -> dict[str, tupl
                                      " const l = w && w.querySelector('.widget-label');"
                                      " return l ? l.textContent : 'animation frame'; }",
                                      handle.element_handle())
-                before = handle.evaluate(_SHOWN)
-                changed = False
-                for key in ("ArrowRight", "ArrowLeft", "ArrowLeft"):
-                    handle.focus()
-                    page.keyboard.press(key)
-                    page.wait_for_timeout(120)
-                    if handle.evaluate(_SHOWN) != before:
-                        changed = True
-                        break
                 pressed += 1
-                if not changed:
+                if not _press_changes(page, handle):
                     problems.append(f"slider {name!r}: the arrow keys move it, the figure stays")
-            results[rel] = (problems, {"slider": pressed, "ready_s": ready})
+            measured["slider"] = pressed
+            try:
+                measured["height_px"] = page.evaluate("document.documentElement.scrollHeight")
+                measured["figures"] = page.evaluate(_FIGURES)
+                page.set_viewport_size({"width": NARROW, "height": 844})
+                page.wait_for_timeout(400)
+                measured["overflow"] = page.evaluate(_OVERFLOW)
+                measured["height_390_px"] = page.evaluate("document.documentElement.scrollHeight")
+            except Exception as err:  # a page the browser could not measure is a failure, not a crash
+                problems.append(f"could not measure the page: {str(err).splitlines()[0]}")
+            results[rel] = (problems, measured)
             page.close()
         browser.close()
     return results
@@ -364,8 +481,7 @@ def main(argv: list[str] | None = None) -> int:
             results = list(pool.map(visit, pages))
         with_widgets = [(p.relative_to(root).as_posix(), p.read_text(encoding="utf-8").count(WIDGET_VIEW))
                         for p in pages]
-        sliders = check_sliders(base_url, [(rel, n) for rel, n in with_widgets
-                                           if n or "animation" in (root / rel).read_text(encoding="utf-8")])
+        browsed = check_in_browser(base_url, with_widgets)
         if args.shots:
             args.shots.mkdir(parents=True, exist_ok=True)
         live = check_live(base_url, [p.relative_to(root).as_posix() for p in pages
@@ -377,19 +493,37 @@ def main(argv: list[str] | None = None) -> int:
     # Pages are opened in parallel, so a failed request is reported under every page whose HTML
     # names the file; one nothing names (e.g. a font a stylesheet asked for) fails on its own line.
     missing = sorted({path for path, code in log if code >= 400 and path != "/favicon.ico"})
+    figures_all: list[dict] = []
     for page, (problems, stats) in zip(pages, results):
         rel = page.relative_to(root).as_posix()
         html = page.read_text(encoding="utf-8")
         problems += [f"not served: {path}" for path in missing if Path(path).name in html]
-        slider_problems, measured = sliders.get(rel, ([], {"slider": 0}))
-        problems += slider_problems + live.get(rel, ([], {}))[0]
-        stats = dict(stats, slider=measured["slider"])
+        browser_problems, measured = browsed.get(rel, ([], {"slider": 0}))
+        problems += browser_problems + live.get(rel, ([], {}))[0]
+        stats = dict(stats, slider=measured.get("slider", 0))
         mb = page.stat().st_size / 1e6
         if mb > PAGE_BUDGET_MB:
             problems.append(f"page weighs {mb:.1f} MB, over the {PAGE_BUDGET_MB:g} MB budget")
+        height = measured.get("height_px", 0)
+        if is_chapter(rel):
+            if mb > CHAPTER_HTML_MB:
+                problems.append(f"chapter page weighs {mb:.2f} MB of HTML, over {CHAPTER_HTML_MB:g} MB")
+            if height > CHAPTER_HEIGHT_PX:
+                problems.append(f"chapter page is {height} px tall at {WIDE} px, over {CHAPTER_HEIGHT_PX}")
+        for where in measured.get("overflow", []):
+            problems.append(f"at {NARROW} px past the screen's edge: {where}")
+        figures = measured.get("figures", [])
+        figures_all += [dict(f, page=rel) for f in figures]
+        seen = [f["seen_px"] for f in figures if f["seen_px"] is not None]
         for key in totals:
             totals[key] += stats[key]
         summary = ", ".join(f"{v} {k}" for k, v in stats.items()) + f"; {mb:.2f} MB"
+        summary += f", {height} px tall ({measured.get('height_390_px', 0)} at {NARROW})"
+        if figures:
+            summary += (f", figure text {min(seen):.1f} px min over {len(seen)} of {len(figures)} figures"
+                        if seen else f", {len(figures)} figures without a recorded text size")
+        if "first_slider_s" in measured:
+            summary += f", first slider responds in {measured['first_slider_s']:.1f} s"
         if rel in live:
             summary += f", {live[rel][1]['live']} live explorers dragged"
         if "ready_s" in measured:
@@ -401,6 +535,20 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"     - {problem}")
         else:
             print(f"ok   {rel} ({summary})")
+    # Figure text: a book-wide share, since a few dense figures (a legend of a 3-panel row) may
+    # stay just under; figures drawn without the book style carry no size and are listed.
+    seen_all = [f for f in figures_all if f["seen_px"] is not None]
+    legible = [f for f in seen_all if f["seen_px"] >= MIN_TEXT_PX]
+    unmeasured = len(figures_all) - len(seen_all)
+    share = len(legible) / len(seen_all) if seen_all else 1.0
+    small = sorted(seen_all, key=lambda f: f["seen_px"])[:5]
+    print(f"figure text at {WIDE} px: {len(legible)} of {len(seen_all)} measured figures "
+          f"show their smallest text at >= {MIN_TEXT_PX:g} px ({share:.0%}); {unmeasured} figures "
+          "carry no text size (drawn without rapp.plotting.book_style)"
+          + ("; smallest: " + ", ".join(f"{f['page']} {f['seen_px']:.1f} px" for f in small) if small else ""))
+    if share < MIN_TEXT_SHARE:
+        failed += 1
+        print(f"FAIL figure text: {share:.0%} of figures legible, under {MIN_TEXT_SHARE:.0%}")
     unattributed = [p for p in missing if not any(Path(p).name in pg.read_text(encoding="utf-8") for pg in pages)]
     if unattributed:
         failed += 1

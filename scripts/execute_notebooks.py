@@ -25,6 +25,7 @@ from nbclient.exceptions import CellExecutionError
 
 ROOT = Path(__file__).resolve().parent.parent
 NOTEBOOKS = ROOT / "notebooks"
+WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
 
 
 def execute(path: Path, timeout: int) -> None:
@@ -39,6 +40,11 @@ def execute(path: Path, timeout: int) -> None:
         allow_errors=False,
     )
     client.execute(cwd=str(NOTEBOOKS))
+    # A notebook that shows no widget any more keeps no saved widget state: the book would
+    # embed it in the page all the same (megabytes of views nobody sees).
+    if not any(WIDGET_VIEW in out.get("data", {}) for cell in nb.cells if cell.cell_type == "code"
+               for out in cell.outputs):
+        nb.metadata.pop("widgets", None)
     # nbclient leaves per-cell "execution" metadata only when record_timing is on; drop any
     # left over from JupyterLab so the saved file carries no timings.
     for cell in nb.cells:

@@ -385,3 +385,34 @@ def test_workspace_frame_holds_obstacles_beyond_the_reach():
     (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
     assert x1 >= 1.75 + 0.6 and x0 <= -3.0 and (x0, x1) == (y0, y1) == (-x1, x1)
     plt.close(ax.figure)
+
+
+@settings(max_examples=12, deadline=None)
+@given(width=st.floats(2.0, 16.0), height=st.floats(1.5, 6.0), size=st.floats(6.0, 14.0))
+def test_book_png_fits_the_column_and_records_its_smallest_text(width, height, size):
+    import io
+
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width, height), dpi=100)
+    ax = fig.add_subplot()
+    ax.plot([0, 1], [0, 1])
+    ax.set_title("title", fontsize=size + 2)
+    ax.tick_params(labelsize=size)
+    img = Image.open(io.BytesIO(P.book_png(fig)))
+    # Tight bounding box: at most the column plus the labels that stick out of the figure.
+    assert img.width <= 100 * P.BOOK_WIDTH_IN + 40
+    assert float(img.info["rapp:text-px"]) == pytest.approx(size * 100 / 72, abs=0.01)
+    assert img.info["rapp:dpi"] == "100"
+
+
+def test_book_style_is_the_one_figure_style():
+    with matplotlib.rc_context():
+        P.book_style()
+        fig, ax = plt.subplots()
+        ax.plot([0, 1])
+        fig.canvas.draw()
+        # The smallest text (ticks) is 10 pt: at 100 dpi and the column's width, >= 10 CSS px.
+        assert P.smallest_text_px(fig) == pytest.approx(10 * 100 / 72, abs=0.01)  # "small" of 12 pt
+        assert fig.get_size_inches()[0] <= P.BOOK_WIDTH_IN and fig.get_facecolor() == WHITE
+        plt.close(fig)

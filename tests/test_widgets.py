@@ -143,3 +143,43 @@ def test_plan_expanded_is_the_search_closed_set():
     assert p.expanded.shape == p.occupancy.shape
     assert int(p.expanded.sum()) == p.metrics["expansions"]
     assert not (p.expanded & p.occupancy).any()
+
+
+def test_a_failure_view_shows_the_start_region_and_says_whether_the_goal_is_in_it():
+    # The oracle: a plain flood fill over the grid's free cells (Python sets, no numpy tricks).
+    from rapp.cspace import JointGrid, occupancy
+    from rapp.scenario import load_scenario
+
+    s = load_scenario("no_solution")
+    w = W.planner_playground({"no_solution": s}, cells=(40,), weights=(1.0,))
+    text = selected(w)[1]
+    assert "NoPathFound" in text and "hatched: beyond the joint limits" in text
+    grid = JointGrid(s.arm, 40)
+    occ = occupancy(s.arm, s.obstacles, grid)
+    start = tuple(int(i) for i in grid.index(np.asarray(s.start)))
+    seen, todo = {start}, [start]
+    while todo:
+        i, j = todo.pop()
+        for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            a, b = i + di, j + dj
+            a, b = (a % 40 if grid.wraps[0] else a), (b % 40 if grid.wraps[1] else b)
+            if 0 <= a < 40 and 0 <= b < 40 and not occ[a, b] and (a, b) not in seen:
+                seen.add((a, b))
+                todo.append((a, b))
+    goal = tuple(int(i) for i in grid.index(np.asarray(s.goal_q)))
+    assert f"The start reaches {len(seen)} of the grid's {int((~occ).sum())} free cells" in text
+    assert ("the goal is not among them" in text) == (goal not in seen) and goal not in seen
+
+
+def test_explorer_figures_record_their_smallest_text_at_book_size():
+    # The book check scales rapp:text-px by the displayed width; at 72 dpi a point is a pixel,
+    # and the book's smallest type is 10 pt, whatever the session's matplotlib defaults.
+    import io
+
+    from PIL import Image
+
+    with matplotlib.rc_context({"font.size": 6.0}):
+        w = W.collision_explorer(steps=3)
+    image = next(c for c in w.children[-1].children if hasattr(c, "format"))
+    info = Image.open(io.BytesIO(image.value)).info
+    assert info["rapp:dpi"] == "72" and float(info["rapp:text-px"]) >= 10.0

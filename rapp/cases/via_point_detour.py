@@ -48,6 +48,9 @@ __all__ = [
     "tangent_via_point",
     "peak_rates",
     "spline_vs_cubic",
+    "coefficient_tables",
+    "velocity_rows",
+    "check_printed",
 ]
 
 SEED002_TIMES = (3.0, 5.5, 8.0)
@@ -429,3 +432,55 @@ def spline_vs_cubic(times, positions, velocities, samples: int = 2001):
     cub = via_points(times, positions, velocities=vel, profile="cubic")
     spl = via_points(times, positions, velocities=vel[[0, -1]], profile="spline")
     return {"cubic": peak_rates(cub, samples), "spline": peak_rates(spl, samples)}
+
+
+def coefficient_tables(points, times, velocities):
+    """The seed's coefficient tables: per axis, one row per segment, ``(c3, c2, c1, c0)``.
+
+    Coefficients of the cubic through consecutive ``points`` at ``times`` with ``velocities``,
+    in absolute time, highest power first (the seed's order; :func:`rapp.cubic` gives ascending).
+
+    Examples
+    --------
+    >>> x, y = coefficient_tables([[0, 0], [1, 2]], [0.0, 1.0], [[0, 0], [0, 0]])
+    >>> x.round(6).tolist(), y.round(6).tolist()
+    ([[-2.0, 3.0, 0.0, 0.0]], [[-4.0, 6.0, 0.0, 0.0]])
+    """
+    from rapp.trajectory import cubic
+
+    P, V, t = (np.asarray(a, float) for a in (points, velocities, times))
+    return [cubic(t[:-1], t[1:], P[:-1, k], P[1:, k], V[:-1, k], V[1:, k])[::-1].T
+            for k in range(P.shape[1])]
+
+
+def velocity_rows(table):
+    """The velocity polynomial of each row of a coefficient table: ``(3 c3, 2 c2, c1)``.
+
+    Examples
+    --------
+    >>> velocity_rows(np.array([[-2.0, 3.0, 0.0, 0.0]])).tolist()
+    [[-6.0, 6.0, 0.0]]
+    """
+    return np.asarray(table)[:, :3] * [3, 2, 1]
+
+
+def check_printed(names, computed, printed):
+    """Compare the numbers a document prints with the computed ones, to the digits printed.
+
+    A printed value is right when it is the computed value rounded to as many decimals as it
+    shows. Returns the table rows ``(name, printed, computed to 4 decimals, verdict)`` and the
+    names of the wrong ones.
+
+    Examples
+    --------
+    >>> rows, wrong = check_printed(["a", "b"], [11 / 12, 11 / 12], ["0.9167", "0.9166"])
+    >>> wrong
+    ['b']
+    """
+    rows, wrong = [], []
+    for name, value, text in zip(names, np.ravel(computed), printed):
+        decimals = len(text.split(".")[1]) if "." in text else 0
+        ok = abs(value - float(text)) <= 0.5 * 10.0**-decimals + 1e-12
+        rows.append((name, text, f"{value:.4f}", "✓" if ok else "<b>wrong</b>"))
+        wrong += [] if ok else [name]
+    return rows, wrong
