@@ -1,0 +1,151 @@
+"""Issue 23: the faults an outside battery still found, each reproduced and held.
+
+One section per case of the issue; each test states the property the battery checked.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import stat
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import rapp
+from rapp import Arm, Circle, JointGrid, Polygon
+from rapp.collision import collides
+from rapp.cspace import certified_free, grid_q
+from rapp.errors import FileNotFound, InvalidValue, ScenarioError
+from rapp.scenario import MAX_OBSTACLES, check_limits, load_scenario
+
+# --------------------------------------------------------------------------- 6. paths and limits
+
+
+@pytest.mark.parametrize("kind", ["fifo", "chardev", "nul", "dir"])
+def test_a_path_that_is_not_a_regular_file_is_a_scenario_error_at_once(tmp_path, kind):
+    if kind == "fifo":
+        path = str(tmp_path / "pipe.json")
+        os.mkfifo(path)   # nobody writes to it: reading it would block forever
+    elif kind == "chardev":
+        path = "/dev/zero"  # reading it would never end
+    elif kind == "nul":
+        path = "a\x00b"
+    else:
+        path = str(tmp_path)
+    with pytest.raises(ScenarioError) as err:
+        load_scenario(path)
+    assert isinstance(err.value, FileNotFound) and err.value.field == "scenario"
+    assert repr(path) in str(err.value)
+
+
+def test_a_path_like_that_cannot_give_a_path_is_a_scenario_error():
+    class Broken(os.PathLike):
+        def __fspath__(self):
+            raise TypeError("no path here")
+
+    with pytest.raises(FileNotFound, match="not a usable path"):
+        load_scenario(Broken())
+
+
+def test_the_obstacle_count_is_limited_in_the_file_reader_and_in_the_library():
+    base = load_scenario("default")
+    far = {"type": "circle", "center": [50.0, 50.0], "radius": 0.1}
+    data = dict(base.to_dict(), obstacles=[far] * (MAX_OBSTACLES + 1))
+    with pytest.raises(InvalidValue) as err:
+        load_scenario(data)
+    assert err.value.field == "obstacles"
+    many = dataclasses.replace(base, obstacles=(Circle((50.0, 50.0), 0.1),) * 1_000_000)
+    with pytest.raises(InvalidValue) as err:
+        rapp.plan(many)   # refused before any work
+    assert err.value.field == "obstacles" and "1000000" in str(err.value)
+    assert load_scenario(dict(base.to_dict(), obstacles=[far] * MAX_OBSTACLES)).obstacles
+
+
+def test_a_scenario_built_in_code_gets_the_readers_limits_on_settings():
+    base = load_scenario("default")
+    bad = dataclasses.replace(base, trajectory=dataclasses.replace(base.trajectory,
+                                                                   samples=10**9))
+    with pytest.raises(InvalidValue) as err:
+        check_limits(bad)
+    assert err.value.field == "trajectory.samples"
+    bad = dataclasses.replace(base, planner=dataclasses.replace(base.planner, cells=(10**5,) * 2))
+    with pytest.raises(InvalidValue) as err:
+        rapp.plan(bad)
+    assert err.value.field == "planner.cells"
+
+
+# --------------------------------------------------------------------------- 8. certified_free
+
+
+def _random_world(rng, n):
+    lengths = rng.uniform(0.3, 1.2, n)
+    arm = Arm(lengths, [None if rng.random() < 0.7 else (-2.0, 2.5) for _ in range(n)])
+    reach = lengths.sum()
+    obs = []
+    for _ in range(int(rng.integers(1, 5))):
+        c = rng.uniform(-reach, reach, 2)
+        if rng.random() < 0.5:
+            obs.append(Circle(c, rng.uniform(0.05, 0.5)))
+        else:
+            obs.append(Polygon.rectangle(c, *rng.uniform(0.1, 0.7, 2), rng.uniform(0, np.pi)))
+    grid = JointGrid(arm, tuple(int(m) for m in rng.integers(5, 13 if n == 3 else 24, n)))
+    return arm, obs, grid
+
+
+def _moves(grid, cells):
+    """Every axis move (cell a, cell b, axis) between two cells of the boolean mask ``cells``."""
+    for k in range(len(grid.shape)):
+        b = np.roll(cells, -1, axis=k)
+        pair = cells & b
+        if not grid.wraps[k]:   # a bounded axis has no neighbour past its last cell
+            idx = [slice(None)] * cells.ndim
+            idx[k] = -1
+            pair[tuple(idx)] = False
+        for a in np.argwhere(pair):
+            yield a, k
+
+
+def _move_collides(arm, grid, a, k, obs, points=129):
+    """The fine oracle: the straight move from cell ``a`` one step along axis ``k``, sampled at
+    ``points`` configurations (ends included), against rapp.collides on each."""
+    q0 = grid.angles(a)
+    u = np.linspace(0.0, 1.0, points)[:, None]
+    q = q0 + u * (np.eye(arm.n)[k] * grid.step[k])
+    return bool(collides(arm, q, obs).any())
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 3))
+def test_a_move_between_two_certified_cells_is_free(seed, n):
+    """certified_free's promise as written: both ends certified => the move is free."""
+    rng = np.random.default_rng(seed)
+    arm, obs, grid = _random_world(rng, n)
+    safe = certified_free(arm, obs, grid)
+    checked = 0
+    for a, k in _moves(grid, safe):
+        assert not _move_collides(arm, grid, a, k, obs), (a, k)
+        checked += 1
+        if checked >= 400:
+            break
+
+
+def test_the_old_promise_fails_a_move_out_of_a_certified_cell_can_collide():
+    """What the docstring used to promise ("every move to an axis neighbour" of a certified cell
+    is free) is false: a certified cell next to an occupied one has a colliding move."""
+    found = 0
+    for seed in range(40):
+        rng = np.random.default_rng(seed)
+        arm, obs, grid = _random_world(rng, 2)
+        safe = certified_free(arm, obs, grid)
+        occupied = collides(arm, grid_q(grid), obs)
+        for k in range(arm.n):
+            bad = safe & np.roll(occupied, -1, axis=k)
+            for a in np.argwhere(bad)[:3]:
+                if grid.wraps[k] or a[k] < grid.shape[k] - 1:
+                    found += _move_collides(arm, grid, a, k, obs)
+        if found:
+            break
+    assert found
+    assert "between two of them" in certified_free.__doc__.splitlines()[0]
