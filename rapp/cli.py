@@ -3,12 +3,15 @@
 Exit codes: 0 done; 1 a planning answer (no path, no IK solution, a straight
 line the end effector cannot follow), said in one line; 2 bad input, one line on stderr naming the field or option and what is
 wrong; 3 a failed verification or an unexpected internal error (still one
-line, never a traceback); 130 interrupted (Ctrl-C, wherever it lands).
+line, never a traceback); 130 interrupted (Ctrl-C, wherever it lands, start-up
+included: see :mod:`rapp.interrupts`); 143 terminated (SIGTERM, handled as Ctrl-C is).
 
 Every output path is checked before any planning work: its folder exists and
 is writable, its format can be written, and it is neither the input scenario
-nor another output. Output files are written atomically, so an error or Ctrl-C
-never leaves a half-written file or destroys the previous one.
+nor another output. The outputs of a run are written to temporary files and renamed
+into place together at the end (:class:`rapp.files.OutputBatch`), so an error, Ctrl-C or
+SIGTERM never leaves a half-written file, destroys a previous one, or mixes the files of two
+runs.
 
 Everything printed passes through :func:`printable`, so a scenario's name or a
 file name cannot inject terminal escape sequences or make printing fail.
@@ -37,8 +40,8 @@ import numpy as np
 
 from rapp.errors import (InvalidValue, NoIKSolution, NoPathFound, PathNotFollowable, RappError,
                          ScenarioError)
-from rapp.files import atomic_output
-from rapp import planner, results, scenario
+from rapp.files import OutputBatch
+from rapp import interrupts, planner, results, scenario
 
 # matplotlib and rapp.plotting (about 1 s to import, twice a whole plan) are imported only where
 # a figure in another format than PNG, or an animation, is made; a PNG is drawn by rapp.raster with
@@ -48,6 +51,8 @@ from rapp import planner, results, scenario
 __all__ = ["main", "build_parser", "printable"]
 
 EXIT_OK, EXIT_NO_PLAN, EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+#: 128 + SIGTERM: ended by ``kill`` (handled as Ctrl-C is: temporary files removed, one line).
+EXIT_TERMINATED = interrupts.EXIT_SIGTERM
 #: 128 + SIGPIPE: the exit status of a program whose output pipe was closed by its reader.
 EXIT_BROKEN_PIPE = 141
 
@@ -290,8 +295,7 @@ def _save_png(p, s, path: str) -> None:
     """The plan figure as a PNG drawn by :mod:`rapp.raster` (Pillow): matplotlib is not imported."""
     from rapp import raster
 
-    with _writing("--plot"), atomic_output(path, suffix=".png") as tmp:
-        raster.save_plan(p, s, tmp)
+    raster.save_plan(p, s, path)
 
 
 def _agg() -> None:
@@ -301,39 +305,66 @@ def _agg() -> None:
     matplotlib.use("Agg")
 
 
-def _save_plot(p, s, path: str) -> None:
-    """The plan figure in a format other than PNG, drawn and written by matplotlib."""
+def _save_plot(p, s, path: str, ext: str) -> None:
+    """The plan figure in a format other than PNG (``ext``), drawn and written by matplotlib."""
     _agg()
     import matplotlib.pyplot as plt
 
     from rapp import plotting
 
-    ext = os.path.splitext(path)[1]
     fig = plotting.plot_plan(p, s)
     try:
-        with _writing("--plot"), atomic_output(path, suffix=ext) as tmp:
-            # The target's name decides the format, whatever the temporary file is called.
-            fig.savefig(tmp, dpi=100, format=ext[1:].lower())
+        # The target's name decides the format, whatever the temporary file is called.
+        fig.savefig(path, dpi=100, format=ext[1:].lower())
     finally:
         plt.close(fig)
 
 
-def _save_animation(p, s, path: str) -> None:
+def _save_animation(p, s, path: str, ext: str) -> None:
     _agg()
     from matplotlib import animation
 
     from rapp import plotting
 
-    ext = os.path.splitext(path)[1]
     anim = plotting.animate(s.arm, p.q, s.obstacles, t=p.t)
     try:
-        with _writing("--animate"), atomic_output(path, suffix=ext) as tmp:
-            if ext.lower() == ".mp4":
-                anim.save(tmp, writer=animation.FFMpegWriter(fps=ANIMATION_FPS), dpi=80)
-            else:
-                plotting.save_gif(anim, tmp, fps=ANIMATION_FPS)
+        if ext.lower() == ".mp4":
+            anim.save(path, writer=animation.FFMpegWriter(fps=ANIMATION_FPS), dpi=80)
+        else:
+            plotting.save_gif(anim, path, fps=ANIMATION_FPS)
     finally:
         plotting.close_animation(anim)
+
+
+def _write_outputs(args, p, s) -> None:
+    """Every output of the run, each to a temporary file, then all renamed into place at once:
+    an error or an interrupt on the way leaves every previous file as it was."""
+    options = {}
+    try:
+        with OutputBatch() as batch:
+            if args.out:
+                options[args.out] = "--out"
+                with _writing("--out"):
+                    results.save_result(p, batch.stage(args.out, ".json"), timings=args.timings)
+            if args.plot:
+                options[args.plot] = "--plot"
+                ext = os.path.splitext(args.plot)[1]
+                with _writing("--plot"):
+                    tmp = batch.stage(args.plot, ext)
+                    if ext.lower() == ".png":
+                        _save_png(p, s, tmp)
+                    else:
+                        _save_plot(p, s, tmp, ext)
+            if args.animate:
+                options[args.animate] = "--animate"
+                ext = os.path.splitext(args.animate)[1]
+                with _writing("--animate"):
+                    _save_animation(p, s, batch.stage(args.animate, ext), ext)
+    except OSError as e:  # renaming into place failed (the folder changed under the run)
+        if _interrupted(e):
+            raise
+        option = options.get(getattr(e, "filename2", None), "--out")
+        raise InvalidValue(f"cannot write: {e.strerror or e}", field=option) from e
 
 
 # --------------------------------------------------------------------------- commands
@@ -384,14 +415,7 @@ def _cmd_plan(args, out, err, caught) -> int:
     if args.timings:
         _say(out, "time per stage: " + ", ".join(f"{k} {v * 1e3:.1f} ms"
                                                  for k, v in p.timings.items()))
-    if args.out:
-        with _writing("--out"):
-            results.save_result(p, args.out, timings=args.timings)
-    if args.plot:
-        png = os.path.splitext(args.plot)[1].lower() == ".png"
-        (_save_png if png else _save_plot)(p, s, args.plot)
-    if args.animate:
-        _save_animation(p, s, args.animate)
+    _write_outputs(args, p, s)
     if not args.quiet:
         _say_notes(out, caught)
     m = p.metrics
@@ -424,10 +448,21 @@ def _interrupted(e: BaseException) -> bool:
     return False
 
 
+def _signal_exit(e: BaseException) -> tuple:
+    """Exit code and line for an interrupt found in ``e``'s chain (SIGTERM or Ctrl-C)."""
+    seen = set()
+    while e is not None and id(e) not in seen:
+        if isinstance(e, interrupts.Terminated):
+            return EXIT_TERMINATED, "rapp: terminated"
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return EXIT_INTERRUPTED, "rapp: interrupted"
+
+
 def _failure(e: BaseException) -> tuple:
     """The exit code and the one stderr line for an exception that ended a command."""
     if _interrupted(e):
-        return EXIT_INTERRUPTED, "rapp: interrupted"
+        return _signal_exit(e)
     if isinstance(e, _UsageError):
         return EXIT_BAD_INPUT, f"{_one_line(e)} (see --help)"
     if isinstance(e, ScenarioError):
@@ -495,19 +530,24 @@ def main(argv=None) -> int:
     2
     """
     out, err = sys.stdout, sys.stderr
+    code = EXIT_INTERRUPTED
     try:
-        try:
-            return _run(argv, out, err)
-        except BrokenPipeError:
-            # The reader went away (`rapp plan | head -1`): stop quietly, as a program killed
-            # by SIGPIPE would; nothing more can be said on a closed stream.
-            _silence(out)
-            return EXIT_BROKEN_PIPE
-        except Exception as e:  # a bug too: still one line, never a traceback
-            code, line = _failure(e)
-        except KeyboardInterrupt:
-            code, line = EXIT_INTERRUPTED, "rapp: interrupted"
-        _say(err, line)
-        return code
-    except KeyboardInterrupt:  # a second Ctrl-C while the first was being reported
-        return EXIT_INTERRUPTED
+        with interrupts.catching():  # SIGTERM too unwinds as an interrupt: temporary files go
+            try:
+                return _run(argv, out, err)
+            except BrokenPipeError:
+                # The reader went away (`rapp plan | head -1`): stop quietly, as a program
+                # killed by SIGPIPE would; nothing more can be said on a closed stream.
+                _silence(out)
+                return EXIT_BROKEN_PIPE
+            except Exception as e:  # a bug too: still one line, never a traceback
+                code, line = _failure(e)
+            except KeyboardInterrupt as e:
+                code, line = _signal_exit(e)
+            if code in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+                interrupts.mark_reported()
+            _say(err, line)
+            return code
+    except KeyboardInterrupt as e:  # a second Ctrl-C (or SIGTERM) while the first was reported
+        interrupts.mark_reported()
+        return code if code in (EXIT_INTERRUPTED, EXIT_TERMINATED) else _signal_exit(e)[0]

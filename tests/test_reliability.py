@@ -149,3 +149,121 @@ def test_the_old_promise_fails_a_move_out_of_a_certified_cell_can_collide():
             break
     assert found
     assert "between two of them" in certified_free.__doc__.splitlines()[0]
+
+
+# --------------------------------------------------------------------------- 3, 4. signals
+
+import random  # noqa: E402
+import signal  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SMALL = {"arm": {"link_lengths": [1.0, 1.0]},
+         "obstacles": [{"type": "circle", "center": [1.75, 0.75], "radius": 0.4}],
+         "start": [0.0, 0.0], "goal": {"joints": [2.0, 0.5]},
+         "planner": {"cells": 40}, "trajectory": {"samples": 20, "duration": 1.0}}
+
+
+def _rapp(*argv, cwd=None):
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    return subprocess.Popen([sys.executable, "-m", "rapp", *argv], cwd=cwd, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+
+
+def _importing_numpy(pid) -> bool:
+    """The child has got past the interpreter's start-up into rapp's imports (numpy is loading)."""
+    try:
+        with open(f"/proc/{pid}/maps") as fh:
+            return "numpy" in fh.read()
+    except OSError:
+        return False
+
+
+def _after_startup(proc, timeout=60.0):
+    t0 = time.monotonic()
+    while not _importing_numpy(proc.pid):
+        if proc.poll() is not None or time.monotonic() - t0 > timeout:
+            return False
+        time.sleep(0.0005)
+    return True
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not os.path.exists("/proc/self/maps"), reason="needs /proc to see the imports")
+@pytest.mark.parametrize("delay, twice", [(0.0, False), (0.0, True), (0.01, False),
+                                          (0.05, True), (0.15, False), (0.4, False),
+                                          (0.8, True)])
+def test_ctrl_c_during_start_up_is_one_line_and_130(delay, twice):
+    """SIGINT while numpy and rapp import (and later): `rapp: interrupted`, exit 130, nothing
+    more, a second Ctrl-C included; a run the signal comes too late for ends normally."""
+    proc = _rapp("check", "default")
+    assert _after_startup(proc)
+    time.sleep(delay)
+    for _ in range(2 if twice else 1):
+        try:
+            proc.send_signal(signal.SIGINT)
+        except ProcessLookupError:
+            break
+        time.sleep(0.001)
+    out, err = proc.communicate(timeout=120)
+    if proc.returncode == 0:   # the signal came after the run: a normal, complete answer
+        assert err == b"" and out.endswith(b"scenario is valid\n")
+    else:
+        assert (proc.returncode, err) == (130, b"rapp: interrupted\n")
+
+
+@pytest.mark.slow
+def test_sigterm_during_start_up_is_one_line_and_143():
+    proc = _rapp("check", "default")
+    assert _after_startup(proc)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=120)
+    assert (proc.returncode, err) == (143, b"rapp: terminated\n")
+
+
+def _outputs(folder):
+    return {name: (folder / name).read_bytes() for name in ("r.json", "f.png", "a.gif")}
+
+
+@pytest.mark.slow
+def test_a_run_interrupted_anywhere_leaves_all_old_or_all_new_outputs(tmp_path):
+    """SIGINT or SIGTERM at random moments of `plan --out --plot --animate`: no temporary file
+    is left, and the three outputs are either all the previous ones or all the new ones."""
+    import json
+
+    (tmp_path / "s.json").write_text(json.dumps(SMALL))
+    args = ("plan", "s.json", "-q", "--out", "r.json", "--plot", "f.png", "--animate", "a.gif")
+    t0 = time.monotonic()
+    full = _rapp(*args, cwd=tmp_path)
+    assert full.wait(timeout=300) == 0
+    duration = time.monotonic() - t0
+    new = _outputs(tmp_path)
+    rng = random.Random(23)
+    seen = set()
+    for trial in range(6):
+        for name in new:
+            (tmp_path / name).write_bytes(b"old " + name.encode())
+        old = _outputs(tmp_path)
+        sig = (signal.SIGINT, signal.SIGTERM)[trial % 2]
+        proc = _rapp(*args, cwd=tmp_path)
+        assert _after_startup(proc)
+        time.sleep(rng.uniform(0.0, duration))
+        try:
+            proc.send_signal(sig)
+        except ProcessLookupError:
+            pass
+        out, err = proc.communicate(timeout=300)
+        left = sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".rapp-"))
+        assert left == [], (trial, left)
+        got = _outputs(tmp_path)
+        if proc.returncode == 0:
+            assert got == new
+        else:
+            code, line = ((130, b"rapp: interrupted\n") if sig == signal.SIGINT
+                          else (143, b"rapp: terminated\n"))
+            assert (proc.returncode, err) == (code, line)
+            assert got in (old, new), trial
+        seen.add("old" if got == old else "new")
+    assert "old" in seen   # at least one signal landed inside the run
