@@ -73,7 +73,7 @@ import numpy as np
 
 from rapp.cartesian import line_path
 from rapp.collision import segment_collision_free
-from rapp.errors import InvalidValue, NoPathFound
+from rapp.errors import InvalidSetting, InvalidValue, NoPathFound
 from rapp.grid_route import grid_route
 from rapp.ik import free_ik_solutions
 from rapp.paths import Route, drop_repeats, path_length, shortcut, unwrap_path
@@ -420,7 +420,10 @@ def plan(scenario) -> Plan:
         goal_qs, n_ik = _goal_configurations(scenario)
         times["ik"] = time.perf_counter() - t0
 
-        route = PLANNERS[algorithm](scenario, goal_qs)
+        try:
+            route = PLANNERS[algorithm](scenario, goal_qs)
+        except InvalidSetting as e:  # the planner names its parameter; the file names the key
+            raise InvalidValue(e.message, field=f"planner.{e.setting}") from None
         times.update(route.times)
 
         t0 = time.perf_counter()

@@ -40,6 +40,7 @@ from rapp.arm import Arm
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
 from rapp.collision import clearance, collides, segment_point_distance
 from rapp.obstacles import Circle, Polygon
+from rapp.rrt import MAX_STEP, MIN_STEP
 
 __all__ = [
     "Scenario",
@@ -857,8 +858,9 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
     seed = _integer(d.get("seed", 0), "planner.seed", 0, 2**63 - 1)
     defaults = PlannerSettings()
     step = _number(d.get("step", defaults.step), "planner.step")
-    if not 0 < step <= math.pi:
-        raise InvalidValue(f"must lie in (0, pi] rad, got {step:g}", field="planner.step")
+    if not MIN_STEP <= step <= MAX_STEP:
+        raise InvalidValue(f"must lie in [{MIN_STEP:g}, pi] rad, got {step:g}",
+                           field="planner.step")
     bias = _number(d.get("goal_bias", defaults.goal_bias), "planner.goal_bias")
     if not 0 <= bias <= 1:
         raise InvalidValue(f"must be in [0, 1], got {bias:g}", field="planner.goal_bias")

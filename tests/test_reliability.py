@@ -267,3 +267,46 @@ def test_a_run_interrupted_anywhere_leaves_all_old_or_all_new_outputs(tmp_path):
             assert got in (old, new), trial
         seen.add("old" if got == old else "new")
     assert "old" in seen   # at least one signal landed inside the run
+
+
+# --------------------------------------------------------------------------- 1. tiny steps
+
+from rapp.errors import InvalidSetting, NoPathFound  # noqa: E402
+from rapp.rrt import MIN_STEP  # noqa: E402
+from rapp.rrt_connect import MAX_NODES, rrt_connect  # noqa: E402
+
+DEFAULT_RRT = {"arm": {"link_lengths": [1, 1]},
+               "obstacles": [{"type": "circle", "center": [1.75, 0.75], "radius": 0.6}],
+               "start": [0, 0], "goal": {"position": [-1.2, 0.8]}}
+
+
+@pytest.mark.parametrize("algorithm", ["rrt", "rrt_connect"])
+@pytest.mark.parametrize("step", [1e-300, 1e-9, 1e-7, 1e-5, 5e-5])
+def test_a_tiny_step_is_refused_naming_planner_step(algorithm, step):
+    """Below MIN_STEP at load time; above it but too small for what the planner can do
+    (RRT: one step per iteration; RRT-Connect: MAX_NODES nodes) at plan time, at once."""
+    data = dict(DEFAULT_RRT, planner={"algorithm": algorithm, "step": step})
+    t0 = time.perf_counter()
+    with pytest.raises(InvalidValue) as err:
+        rapp.plan(data)
+    assert err.value.field == "planner.step"
+    assert time.perf_counter() - t0 < 5.0
+    if step >= MIN_STEP:
+        assert "use a step of at least" in str(err.value)
+
+
+@pytest.mark.slow
+def test_the_smallest_rrt_connect_step_ends_with_an_answer_in_bounded_memory():
+    """At the smallest accepted step the trees fill their node limit and the answer is 'no
+    path', said with the step; no array of distance/step points is ever made."""
+    arm = Arm([1.0, 1.0])
+    obs = [Circle((1.75, 0.75), 0.6)]
+    goal = np.array([2.2, 0.3])
+    smallest = float(np.linalg.norm(goal)) / MAX_NODES
+    with pytest.raises(InvalidSetting):
+        rrt_connect(arm, [0.0, 0.0], goal, obs, step=smallest * 0.9)
+    t0 = time.perf_counter()
+    res = rrt_connect(arm, [0.0, 0.0], goal, obs, step=smallest * 1.01, raise_on_failure=False)
+    assert time.perf_counter() - t0 < 120   # about 5 s on an idle core
+    assert len(res.nodes) <= MAX_NODES
+    assert res.success or len(res.nodes) >= MAX_NODES - 1 or res.iterations == 5000
