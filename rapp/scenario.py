@@ -40,6 +40,7 @@ from rapp.arm import Arm
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
 from rapp.collision import clearance, collides, segment_point_distance
 from rapp.obstacles import Circle, Polygon
+from rapp.prm import MEMORY_BUDGET as PRM_MEMORY_BUDGET, roadmap_bytes
 from rapp.rrt import MAX_STEP, MIN_STEP
 
 __all__ = [
@@ -878,6 +879,15 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
                                field="planner.time_budget")
     samples = _integer(d.get("samples", defaults.samples), "planner.samples", 10, 100_000)
     neighbours = _integer(d.get("neighbours", defaults.neighbours), "planner.neighbours", 1, 100)
+    if algorithm == "prm":   # refused up front, as the grid is (rapp.prm checks it exactly)
+        nodes = 20 * samples + 1
+        peak = roadmap_bytes(n, nodes, neighbours)
+        if peak > PRM_MEMORY_BUDGET:
+            raise InvalidValue(
+                f"a roadmap of up to {nodes} nodes (20 x samples) with {neighbours} neighbours "
+                f"each would need about {peak / 1e9:.3g} GB, over the "
+                f"{PRM_MEMORY_BUDGET / 1e9:g} GB budget: lower planner.samples or "
+                "planner.neighbours", field="planner.samples")
     for key in _SAMPLING_KEYS:  # warn where the chosen algorithm does not read it
         if key in d and key not in SETTINGS_OF[algorithm]:
             warnings.append(f"planner.{key} is not a setting of {algorithm} and is ignored")

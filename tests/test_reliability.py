@@ -310,3 +310,39 @@ def test_the_smallest_rrt_connect_step_ends_with_an_answer_in_bounded_memory():
     assert time.perf_counter() - t0 < 120   # about 5 s on an idle core
     assert len(res.nodes) <= MAX_NODES
     assert res.success or len(res.nodes) >= MAX_NODES - 1 or res.iterations == 5000
+
+
+# --------------------------------------------------------------------------- 2. PRM budgets
+
+from rapp.prm import MEMORY_BUDGET, prm, roadmap_bytes  # noqa: E402
+
+
+def test_a_prm_roadmap_too_large_for_memory_is_refused_up_front():
+    data = dict(DEFAULT_RRT, planner={"algorithm": "prm", "samples": 100_000,
+                                      "neighbours": 100, "time_budget": 2})
+    t0 = time.perf_counter()
+    with pytest.raises(InvalidValue) as err:
+        load_scenario(data)
+    assert err.value.field == "planner.samples" and "GB" in str(err.value)
+    with pytest.raises(InvalidSetting) as err:   # the planner itself, called directly
+        prm(Arm([1.0, 1.0]), [0, 0], [2.0, 0.5], samples=100_000, neighbours=100)
+    assert err.value.setting == "samples"
+    assert time.perf_counter() - t0 < 2.0
+    assert roadmap_bytes(2, 20 * 500 + 1, 10) < MEMORY_BUDGET   # the defaults fit
+
+
+@pytest.mark.parametrize("samples, neighbours", [(3000, 30), (15000, 10), (2000, 50)])
+def test_prm_honours_its_time_budget_inside_a_batch(samples, neighbours):
+    """Accepted settings whose first roadmap batch alone takes far longer than the budget:
+    the run stops within a small factor of it (the budget is checked inside the batch)."""
+    budget = 0.5
+    data = dict(DEFAULT_RRT, obstacles=[{"type": "circle", "center": [0.0, 1.5], "radius": 0.4}],
+                planner={"algorithm": "prm", "samples": samples, "neighbours": neighbours,
+                         "time_budget": budget})
+    s = load_scenario(data)
+    t0 = time.process_time()
+    try:
+        rapp.plan(s)
+    except NoPathFound as e:
+        assert "time budget" in str(e)
+    assert time.process_time() - t0 < 4 * budget + 1.0
