@@ -34,14 +34,14 @@ import re
 import shutil
 import sys
 import warnings
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 
 import numpy as np
 
 from rapp.errors import (InvalidValue, NoIKSolution, NoPathFound, PathNotFollowable, RappError,
                          ScenarioError)
 from rapp.files import OutputBatch
-from rapp import interrupts, planner, results, scenario
+from rapp import interrupts, planner, progress, results, scenario
 
 # matplotlib and rapp.plotting (about 1 s to import, twice a whole plan) are imported only where
 # a figure in another format than PNG, or an animation, is made; a PNG is drawn by rapp.raster with
@@ -151,7 +151,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="print the wall-clock time per stage (also with --quiet) and store "
                     "it in the --out result, which then differs from run to run")
     pp.add_argument("--quiet", "-q", action="store_true",
-                    help="print only the one-line summary (and the stage times with --timings)")
+                    help="print only the one-line summary (and the stage times with --timings); "
+                    "no progress line (shown on stderr when it is a terminal and work takes "
+                    "more than a moment)")
     pc = sub.add_parser("check", help="validate a scenario and echo it; plan nothing",
                         description="Validate SCENARIO and echo every input with units (R2).")
     pc.add_argument("scenario", help="scenario file or embedded name")
@@ -402,6 +404,22 @@ def _cmd_check(args, out, caught) -> int:
     return EXIT_OK
 
 
+def _progress(args, err, stage: str):
+    """One updating line on stderr for long work, when stderr is a terminal and not --quiet.
+
+    Erased when the work ends (normally or not), before anything else is printed.
+    """
+    try:
+        terminal = err.isatty()
+    except (AttributeError, ValueError, OSError):
+        terminal = False
+    if args.quiet or not terminal:
+        return nullcontext()
+    line = progress.TerminalLine(err)
+    line(stage)
+    return line
+
+
 def _cmd_plan(args, out, err, caught) -> int:
 
     _check_outputs(args)
@@ -409,13 +427,16 @@ def _cmd_plan(args, out, err, caught) -> int:
     if not args.quiet:
         _say(out, scenario.echo(_shown(s)), lines=True)
         _say(out)
-    p = planner.plan(s)
+    with _progress(args, err, "planning"):
+        p = planner.plan(s)
     if not args.quiet:
         _say(out, str(p.report), lines=True)
     if args.timings:
         _say(out, "time per stage: " + ", ".join(f"{k} {v * 1e3:.1f} ms"
                                                  for k, v in p.timings.items()))
-    _write_outputs(args, p, s)
+    with _progress(args, err, "writing " + ", ".join(
+            o for o in (args.out, args.plot, args.animate) if o)):
+        _write_outputs(args, p, s)
     if not args.quiet:
         _say_notes(out, caught)
     m = p.metrics
@@ -479,7 +500,11 @@ def _failure(e: BaseException) -> tuple:
         name = _one_line(getattr(e, "filename", None) or "output")
         return EXIT_BAD_INPUT, f"rapp: error: {name}: {_one_line(e.strerror or e)}"
     if isinstance(e, MemoryError):
-        return EXIT_BAD_INPUT, "rapp: error: out of memory; try a smaller planner.cells"
+        # Every planner estimates its memory up front (grid cells, roadmap, tree nodes), so this
+        # is a machine with less than their budget free: no one field is at fault.
+        return EXIT_BAD_INPUT, ("rapp: error: out of memory (this machine has less free than "
+                                "the planners' 1.5 GB budget; lower planner.cells for astar or "
+                                "planner.samples for prm)")
     return EXIT_INTERNAL, f"rapp: internal error: {type(e).__name__}: {_one_line(e)}"
 
 

@@ -105,6 +105,12 @@ BYTES_PER_CELL_PER_JOINT_SQUARED = 10
 GRID_DEFAULT_MAX_JOINTS = 6
 MAX_FILE_BYTES = 10_000_000
 MAX_SAMPLES = 1_000_000
+#: Samples per second of motion at most (above SAMPLES_ANY_RATE): a robot's servo loop runs at
+#: about 1 kHz, so denser samples describe nothing a controller could follow, and each costs
+#: about 15 us of timing and verification (a million take 15 s).
+MAX_SAMPLE_RATE = 1000.0
+#: Samples any trajectory may have, whatever its duration.
+SAMPLES_ANY_RATE = 10_000
 #: Obstacles at most. Every stage (occupancy, certification, shortcut, timing, verification)
 #: costs time linear in the number of obstacles: about 1.5 ms each on a default 100 x 100 plan
 #: (measured: 1,000 far-away discs add 1.4 s, 10,000 add 15 s), so this keeps a plan within a
@@ -780,11 +786,18 @@ def _parse_trajectory(r: _Reader, v, n: int) -> TrajectorySettings:
                                f"{duration:g}", field="trajectory.duration")
     else:
         duration = None   # the shortest within the limits, found by rapp.plan
-    return TrajectorySettings(
-        duration=duration, profile=profile,
-        samples=_integer(d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES),
-        max_velocity=vmax, max_acceleration=amax,
-    )
+    samples = _integer(d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES)
+    _check_sample_rate(samples, duration)
+    return TrajectorySettings(duration=duration, profile=profile, samples=samples,
+                              max_velocity=vmax, max_acceleration=amax)
+
+
+def _check_sample_rate(samples: int, duration) -> None:
+    if duration is not None and samples > max(SAMPLES_ANY_RATE, MAX_SAMPLE_RATE * duration):
+        raise InvalidValue(
+            f"{samples} samples over {duration:g} s is {samples / duration:.3g} per second; "
+            f"at most {MAX_SAMPLE_RATE:g} per second (a servo loop's rate) or "
+            f"{SAMPLES_ANY_RATE} in all", field="trajectory.samples")
 
 
 def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
@@ -931,7 +944,7 @@ def check_limits(scenario: Scenario) -> None:
         raise InvalidValue(f"at most {MAX_LINKS} links are supported, got {n}",
                            field="arm.link_lengths")
     t = scenario.trajectory
-    _integer(t.samples, "trajectory.samples", 2, MAX_SAMPLES)
+    _check_sample_rate(_integer(t.samples, "trajectory.samples", 2, MAX_SAMPLES), t.duration)
     p = scenario.planner
     settings = {k: getattr(p, k) for k in _PLANNER_KEYS if hasattr(p, k)}
     settings["cells"] = list(p.cells) if isinstance(p.cells, (tuple, list)) else p.cells

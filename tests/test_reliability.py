@@ -346,3 +346,83 @@ def test_prm_honours_its_time_budget_inside_a_batch(samples, neighbours):
     except NoPathFound as e:
         assert "time budget" in str(e)
     assert time.process_time() - t0 < 4 * budget + 1.0
+
+
+# --------------------------------------------------------------------------- 5. long work
+
+LONG = dict(DEFAULT_RRT, planner={"algorithm": "rrt", "step": 0.05, "goal_bias": 0.0,
+                                  "max_iterations": 10_000_000, "time_budget": 3.0},
+            obstacles=[{"type": "circle", "center": [0.0, 1.6], "radius": 0.35},
+                       {"type": "circle", "center": [0.0, -1.6], "radius": 0.35}],
+            goal={"joints": [3.1, 0.0]})
+
+
+def _stderr_of(argv, cwd, *, terminal):
+    """Run the CLI with stderr on a pseudo-terminal (or a pipe); its exit code and stderr."""
+    import pty
+
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    cmd = [sys.executable, "-m", "rapp", *argv]
+    if not terminal:
+        proc = subprocess.run(cmd, cwd=cwd, env=env, stdout=subprocess.DEVNULL,
+                              stderr=subprocess.PIPE, timeout=300)
+        return proc.returncode, proc.stderr
+    master, slave = pty.openpty()
+    proc = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=slave)
+    os.close(slave)
+    got = b""
+    while True:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:   # the child closed the terminal
+            break
+        if not chunk:
+            break
+        got += chunk
+    os.close(master)
+    return proc.wait(timeout=300), got
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("terminal, quiet", [(True, False), (True, True), (False, False)])
+def test_long_work_shows_one_updating_line_on_a_terminal_only(tmp_path, terminal, quiet):
+    """A run of several seconds (RRT with ten million iterations, cut by its 3 s budget) draws
+    a progress line on a terminal, erased at the end; nothing with --quiet or through a pipe."""
+    import json
+
+    (tmp_path / "s.json").write_text(json.dumps(LONG))
+    argv = ["plan", "s.json"] + (["--quiet"] if quiet else [])
+    code, err = _stderr_of(argv, tmp_path, terminal=terminal)
+    progress_lines = [p for p in err.split(b"\r") if b"RRT: " in p]
+    if terminal and not quiet:
+        assert progress_lines and b"/10000000 (" in progress_lines[-1]
+        assert b"\n" not in b"".join(progress_lines)     # one line, redrawn in place
+        assert b"\r\x1b[K" in err                         # erased before the answer
+    else:
+        assert progress_lines == []
+    assert code == 1   # the budget ends it: a planning answer
+    assert err.rstrip().split(b"\r")[-1].replace(b"\x1b[K", b"").startswith(b"rapp: no path")
+
+
+@pytest.mark.parametrize("trajectory, accepted", [
+    ({"duration": 4.0, "samples": 1_000_000}, False),   # 250 kHz: nonsense
+    ({"duration": 4.0, "samples": 10_000}, True),
+    ({"duration": 100.0, "samples": 100_000}, True),
+    ({"duration": 100.0, "samples": 100_001}, False),
+])
+def test_nonsense_sample_counts_are_refused_with_the_reason(trajectory, accepted):
+    data = dict(DEFAULT_RRT, trajectory=trajectory)
+    if accepted:
+        assert load_scenario(data).trajectory.samples == trajectory["samples"]
+    else:
+        with pytest.raises(InvalidValue, match="per second") as err:
+            load_scenario(data)
+        assert err.value.field == "trajectory.samples"
+
+
+def test_a_hundred_thousand_obstacles_out_of_reach_are_refused_by_count():
+    far = [{"type": "circle", "center": [100.0 + i * 1e-3, 100.0], "radius": 0.1}
+           for i in range(100_000)]
+    with pytest.raises(InvalidValue, match="at most 1000 obstacles") as err:
+        load_scenario(dict(DEFAULT_RRT, obstacles=far))
+    assert err.value.field == "obstacles"
