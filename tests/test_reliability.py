@@ -426,3 +426,61 @@ def test_a_hundred_thousand_obstacles_out_of_reach_are_refused_by_count():
     with pytest.raises(InvalidValue, match="at most 1000 obstacles") as err:
         load_scenario(dict(DEFAULT_RRT, obstacles=far))
     assert err.value.field == "obstacles"
+
+
+# --------------------------------------------------------------------------- 7. redundant lines
+
+import rapp.cartesian as cartesian  # noqa: E402
+from rapp.cartesian import line_path  # noqa: E402
+from rapp.collision import link_clearances  # noqa: E402
+from rapp.errors import PathNotFollowable  # noqa: E402
+
+# Found by search: an obstacle on the elbow of the plain continuation's mid-march
+# configuration, 0.3 m or more away from the tip's line.
+ARM3 = Arm([1.0, 1.0, 1.0])
+Q3 = [1.461, 1.368, -1.409]
+OBS3 = [Circle((-0.75, 0.986), 0.109)]
+
+
+def _oracle_follows(arm, path, a, b, obstacles, tolerance):
+    """Slow and plain: every edge sampled at 200 points; the tip's distance to the segment and
+    every link's clearance, computed point by point."""
+    from rapp.collision import segment_point_distance
+
+    t = np.linspace(0.0, 1.0, 200)[:, None]
+    worst, least = 0.0, np.inf
+    for qa, qb in zip(path[:-1], path[1:]):
+        q = qa + t * (qb - qa)
+        worst = max(worst, float(segment_point_distance(a, b, arm.end_effector(q)).max()))
+        least = min(least, float(link_clearances(arm, q, obstacles).min()))
+    return worst <= tolerance and least > 0.0, worst, least
+
+
+def test_a_line_the_plain_continuation_refuses_is_followed_with_the_redundancy(monkeypatch):
+    goal = (0.248, 1.378)
+    a = ARM3.end_effector(np.array(Q3))
+    with monkeypatch.context() as m:   # the march as it was: no self-motion
+        m.setattr(cartesian, "REDUNDANCY_GAINS", (0.0,))
+        with pytest.raises(PathNotFollowable) as err:
+            line_path(ARM3, Q3, goal, OBS3)
+        assert err.value.reason == "obstacle"
+    path = line_path(ARM3, Q3, goal, OBS3)
+    ok, worst, least = _oracle_follows(ARM3, path, a, np.array(goal), OBS3, 1e-3)
+    assert ok, (worst, least)
+    np.testing.assert_allclose(path[0], Q3)
+    assert np.linalg.norm(ARM3.end_effector(path[-1]) - goal) < 1e-9
+
+
+def test_a_redundant_refusal_says_what_was_tried_and_a_two_link_one_does_not_need_to():
+    """An obstacle on the line itself: no arm can follow it. The 3-link refusal lists what was
+    tried and says it is no proof; the 2-link one is a proof and says the plain failure."""
+    for arm, q0, goal in ((ARM3, Q3, (0.248, 1.378)), (Arm([1.0, 1.0]), [0.3, 1.2], (1.2, -0.4))):
+        mid = 0.5 * (arm.end_effector(np.array(q0)) + np.array(goal))
+        with pytest.raises(PathNotFollowable) as err:
+            line_path(arm, q0, goal, [Circle(tuple(mid), 0.05)])
+        assert err.value.reason == "obstacle"
+        if arm.n == 3:
+            assert "tried: the continuation" in str(err.value)
+            assert "may still have a path" in str(err.value)
+        else:
+            assert "tried" not in str(err.value)
