@@ -48,7 +48,7 @@ from rapp import interrupts, planner, progress, results, scenario
 # Pillow (about 40 ms to import). So `check`, `list`, a plan and a plan with --plot fig.png start
 # fast, and --plot fig.png costs a small fraction of the plan.
 
-__all__ = ["main", "build_parser", "printable"]
+__all__ = ["main", "build_parser", "printable", "COMMANDS"]
 
 EXIT_OK, EXIT_NO_PLAN, EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 #: 128 + SIGTERM: ended by ``kill`` (handled as Ctrl-C is: temporary files removed, one line).
@@ -451,6 +451,16 @@ def _cmd_plan(args, out, err, caught) -> int:
     return EXIT_OK
 
 
+#: Sub-command -> ``function(args, out, err, caught) -> exit code`` (``caught``: the warnings
+#: collected so far). A new sub-command is its sub-parser in :func:`build_parser` and one
+#: entry here; it gets the same handling of bad input, interrupts and warnings as the others.
+COMMANDS = {
+    "plan": _cmd_plan,
+    "check": lambda args, out, err, caught: _cmd_check(args, out, caught),
+    "list": lambda args, out, err, caught: _cmd_list(out),
+}
+
+
 # --------------------------------------------------------------------------- main
 
 
@@ -529,11 +539,7 @@ def _run(argv, out, err) -> int:
     except SystemExit as e:  # --help, --version
         return int(e.code or 0) if not isinstance(e.code, str) else EXIT_BAD_INPUT
     with _warning_policy() as caught:
-        if args.command == "list":
-            return _cmd_list(out)
-        if args.command == "check":
-            return _cmd_check(args, out, caught)
-        return _cmd_plan(args, out, err, caught)
+        return COMMANDS[args.command](args, out, err, caught)
 
 
 def _silence(stream) -> None:

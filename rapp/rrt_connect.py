@@ -157,6 +157,8 @@ def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, cle
     if dist == 0.0:
         return i, True
     k = min(int(np.ceil(dist / step)), room) if chain else 1
+    if k <= 0:  # the trees are full
+        return -1, False
     frac = np.minimum(np.arange(1, k + 1) * step / dist, 1.0)
     points = base + frac[:, None] * d  # unwrapped from base: the certified motion
     prev = np.vstack((base, points[:-1]))

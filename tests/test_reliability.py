@@ -7,17 +7,27 @@ from __future__ import annotations
 
 import dataclasses
 import os
-import stat
+import random
+import signal
+import subprocess
+import sys
+import time
 
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
 import rapp
+import rapp.cartesian as cartesian
 from rapp import Arm, Circle, JointGrid, Polygon
-from rapp.collision import collides
+from rapp.cartesian import line_path
+from rapp.collision import collides, link_clearances
 from rapp.cspace import certified_free, grid_q
-from rapp.errors import FileNotFound, InvalidValue, ScenarioError
+from rapp.errors import (FileNotFound, InvalidSetting, InvalidValue, NoPathFound,
+                         PathNotFollowable, ScenarioError)
+from rapp.prm import MEMORY_BUDGET, prm, roadmap_bytes
+from rapp.rrt import MIN_STEP
+from rapp.rrt_connect import MAX_NODES, rrt_connect
 from rapp.scenario import MAX_OBSTACLES, check_limits, load_scenario
 
 # --------------------------------------------------------------------------- 6. paths and limits
@@ -38,6 +48,19 @@ def test_a_path_that_is_not_a_regular_file_is_a_scenario_error_at_once(tmp_path,
         load_scenario(path)
     assert isinstance(err.value, FileNotFound) and err.value.field == "scenario"
     assert repr(path) in str(err.value)
+
+
+@pytest.mark.parametrize("command", ["plan", "check"])
+def test_a_fifo_as_the_scenario_is_exit_2_at_once_on_the_command_line(tmp_path, capsys, command):
+    from rapp.cli import main
+
+    path = str(tmp_path / "pipe.json")
+    os.mkfifo(path)
+    t0 = time.perf_counter()
+    assert main([command, path]) == 2
+    assert time.perf_counter() - t0 < 5
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is not a regular file (a named pipe)" in err
 
 
 def test_a_path_like_that_cannot_give_a_path_is_a_scenario_error():
@@ -153,11 +176,6 @@ def test_the_old_promise_fails_a_move_out_of_a_certified_cell_can_collide():
 
 # --------------------------------------------------------------------------- 3, 4. signals
 
-import random  # noqa: E402
-import signal  # noqa: E402
-import subprocess  # noqa: E402
-import sys  # noqa: E402
-import time  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SMALL = {"arm": {"link_lengths": [1.0, 1.0]},
@@ -271,9 +289,6 @@ def test_a_run_interrupted_anywhere_leaves_all_old_or_all_new_outputs(tmp_path):
 
 # --------------------------------------------------------------------------- 1. tiny steps
 
-from rapp.errors import InvalidSetting, NoPathFound  # noqa: E402
-from rapp.rrt import MIN_STEP  # noqa: E402
-from rapp.rrt_connect import MAX_NODES, rrt_connect  # noqa: E402
 
 DEFAULT_RRT = {"arm": {"link_lengths": [1, 1]},
                "obstacles": [{"type": "circle", "center": [1.75, 0.75], "radius": 0.6}],
@@ -313,8 +328,6 @@ def test_the_smallest_rrt_connect_step_ends_with_an_answer_in_bounded_memory():
 
 
 # --------------------------------------------------------------------------- 2. PRM budgets
-
-from rapp.prm import MEMORY_BUDGET, prm, roadmap_bytes  # noqa: E402
 
 
 def test_a_prm_roadmap_too_large_for_memory_is_refused_up_front():
@@ -430,10 +443,6 @@ def test_a_hundred_thousand_obstacles_out_of_reach_are_refused_by_count():
 
 # --------------------------------------------------------------------------- 7. redundant lines
 
-import rapp.cartesian as cartesian  # noqa: E402
-from rapp.cartesian import line_path  # noqa: E402
-from rapp.collision import link_clearances  # noqa: E402
-from rapp.errors import PathNotFollowable  # noqa: E402
 
 # Found by search: an obstacle on the elbow of the plain continuation's mid-march
 # configuration, 0.3 m or more away from the tip's line.
