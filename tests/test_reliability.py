@@ -493,3 +493,32 @@ def test_a_redundant_refusal_says_what_was_tried_and_a_two_link_one_does_not_nee
             assert "may still have a path" in str(err.value)
         else:
             assert "tried" not in str(err.value)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_while_the_gif_is_written_keeps_every_previous_output(tmp_path, sig):
+    """The battery's two cases, aimed: the signal arrives once the GIF's temporary file exists
+    (the figure and the result are written by then). Nothing is left beside the targets, and
+    --out and --plot are the previous files, like the GIF."""
+    import json
+
+    (tmp_path / "s.json").write_text(json.dumps(SMALL))
+    for name in ("r.json", "f.png", "a.gif"):
+        (tmp_path / name).write_bytes(b"old " + name.encode())
+    old = _outputs(tmp_path)
+    proc = _rapp("plan", "s.json", "-q", "--out", "r.json", "--plot", "f.png", "--animate",
+                 "a.gif", cwd=tmp_path)
+    t0 = time.monotonic()
+    while not any(p.name.endswith(".gif") and p.name.startswith(".rapp-")
+                  for p in tmp_path.iterdir()):
+        assert proc.poll() is None and time.monotonic() - t0 < 300
+        time.sleep(0.002)
+    proc.send_signal(sig)
+    out, err = proc.communicate(timeout=300)
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".rapp-")) == []
+    if proc.returncode == 0:   # the GIF was done and committed before the signal was handled
+        assert _outputs(tmp_path) != old
+    else:
+        assert proc.returncode == (143 if sig == signal.SIGTERM else 130)
+        assert _outputs(tmp_path) == old
