@@ -54,7 +54,10 @@ a step along the null space of the tip's Jacobian (the tip stays put to first
 order; Newton puts it back exactly) up the gradient of a clearance measure:
 each link's clearance and each limited joint's distance to its limit, capped
 so that only what is near counts. The gains of :data:`REDUNDANCY_GAINS` are
-tried in order; every edge is certified as before. A refusal of a redundant
+tried in order; then restarts: the arm first moves along its self-motion with
+the tip held at the line's start (each way, :data:`RESTART_ANGLES` radians of
+joint motion), and the march is tried from there. Every edge is certified as
+before. A refusal of a redundant
 arm says what was tried: it proves these continuations fail, not that no path
 exists. For two links the path from ``q_start`` is unique (the elbow cannot
 change without passing a boundary circle, which is refused), so a refusal is a
@@ -82,7 +85,8 @@ from rapp.collision import (check_obstacle, collides, link_clearances, segment_c
 from rapp.errors import PathNotFollowable
 from rapp.ik import _dls_step, _fk_jac, ik_2link
 
-__all__ = ["line_path", "edge_deviation_bound", "SINGULAR_MARGIN", "REDUNDANCY_GAINS"]
+__all__ = ["line_path", "edge_deviation_bound", "SINGULAR_MARGIN", "REDUNDANCY_GAINS",
+           "RESTART_ANGLES"]
 
 #: A line that comes within ``SINGULAR_MARGIN * sum(L)`` of a boundary circle of the
 #: workspace annulus (without crossing it) passes a singularity: there the arm is
@@ -389,16 +393,76 @@ def line_path(arm: Arm, q_start, goal_xy, obstacles=(), *, tolerance: float = 1e
                 first = e
             if e.reason == "workspace":
                 raise
+    # Restarts: first move along the self-motion with the tip held at the line's start (a
+    # motion that keeps the tip on the line, so part of the path), then march from there.
+    for sign in (1.0, -1.0) if RESTART_ANGLES else ():
+        walk, walked = _self_motion_walk(arm, q0, p0, goal, obstacles, tolerance, max_step, sign,
+                                         max(RESTART_ANGLES))
+        for angle in RESTART_ANGLES:
+            k = int(np.searchsorted(walked, angle))
+            if k >= len(walk) or k == 0:
+                break
+            try:
+                rest = _march(arm, walk[k], p0, d, goal, obstacles, tolerance, max_step,
+                              REDUNDANCY_GAINS[-1] if len(REDUNDANCY_GAINS) > 1 else 0.0)
+            except PathNotFollowable:
+                continue
+            return np.vstack((walk[: k + 1], rest[1:]))
     tried = ", ".join(f"{g:g}" for g in REDUNDANCY_GAINS[1:])
+    restarts = ", ".join(f"{a:g}" for a in RESTART_ANGLES)
     raise PathNotFollowable(
-        f"{first} (tried: the continuation nearest each previous configuration, then "
-        f"self-motion of the {arm.n}-link arm away from obstacles and joint limits with gains "
-        f"{tried}; a redundant arm may still have a path no continuation from q_start finds)",
+        f"{first} (tried: the continuation nearest each previous configuration; self-motion "
+        f"of the {arm.n}-link arm away from obstacles and joint limits with gains {tried}; "
+        f"restarts after a self-motion of +-{restarts} rad with the tip held at the start; a "
+        "redundant arm may still have a path no continuation from q_start finds)",
         reason=first.reason, s=first.s) from None
 
 
 #: Gains of the self-motion tried, in order, for an arm of three or more links (0: none).
 REDUNDANCY_GAINS = (0.0, 0.5, 2.0, 8.0)
+#: Restarts (three or more links): joint-space length (rad) of a self-motion, each way, with
+#: the tip held at the line's start, from whose end the march is tried again.
+RESTART_ANGLES = (0.5, 1.0, 2.0, 3.0)
+
+
+def _self_motion_walk(arm, q0, p0, goal, obstacles, tolerance, max_step, sign, length):
+    """Waypoints from ``q0`` along the self-motion with the tip at ``p0`` and their cumulative
+    joint-space length; every edge certified (tip within tolerance of the line, no collision).
+    Stops at ``length``, an obstacle, a limit or a singularity."""
+    solver = _Solver(arm, q0, tolerance)
+    half = 0.5 * tolerance
+    h = 0.5 * max_step
+    path, walked = [q0.copy()], [0.0]
+    q, v_prev = q0.copy(), None
+    for _ in range(int(np.ceil(4 * length / h))):   # each step moves at least h / 4
+        if walked[-1] >= length:
+            break
+        jac = np.stack(_fk_jac(solver.lengths, q[:, None])[2:])[:, :, 0]
+        null = np.linalg.svd(jac)[2][2:]          # (n - 2, n): the self-motion directions
+        v = null[0] if v_prev is None else null.T @ (null @ v_prev)
+        norm = float(np.linalg.norm(v))
+        if norm == 0.0:
+            break
+        v = v / norm
+        if v_prev is None:
+            v = sign * v
+        elif v @ v_prev < 0:
+            v = -v
+        q_new, why = solver._newton(q + h * v, p0)
+        moved = float(np.linalg.norm(q_new - q))
+        if why is not None or moved > max_step or moved < 0.25 * h:  # blocked by a limit
+            break
+        if not arm.within_limits(q_new):
+            break
+        dev, curve = _edge_terms(arm, q, q_new, p0, goal)
+        if dev > half or curve > half:
+            break
+        if obstacles and not segment_collision_free(arm, q, q_new, obstacles):
+            break
+        walked.append(walked[-1] + float(np.linalg.norm(q_new - q)))
+        path.append(q_new)
+        q, v_prev = q_new, v
+    return np.array(path), np.array(walked)
 
 
 def _march(arm, q0, p0, d, goal, obstacles, tolerance, max_step, gain=0.0):

@@ -346,19 +346,20 @@ def test_a_prm_roadmap_too_large_for_memory_is_refused_up_front():
 
 @pytest.mark.parametrize("samples, neighbours", [(3000, 30), (15000, 10), (2000, 50)])
 def test_prm_honours_its_time_budget_inside_a_batch(samples, neighbours):
-    """Accepted settings whose first roadmap batch alone takes far longer than the budget:
-    the run stops within a small factor of it (the budget is checked inside the batch)."""
+    """Accepted settings whose first roadmap batch alone takes far longer than the budget: the
+    planner stops within a small factor of it (the budget is checked inside the batch)."""
     budget = 0.5
-    data = dict(DEFAULT_RRT, obstacles=[{"type": "circle", "center": [0.0, 1.5], "radius": 0.4}],
-                planner={"algorithm": "prm", "samples": samples, "neighbours": neighbours,
-                         "time_budget": budget})
-    s = load_scenario(data)
+    arm = Arm([1.0, 1.0])
+    obs = [Circle((0.0, 1.5), 0.4)]
     t0 = time.process_time()
-    try:
-        rapp.plan(s)
-    except NoPathFound as e:
-        assert "time budget" in str(e)
-    assert time.process_time() - t0 < 4 * budget + 1.0
+    res = prm(arm, [0.0, 0.0], [2.5, 0.3], obs, samples=samples, neighbours=neighbours,
+              time_budget=budget, raise_on_failure=False)
+    spent = time.process_time() - t0
+    assert spent < 4 * budget + 0.5, spent
+    if not res.success:
+        with pytest.raises(NoPathFound, match="time budget"):
+            prm(arm, [0.0, 0.0], [2.5, 0.3], obs, samples=samples, neighbours=neighbours,
+                time_budget=budget)
 
 
 # --------------------------------------------------------------------------- 5. long work
@@ -468,8 +469,9 @@ def _oracle_follows(arm, path, a, b, obstacles, tolerance):
 def test_a_line_the_plain_continuation_refuses_is_followed_with_the_redundancy(monkeypatch):
     goal = (0.248, 1.378)
     a = ARM3.end_effector(np.array(Q3))
-    with monkeypatch.context() as m:   # the march as it was: no self-motion
+    with monkeypatch.context() as m:   # the march as it was: no self-motion, no restart
         m.setattr(cartesian, "REDUNDANCY_GAINS", (0.0,))
+        m.setattr(cartesian, "RESTART_ANGLES", ())
         with pytest.raises(PathNotFollowable) as err:
             line_path(ARM3, Q3, goal, OBS3)
         assert err.value.reason == "obstacle"
@@ -477,6 +479,28 @@ def test_a_line_the_plain_continuation_refuses_is_followed_with_the_redundancy(m
     ok, worst, least = _oracle_follows(ARM3, path, a, np.array(goal), OBS3, 1e-3)
     assert ok, (worst, least)
     np.testing.assert_allclose(path[0], Q3)
+    assert np.linalg.norm(ARM3.end_effector(path[-1]) - goal) < 1e-9
+
+
+@pytest.mark.parametrize("q0, goal, centre, radius", [
+    ([-0.082, 1.834, -0.731], (1.104, 0.557), (0.863, -0.632), 0.226),
+    ([1.445, -1.345, 0.758], (1.173, 0.806), (-0.159, 1.011), 0.236),
+    ([-0.956, -0.079, -1.004], (1.578, -1.489), (0.793, -0.612), 0.205),
+])
+def test_lines_refused_without_restarts_are_followed_with_them(monkeypatch, q0, goal, centre,
+                                                               radius):
+    """Found by search: an obstacle on an elbow of the plain march, 0.3 m or more from the
+    line; neither the plain march nor its self-motion gets past it, a restart does."""
+    obs = [Circle(centre, radius)]
+    with monkeypatch.context() as m:
+        m.setattr(cartesian, "RESTART_ANGLES", ())
+        with pytest.raises(PathNotFollowable):
+            line_path(ARM3, q0, goal, obs)
+    path = line_path(ARM3, q0, goal, obs)
+    a = ARM3.end_effector(np.array(q0))
+    ok, worst, least = _oracle_follows(ARM3, path, a, np.array(goal), obs, 1e-3)
+    assert ok, (worst, least)
+    np.testing.assert_allclose(path[0], q0)
     assert np.linalg.norm(ARM3.end_effector(path[-1]) - goal) < 1e-9
 
 
