@@ -198,6 +198,11 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
         path = unwrapped_chain(arm, nodes[chain], start)
         return RRTResult(path, nodes, parent, budget.iterations, True, path_length(path))
     if raise_on_failure:
+        try:
+            _check_time(budget)
+        except _OutOfTime:
+            raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal within its "
+                              f"time budget of {budget.time_budget:g} s") from None
         raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal in "
                           f"{budget.iterations} searches")
     return RRTResult(np.empty((0, arm.n)), nodes, parent, budget.iterations, False, float("inf"))
