@@ -15,6 +15,16 @@ Examples
 [2.0, 0.0]
 """
 
+import sys as _sys
+
+if _sys.argv[:1] == ["-m"] or _sys.argv[:1] and _sys.argv[0].endswith("rapp"):
+    # `python -m rapp` or the `rapp` script: Ctrl-C while the imports below run (most of a
+    # short run) must end it with one line and exit 130, not a traceback (rapp.interrupts).
+    from rapp import interrupts as _interrupts
+
+    if _interrupts.running_as_command():
+        _interrupts.guard_startup()
+
 import importlib
 import importlib.util
 import sys

@@ -1,8 +1,16 @@
-"""``python -m rapp``: see :mod:`rapp.cli`."""
+"""``python -m rapp``: see :mod:`rapp.cli`.
+
+Python imports the package before this module, and ``rapp/__init__.py`` installs
+:func:`rapp.interrupts.guard_startup` before its own imports, so a Ctrl-C at any moment of
+start-up ends the run with one line and exit code 130.
+"""
 
 import sys
 
-from rapp.cli import main
-
 if __name__ == "__main__":
+    from rapp import interrupts
+
+    interrupts.guard_startup()  # holds even if the package was imported some other way first
+    from rapp.cli import main
+
     sys.exit(main())

@@ -45,6 +45,24 @@ With samples at ``t = 0, 1/4, 1/2, 3/4, 1`` (``h = 1/4``):
 An edge is accepted when both terms are at most ``tolerance / 2``: a proof
 for every ``t``, not a sampling resolution.
 
+Redundancy
+----------
+For three or more links each point of the line has a one-parameter family of
+configurations (the self-motion). When the continuation nearest each previous
+configuration fails, the march is repeated with, after each waypoint's solve,
+a step along the null space of the tip's Jacobian (the tip stays put to first
+order; Newton puts it back exactly) up the gradient of a clearance measure:
+each link's clearance and each limited joint's distance to its limit, capped
+so that only what is near counts. The gains of :data:`REDUNDANCY_GAINS` are
+tried in order; then restarts: the arm first moves along its self-motion with
+the tip held at the line's start (each way, :data:`RESTART_ANGLES` radians of
+joint motion), and the march is tried from there. Every edge is certified as
+before. A refusal of a redundant
+arm says what was tried: it proves these continuations fail, not that no path
+exists. For two links the path from ``q_start`` is unique (the elbow cannot
+change without passing a boundary circle, which is refused), so a refusal is a
+proof.
+
 Failures raise :class:`rapp.errors.PathNotFollowable` with one line naming
 the first thing that goes wrong along the line and its ``s``: the line leaves
 the workspace annulus, passes a singularity (the arm stretched or folded
@@ -62,11 +80,13 @@ import numpy as np
 
 from rapp.arm import Arm, wrap_angle
 from rapp.checks import finite_number
-from rapp.collision import check_obstacle, collides, segment_collision_free, segment_point_distance
+from rapp.collision import (check_obstacle, collides, link_clearances, segment_collision_free,
+                            segment_point_distance)
 from rapp.errors import PathNotFollowable
 from rapp.ik import dls_step, fk_and_jacobian, ik_2link
 
-__all__ = ["line_path", "edge_deviation_bound", "SINGULAR_MARGIN"]
+__all__ = ["line_path", "edge_deviation_bound", "SINGULAR_MARGIN", "REDUNDANCY_GAINS",
+           "RESTART_ANGLES"]
 
 #: A line that comes within ``SINGULAR_MARGIN * sum(L)`` of a boundary circle of the
 #: workspace annulus (without crossing it) passes a singularity: there the arm is
@@ -184,8 +204,14 @@ class _Solver:
     ``"singularity"`` or ``"joint limits"``.
     """
 
-    def __init__(self, arm: Arm, q0: np.ndarray, tolerance: float):
+    def __init__(self, arm: Arm, q0: np.ndarray, tolerance: float, obstacles=(),
+                 gain: float = 0.0, max_step: float = 0.1):
         self.arm = arm
+        # Redundancy (3+ links): after each solve, a step along the self-motion (the null space
+        # of the tip's Jacobian, which leaves the tip where it is to first order) that climbs
+        # the gradient of a clearance measure: links away from obstacles, joints from limits.
+        self.obstacles, self.gain = list(obstacles), float(gain)
+        self.null_cap = 0.3 * max_step
         self.scale = float(arm.lengths.sum())
         self.lengths = arm.lengths / self.scale
         self.limited, self.lo, self.hi = arm.limited, arm.lower, arm.upper
@@ -205,7 +231,41 @@ class _Solver:
             q = q_prev + wrap_angle(sol - q_prev)
             out = np.flatnonzero(self.limited & ((q < self.lo) | (q > self.hi)))
             return q, (("joint limits", int(out[0])) if out.size else None)
-        return self._newton(q_prev, target)
+        q, why = self._newton(q_prev, target)
+        if why is None and self.gain > 0.0:
+            q = self._self_motion(q, target)
+        return q, why
+
+    def _room(self, q: np.ndarray) -> float:
+        """What the self-motion climbs: each link's clearance and each limited joint's distance
+        to its nearer limit, both capped (only what is near matters), summed."""
+        reach = 0.25 * self.scale
+        room = 0.0
+        if self.obstacles:
+            room += float(np.minimum(link_clearances(self.arm, q, self.obstacles), reach).sum())
+        if self.limited.any():
+            gap = np.minimum(q - self.lo, self.hi - q)[self.limited]
+            room += self.scale * float(np.minimum(gap, 0.3).sum())
+        return room
+
+    def _self_motion(self, q: np.ndarray, target: np.ndarray) -> np.ndarray:
+        """``q`` moved along its self-motion toward more room, the tip put back on ``target``."""
+        n = q.size
+        h = 1e-6
+        grad = np.array([(self._room(q + h * e) - self._room(q - h * e)) / (2 * h)
+                         for e in np.eye(n)])
+        if not grad.any():
+            return q
+        jac = np.stack(_fk_jac(self.lengths, q[:, None])[2:])[:, :, 0]
+        null = np.eye(n) - np.linalg.pinv(jac) @ jac
+        dq = self.gain * (null @ grad) / self.scale
+        norm = float(np.linalg.norm(dq))
+        if norm > self.null_cap:
+            dq *= self.null_cap / norm
+        moved, why = self._newton(q + dq, target)
+        if why is not None or self._room(moved) < self._room(q):
+            return q
+        return moved
 
     def _newton(self, q_prev, target):
         lengths, lim, lo, hi = self.lengths, self.limited, self.lo, self.hi
@@ -319,11 +379,94 @@ def line_path(arm: Arm, q_start, goal_xy, obstacles=(), *, tolerance: float = 1e
     if not d.any():
         return q0[None, :].copy()
     _workspace_check(arm, p0, d)
-    return _march(arm, q0, p0, d, goal, obstacles, tolerance, max_step)
+    if arm.n == 2:
+        return _march(arm, q0, p0, d, goal, obstacles, tolerance, max_step)
+    # A redundant arm: the continuation nearest the previous configuration first; when it
+    # fails, the same march with self-motion away from obstacles and limits, gently, then
+    # harder. The first failure is reported, with what was tried.
+    first = None
+    for gain in REDUNDANCY_GAINS:
+        try:
+            return _march(arm, q0, p0, d, goal, obstacles, tolerance, max_step, gain)
+        except PathNotFollowable as e:
+            if first is None:
+                first = e
+            if e.reason == "workspace":
+                raise
+    # Restarts: first move along the self-motion with the tip held at the line's start (a
+    # motion that keeps the tip on the line, so part of the path), then march from there.
+    for sign in (1.0, -1.0) if RESTART_ANGLES else ():
+        walk, walked = _self_motion_walk(arm, q0, p0, goal, obstacles, tolerance, max_step, sign,
+                                         max(RESTART_ANGLES))
+        for angle in RESTART_ANGLES:
+            k = int(np.searchsorted(walked, angle))
+            if k >= len(walk) or k == 0:
+                break
+            try:
+                rest = _march(arm, walk[k], p0, d, goal, obstacles, tolerance, max_step,
+                              REDUNDANCY_GAINS[-1] if len(REDUNDANCY_GAINS) > 1 else 0.0)
+            except PathNotFollowable:
+                continue
+            return np.vstack((walk[: k + 1], rest[1:]))
+    tried = ", ".join(f"{g:g}" for g in REDUNDANCY_GAINS[1:])
+    restarts = ", ".join(f"{a:g}" for a in RESTART_ANGLES)
+    raise PathNotFollowable(
+        f"{first} (tried: the continuation nearest each previous configuration; self-motion "
+        f"of the {arm.n}-link arm away from obstacles and joint limits with gains {tried}; "
+        f"restarts after a self-motion of +-{restarts} rad with the tip held at the start; a "
+        "redundant arm may still have a path no continuation from q_start finds)",
+        reason=first.reason, s=first.s) from None
 
 
-def _march(arm, q0, p0, d, goal, obstacles, tolerance, max_step):
+#: Gains of the self-motion tried, in order, for an arm of three or more links (0: none).
+REDUNDANCY_GAINS = (0.0, 0.5, 2.0, 8.0)
+#: Restarts (three or more links): joint-space length (rad) of a self-motion, each way, with
+#: the tip held at the line's start, from whose end the march is tried again.
+RESTART_ANGLES = (0.5, 1.0, 2.0, 3.0)
+
+
+def _self_motion_walk(arm, q0, p0, goal, obstacles, tolerance, max_step, sign, length):
+    """Waypoints from ``q0`` along the self-motion with the tip at ``p0`` and their cumulative
+    joint-space length; every edge certified (tip within tolerance of the line, no collision).
+    Stops at ``length``, an obstacle, a limit or a singularity."""
     solver = _Solver(arm, q0, tolerance)
+    half = 0.5 * tolerance
+    h = 0.5 * max_step
+    path, walked = [q0.copy()], [0.0]
+    q, v_prev = q0.copy(), None
+    for _ in range(int(np.ceil(4 * length / h))):   # each step moves at least h / 4
+        if walked[-1] >= length:
+            break
+        jac = np.stack(_fk_jac(solver.lengths, q[:, None])[2:])[:, :, 0]
+        null = np.linalg.svd(jac)[2][2:]          # (n - 2, n): the self-motion directions
+        v = null[0] if v_prev is None else null.T @ (null @ v_prev)
+        norm = float(np.linalg.norm(v))
+        if norm == 0.0:
+            break
+        v = v / norm
+        if v_prev is None:
+            v = sign * v
+        elif v @ v_prev < 0:
+            v = -v
+        q_new, why = solver._newton(q + h * v, p0)
+        moved = float(np.linalg.norm(q_new - q))
+        if why is not None or moved > max_step or moved < 0.25 * h:  # blocked by a limit
+            break
+        if not arm.within_limits(q_new):
+            break
+        dev, curve = _edge_terms(arm, q, q_new, p0, goal)
+        if dev > half or curve > half:
+            break
+        if obstacles and not segment_collision_free(arm, q, q_new, obstacles):
+            break
+        walked.append(walked[-1] + float(np.linalg.norm(q_new - q)))
+        path.append(q_new)
+        q, v_prev = q_new, v
+    return np.array(path), np.array(walked)
+
+
+def _march(arm, q0, p0, d, goal, obstacles, tolerance, max_step, gain=0.0):
+    solver = _Solver(arm, q0, tolerance, obstacles, gain, max_step)
     half = 0.5 * tolerance
     path = [q0.copy()]
     q, s, ds = q0.copy(), 0.0, 0.125

@@ -3,12 +3,15 @@
 Exit codes: 0 done; 1 a planning answer (no path, no IK solution, a straight
 line the end effector cannot follow), said in one line; 2 bad input, one line on stderr naming the field or option and what is
 wrong; 3 a failed verification or an unexpected internal error (still one
-line, never a traceback); 130 interrupted (Ctrl-C, wherever it lands).
+line, never a traceback); 130 interrupted (Ctrl-C, wherever it lands, start-up
+included: see :mod:`rapp.interrupts`); 143 terminated (SIGTERM, handled as Ctrl-C is).
 
 Every output path is checked before any planning work: its folder exists and
 is writable, its format can be written, and it is neither the input scenario
-nor another output. Output files are written atomically, so an error or Ctrl-C
-never leaves a half-written file or destroys the previous one.
+nor another output. The outputs of a run are written to temporary files and renamed
+into place together at the end (:class:`rapp.files.OutputBatch`), so an error, Ctrl-C or
+SIGTERM never leaves a half-written file, destroys a previous one, or mixes the files of two
+runs.
 
 Everything printed passes through :func:`printable`, so a scenario's name or a
 file name cannot inject terminal escape sequences or make printing fail.
@@ -31,22 +34,24 @@ import re
 import shutil
 import sys
 import warnings
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 
 import numpy as np
 
 from rapp.errors import (InvalidValue, NoIKSolution, NoPathFound, PathNotFollowable, RappError,
                          ScenarioError)
-from rapp.files import atomic_output
-from rapp import planner, results, scenario
+from rapp.files import OutputBatch
+from rapp import interrupts, planner, progress, results, scenario
 
 # matplotlib and rapp.plotting (about 1 s to import, twice a whole plan) are imported only when
 # --plot or --animate is given: `check`, `list` and a plan without a figure start fast. A figure
 # costs that import on top of the plan; benchmarks/bench_cli.py records how much.
 
-__all__ = ["main", "build_parser", "printable"]
+__all__ = ["main", "build_parser", "printable", "COMMANDS"]
 
 EXIT_OK, EXIT_NO_PLAN, EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+#: 128 + SIGTERM: ended by ``kill`` (handled as Ctrl-C is: temporary files removed, one line).
+EXIT_TERMINATED = interrupts.EXIT_SIGTERM
 #: 128 + SIGPIPE: the exit status of a program whose output pipe was closed by its reader.
 EXIT_BROKEN_PIPE = 141
 
@@ -144,7 +149,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="print the wall-clock time per stage (also with --quiet) and store "
                     "it in the --out result, which then differs from run to run")
     pp.add_argument("--quiet", "-q", action="store_true",
-                    help="print only the one-line summary (and the stage times with --timings)")
+                    help="print only the one-line summary (and the stage times with --timings); "
+                    "no progress line (shown on stderr when it is a terminal and work takes "
+                    "more than a moment)")
     pc = sub.add_parser("check", help="validate a scenario and echo it; plan nothing",
                         description="Validate SCENARIO and echo every input with units (R2).")
     pc.add_argument("scenario", help="scenario file or embedded name")
@@ -291,38 +298,63 @@ def _agg() -> None:
     matplotlib.use("Agg")
 
 
-def _save_plot(p, s, path: str) -> None:
-    """The plan figure of :func:`rapp.plotting.plot_plan`, on a figure of its own (no pyplot)."""
+def _save_plot(p, s, path: str, ext: str) -> None:
+    """The plan figure of :func:`rapp.plotting.plot_plan` in the format ``ext`` (PNG, SVG, PDF, ...),
+    on a figure of its own (no pyplot), written to ``path`` (a temporary file of the batch)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     from rapp import plotting
 
-    ext = os.path.splitext(path)[1]
     fig = Figure(figsize=plotting.PLAN_FIGSIZE, layout="constrained")
     FigureCanvasAgg(fig)  # the canvas that writes every format _plot_formats lists
     plotting.plot_plan(p, s, fig=fig)
-    with _writing("--plot"), atomic_output(path, suffix=ext) as tmp:
-        # The target's name decides the format, whatever the temporary file is called.
-        fig.savefig(tmp, dpi=100, format=ext[1:].lower())
+    # The target's name decides the format, whatever the temporary file is called.
+    fig.savefig(path, dpi=100, format=ext[1:].lower())
 
 
-def _save_animation(p, s, path: str) -> None:
+def _save_animation(p, s, path: str, ext: str) -> None:
     _agg()
     from matplotlib import animation
 
     from rapp import plotting
 
-    ext = os.path.splitext(path)[1]
     anim = plotting.animate(s.arm, p.q, s.obstacles, t=p.t)
     try:
-        with _writing("--animate"), atomic_output(path, suffix=ext) as tmp:
-            if ext.lower() == ".mp4":
-                anim.save(tmp, writer=animation.FFMpegWriter(fps=ANIMATION_FPS), dpi=80)
-            else:
-                plotting.save_gif(anim, tmp, fps=ANIMATION_FPS)
+        if ext.lower() == ".mp4":
+            anim.save(path, writer=animation.FFMpegWriter(fps=ANIMATION_FPS), dpi=80)
+        else:
+            plotting.save_gif(anim, path, fps=ANIMATION_FPS)
     finally:
         plotting.close_animation(anim)
+
+
+def _write_outputs(args, p, s) -> None:
+    """Every output of the run, each to a temporary file, then all renamed into place at once:
+    an error or an interrupt on the way leaves every previous file as it was."""
+    options = {}
+    try:
+        with OutputBatch() as batch:
+            if args.out:
+                options[args.out] = "--out"
+                with _writing("--out"):
+                    results.save_result(p, batch.stage(args.out, ".json"), timings=args.timings)
+            if args.plot:
+                options[args.plot] = "--plot"
+                ext = os.path.splitext(args.plot)[1]
+                with _writing("--plot"):
+                    tmp = batch.stage(args.plot, ext)
+                    _save_plot(p, s, tmp, ext)
+            if args.animate:
+                options[args.animate] = "--animate"
+                ext = os.path.splitext(args.animate)[1]
+                with _writing("--animate"):
+                    _save_animation(p, s, batch.stage(args.animate, ext), ext)
+    except OSError as e:  # renaming into place failed (the folder changed under the run)
+        if _interrupted(e):
+            raise
+        option = options.get(getattr(e, "filename2", None), "--out")
+        raise InvalidValue(f"cannot write: {e.strerror or e}", field=option) from e
 
 
 # --------------------------------------------------------------------------- commands
@@ -360,6 +392,22 @@ def _cmd_check(args, out, caught) -> int:
     return EXIT_OK
 
 
+def _progress(args, err, stage: str):
+    """One updating line on stderr for long work, when stderr is a terminal and not --quiet.
+
+    Erased when the work ends (normally or not), before anything else is printed.
+    """
+    try:
+        terminal = err.isatty()
+    except (AttributeError, ValueError, OSError):
+        terminal = False
+    if args.quiet or not terminal:
+        return nullcontext()
+    line = progress.TerminalLine(err)
+    line(stage)
+    return line
+
+
 def _cmd_plan(args, out, err, caught) -> int:
 
     _check_outputs(args)
@@ -367,19 +415,16 @@ def _cmd_plan(args, out, err, caught) -> int:
     if not args.quiet:
         _say(out, scenario.echo(_shown(s)), lines=True)
         _say(out)
-    p = planner.plan(s)
+    with _progress(args, err, "planning"):
+        p = planner.plan(s)
     if not args.quiet:
         _say(out, str(p.report), lines=True)
     if args.timings:
         _say(out, "time per stage: " + ", ".join(f"{k} {v * 1e3:.1f} ms"
                                                  for k, v in p.timings.items()))
-    if args.out:
-        with _writing("--out"):
-            results.save_result(p, args.out, timings=args.timings)
-    if args.plot:
-        _save_plot(p, s, args.plot)
-    if args.animate:
-        _save_animation(p, s, args.animate)
+    with _progress(args, err, "writing " + ", ".join(
+            o for o in (args.out, args.plot, args.animate) if o)):
+        _write_outputs(args, p, s)
     if not args.quiet:
         _say_notes(out, caught)
     m = p.metrics
@@ -392,6 +437,25 @@ def _cmd_plan(args, out, err, caught) -> int:
                   + ", ".join(c.name for c in p.report.failed))
         return EXIT_INTERNAL
     return EXIT_OK
+
+
+#: Sub-command -> ``function(args, out, err, caught) -> exit code`` (``caught``: the warnings
+#: collected so far). A new sub-command is its sub-parser in :func:`build_parser` and one
+#: entry here; it gets the same handling of bad input, interrupts and warnings as the others.
+COMMANDS = {
+    "plan": _cmd_plan,
+    "check": lambda args, out, err, caught: _cmd_check(args, out, caught),
+    "list": lambda args, out, err, caught: _cmd_list(out),
+    "grade": lambda args, out, err, caught: _grading().run(args, out, err),
+    "assign": lambda args, out, err, caught: _grading().run_assign(args, out, err),
+}
+
+
+def _grading():
+    """:mod:`rapp.grading`, imported when a class is graded or assigned (it loads the exercises)."""
+    from rapp import grading
+
+    return grading
 
 
 # --------------------------------------------------------------------------- main
@@ -412,10 +476,21 @@ def _interrupted(e: BaseException) -> bool:
     return False
 
 
+def _signal_exit(e: BaseException) -> tuple:
+    """Exit code and line for an interrupt found in ``e``'s chain (SIGTERM or Ctrl-C)."""
+    seen = set()
+    while e is not None and id(e) not in seen:
+        if isinstance(e, interrupts.Terminated):
+            return EXIT_TERMINATED, "rapp: terminated"
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return EXIT_INTERRUPTED, "rapp: interrupted"
+
+
 def _failure(e: BaseException) -> tuple:
     """The exit code and the one stderr line for an exception that ended a command."""
     if _interrupted(e):
-        return EXIT_INTERRUPTED, "rapp: interrupted"
+        return _signal_exit(e)
     if isinstance(e, _UsageError):
         return EXIT_BAD_INPUT, f"{_one_line(e)} (see --help)"
     if isinstance(e, ScenarioError):
@@ -432,7 +507,11 @@ def _failure(e: BaseException) -> tuple:
         name = _one_line(getattr(e, "filename", None) or "output")
         return EXIT_BAD_INPUT, f"rapp: error: {name}: {_one_line(e.strerror or e)}"
     if isinstance(e, MemoryError):
-        return EXIT_BAD_INPUT, "rapp: error: out of memory; try a smaller planner.cells"
+        # Every planner estimates its memory up front (grid cells, roadmap, tree nodes), so this
+        # is a machine with less than their budget free: no one field is at fault.
+        return EXIT_BAD_INPUT, ("rapp: error: out of memory (this machine has less free than "
+                                "the planners' 1.5 GB budget; lower planner.cells for astar or "
+                                "planner.samples for prm)")
     return EXIT_INTERNAL, f"rapp: internal error: {type(e).__name__}: {_one_line(e)}"
 
 
@@ -457,14 +536,7 @@ def _run(argv, out, err) -> int:
     except SystemExit as e:  # --help, --version
         return int(e.code or 0) if not isinstance(e.code, str) else EXIT_BAD_INPUT
     with _warning_policy() as caught:
-        if args.command == "list":
-            return _cmd_list(out)
-        if args.command == "check":
-            return _cmd_check(args, out, caught)
-        if args.command in ("grade", "assign"):
-            from rapp import grading
-            return (grading.run if args.command == "grade" else grading.run_assign)(args, out, err)
-        return _cmd_plan(args, out, err, caught)
+        return COMMANDS[args.command](args, out, err, caught)
 
 
 def _silence(stream) -> None:
@@ -486,19 +558,24 @@ def main(argv=None) -> int:
     2
     """
     out, err = sys.stdout, sys.stderr
+    code = EXIT_INTERRUPTED
     try:
-        try:
-            return _run(argv, out, err)
-        except BrokenPipeError:
-            # The reader went away (`rapp plan | head -1`): stop quietly, as a program killed
-            # by SIGPIPE would; nothing more can be said on a closed stream.
-            _silence(out)
-            return EXIT_BROKEN_PIPE
-        except Exception as e:  # a bug too: still one line, never a traceback
-            code, line = _failure(e)
-        except KeyboardInterrupt:
-            code, line = EXIT_INTERRUPTED, "rapp: interrupted"
-        _say(err, line)
-        return code
-    except KeyboardInterrupt:  # a second Ctrl-C while the first was being reported
-        return EXIT_INTERRUPTED
+        with interrupts.catching():  # SIGTERM too unwinds as an interrupt: temporary files go
+            try:
+                return _run(argv, out, err)
+            except BrokenPipeError:
+                # The reader went away (`rapp plan | head -1`): stop quietly, as a program
+                # killed by SIGPIPE would; nothing more can be said on a closed stream.
+                _silence(out)
+                return EXIT_BROKEN_PIPE
+            except Exception as e:  # a bug too: still one line, never a traceback
+                code, line = _failure(e)
+            except KeyboardInterrupt as e:
+                code, line = _signal_exit(e)
+            if code in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+                interrupts.mark_reported()
+            _say(err, line)
+            return code
+    except KeyboardInterrupt as e:  # a second Ctrl-C (or SIGTERM) while the first was reported
+        interrupts.mark_reported()
+        return code if code in (EXIT_INTERRUPTED, EXIT_TERMINATED) else _signal_exit(e)[0]

@@ -522,16 +522,19 @@ def _inflated(ob, r: float) -> list:
 
 
 def certified_free(arm, obstacles, grid) -> np.ndarray:
-    """Cells from which every move to an axis neighbour is certified collision-free.
+    """Certified cells: a move of one grid step between two of them is collision-free.
 
-    Along a move of one grid step on axis ``k`` a point of link ``j`` travels
-    at most ``B_jk`` (:func:`rapp.collision.motion_bounds`). If at both ends of
-    the move link ``j`` has clearance above ``B_jk / 2``, each half of the move
-    stays inside the clearance ball of its own end, so the whole move is free.
-    A cell is marked True when its clearances exceed half the bound for every
-    axis; a search on these cells needs no further check of its moves. It is
-    the occupancy inflated by half a step: conservative, so a narrow passage
-    may close (the planner then falls back to the plain occupancy).
+    A cell is certified when at its centre every link ``j`` has clearance above
+    ``B_j / 2``, half the largest distance a point of link ``j`` travels in one
+    grid step along any axis (:func:`rapp.collision.motion_bounds`). Along a
+    move between two axis neighbours that are *both* certified, the first half
+    of the move stays within the clearance ball of its start and the second
+    half within that of its end, so the whole move is free: a search that
+    moves only between certified cells needs no further check of its moves.
+    Nothing is promised for a move from a certified cell into one that is not
+    (it may collide). The set is the free space shrunk by half a step:
+    conservative, so a narrow passage may close (the planner then falls back to
+    the plain occupancy).
 
     "Clearance of link ``j`` above ``r``" is "link ``j`` does not touch the obstacles grown by
     ``r``" (:func:`_inflated`), so this is :func:`occupancy` of grown obstacles, one growth per

@@ -66,6 +66,25 @@ class InvalidCell(RappError, ValueError):
     """
 
 
+class InvalidSetting(RappError, ValueError):
+    """A planner's setting with which it cannot run or cannot succeed; ``setting`` names it.
+
+    The planners know their own parameters (``step``, ``samples``), not the scenario file:
+    :func:`rapp.plan` reports this as an :class:`InvalidValue` of ``planner.<setting>``.
+
+    Examples
+    --------
+    >>> e = InvalidSetting("step must be at least 1e-06 rad, got 1e-09", setting="step")
+    >>> e.setting, str(e)
+    ('step', 'step must be at least 1e-06 rad, got 1e-09')
+    """
+
+    def __init__(self, message: str, setting: str):
+        self.setting = setting
+        self.message = message
+        super().__init__(message)
+
+
 class CertificationLimit(RappError, ValueError):
     """A joint-space segment could not be certified within the bisection's work limit.
 

@@ -49,7 +49,7 @@ from dataclasses import replace
 import numpy as np
 
 from rapp.cartesian import line_path
-from rapp.errors import InvalidValue, NoPathFound
+from rapp.errors import InvalidSetting, InvalidValue, NoPathFound
 from rapp import planners as planner_table
 from rapp.ik import free_ik_solutions
 from rapp.paths import PlannerResult, drop_repeats, path_length, shortcut, unwrap_path
@@ -159,7 +159,10 @@ def plan(scenario) -> Plan:
         goal_qs, n_ik = _goal_configurations(scenario)
         times["ik"] = time.perf_counter() - t0
 
-        route = _search(scenario, goal_qs)
+        try:
+            route = _search(scenario, goal_qs)
+        except InvalidSetting as e:  # the planner names its parameter; the file names the key
+            raise InvalidValue(e.message, field=f"planner.{e.setting}") from None
         times.update(route.times)
 
         t0 = time.perf_counter()

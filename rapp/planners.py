@@ -43,7 +43,7 @@ from typing import Any, Callable, Mapping
 from rapp.grid_route import grid_route
 from rapp.paths import PlannerResult
 from rapp.prm import prm
-from rapp.rrt import rrt
+from rapp.rrt import MAX_STEP, MIN_STEP, rrt
 from rapp.rrt_connect import rrt_connect
 from rapp.rrt_star import rrt_star
 
@@ -145,7 +145,7 @@ HEURISTIC_WEIGHT = Setting("heuristic_weight", "number", 1.0, 1.0, MAX_HEURISTIC
 MAX_EXPANSIONS = Setting("max_expansions", "integer", None, 1, math.inf, label="max expand",
                          nullable=True, warns_when_ignored=False,
                          description="expansions at most; null: no limit")
-STEP = Setting("step", "number", 0.1, 0.0, math.pi, low_open=True, range_text="(0, pi] rad",
+STEP = Setting("step", "number", 0.1, MIN_STEP, MAX_STEP, range_text=f"[{MIN_STEP:g}, pi] rad",
                unit="rad", label="step", description="joint-space step of each extension")
 GOAL_BIAS = Setting("goal_bias", "number", 0.1, 0.0, 1.0, range_text="[0, 1]", label="goal bias",
                     description="probability of sampling the goal")

@@ -18,16 +18,28 @@ from __future__ import annotations
 import functools
 import heapq
 import itertools
+import time
 
 import numpy as np
 
+from rapp import progress
 from rapp.checks import positive_integer
 from rapp.collision import collides, segment_collision_free
-from rapp.errors import NoPathFound
+from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import PlannerResult, tree_result
+from rapp.rrt import RRTResult
 from rapp.sampling import Budget, check_start_and_goals, uniform_samples, unwrapped_chain
 
-__all__ = ["prm"]
+__all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE"]
+
+#: Peak bytes the roadmap may take (as the grid planner's budget, rapp.scenario.MEMORY_BUDGET).
+MEMORY_BUDGET = 1.5e9
+#: Bytes per candidate edge: its dict entry (about 190 B, measured with tracemalloc) and its
+#: two entries in Dijkstra's adjacency lists (about 200 B).
+BYTES_PER_EDGE = 400
+#: Bytes of the distance block of one batch of new nodes against all nodes (its rows shrink
+#: as the roadmap grows, so it never takes more).
+BLOCK_BYTES = 64_000_000
 
 
 def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target):
@@ -118,11 +130,12 @@ def _compiled_dijkstra():
         return numba.njit(nogil=True)(_dijkstra_kernel)
 
 
-def _shortest(nodes_n: int, edges: dict, sources, targets):
+def _shortest(nodes_n: int, edges: dict, sources, targets, budget=None):
     """:func:`_dijkstra`, compiled when numba is there: the same parents and the same target."""
     kernel = _compiled_dijkstra()
     if kernel is None or not edges:
-        return _dijkstra(nodes_n, edges, sources, targets)
+        return _dijkstra(nodes_n, edges, sources, targets, budget)
+    _check_time(budget)  # compiled, the search itself takes a small fraction of a batch
     m = len(edges)
     ij = np.fromiter(itertools.chain.from_iterable(edges), dtype=np.int64, count=2 * m)
     w = np.fromiter(edges.values(), dtype=float, count=m)
@@ -141,12 +154,35 @@ def _shortest(nodes_n: int, edges: dict, sources, targets):
     return parent, int(hit)
 
 
-def _dijkstra(nodes_n: int, edges: dict, sources, targets):
+def roadmap_bytes(n: int, nodes: int, neighbours: int) -> float:
+    """Peak bytes of a roadmap of ``nodes`` configurations of ``n`` joints, ``neighbours`` each.
+
+    Examples
+    --------
+    >>> roadmap_bytes(2, 10_001, 10) / 1e6   # the default: 20 x 500 samples, start and goal
+    104.164016
+    """
+    return nodes * neighbours * BYTES_PER_EDGE + BLOCK_BYTES + nodes * n * 8
+
+
+class _OutOfTime(Exception):
+    """The time budget ran out inside a roadmap batch."""
+
+
+def _check_time(budget) -> None:
+    if (budget is not None and budget.time_budget is not None
+            and time.perf_counter() - budget.t0 > budget.time_budget):
+        raise _OutOfTime
+
+
+def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None):
     """Shortest path on an undirected weighted graph {(i, j): w}; parent map and the target hit."""
     adj = [[] for _ in range(nodes_n)]
-    for (i, j), w in edges.items():
+    for count, ((i, j), w) in enumerate(edges.items()):
         adj[i].append((j, w))
         adj[j].append((i, w))
+        if count % 65536 == 65535:
+            _check_time(budget)
     dist = np.full(nodes_n, np.inf)
     parent = np.full(nodes_n, -1)
     heap = []
@@ -155,7 +191,11 @@ def _dijkstra(nodes_n: int, edges: dict, sources, targets):
         heap.append((0.0, s))
     heapq.heapify(heap)
     goal_set = set(int(t) for t in targets)
+    pops = 0
     while heap:
+        pops += 1
+        if pops % 16384 == 0:
+            _check_time(budget)
         d, u = heapq.heappop(heap)
         if d > dist[u]:
             continue
@@ -207,9 +247,31 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
     obstacles = list(obstacles)
     samples = positive_integer(samples, "samples")
     neighbours = positive_integer(neighbours, "neighbours")
+    cap_name = "samples" if max_samples is None else "max_samples"
     max_samples = 20 * samples if max_samples is None else positive_integer(max_samples, "max_samples")
     budget = Budget(max_iterations, time_budget)
     start, goals = check_start_and_goals(arm, start, goal, obstacles)
+    peak = roadmap_bytes(arm.n, max_samples + 1 + len(goals), neighbours)
+    if peak > MEMORY_BUDGET:
+        raise InvalidSetting(
+            f"a roadmap of up to {max_samples + 1 + len(goals)} nodes"
+            + (" (20 x samples)" if cap_name == "samples" else "")
+            + f" with {neighbours} neighbours each would need about {peak / 1e9:.3g} GB, over "
+            f"the {MEMORY_BUDGET / 1e9:g} GB budget: lower {cap_name} or neighbours", cap_name)
+    try:
+        return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, budget,
+                        seed, raise_on_failure)
+    except _OutOfTime:
+        if raise_on_failure:
+            raise NoPathFound(f"PRM joined no goal within its time budget of "
+                              f"{budget.time_budget:g} s") from None
+        return tree_result(arm, None, np.vstack((start, goals)), np.full(1 + len(goals), -1),
+                           budget.iterations)
+
+
+def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, budget, seed,
+             raise_on_failure) -> RRTResult:
+    """The lazy PRM loop of :func:`prm` on validated arguments; raises _OutOfTime."""
     rng = np.random.default_rng(seed)
     nodes = arm.wrap(np.vstack((start, goals)))
     goal_ids = np.arange(1, len(goals) + 1)
@@ -222,10 +284,10 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
             if len(nodes) - 1 - len(goals) >= max_samples:
                 break
             first_new = len(nodes)
-            nodes = _grow(arm, rng, nodes, samples, obstacles)
+            nodes = _grow(arm, rng, nodes, samples, obstacles, budget)
             _add_candidate_edges(arm, nodes, neighbours, edges, 0 if first_new <= 1 + len(goals)
-                                 else first_new)
-        parent, hit = _shortest(len(nodes), edges, [0], goal_ids)
+                                 else first_new, budget)
+        parent, hit = _shortest(len(nodes), edges, [0], goal_ids, budget)
         if hit < 0:
             grow = True
             continue
@@ -250,16 +312,22 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
         path = unwrapped_chain(arm, nodes[chain], start)
         return tree_result(arm, path, nodes, parent, budget.iterations)
     if raise_on_failure:
+        try:
+            _check_time(budget)
+        except _OutOfTime:
+            raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal within its "
+                              f"time budget of {budget.time_budget:g} s") from None
         raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal in "
                           f"{budget.iterations} searches")
     return tree_result(arm, None, nodes, parent, budget.iterations)
 
 
-def _grow(arm, rng, nodes, k, obstacles):
+def _grow(arm, rng, nodes, k, obstacles, budget=None):
     """``nodes`` with ``k`` free uniform samples appended (drawn until that many are free)."""
     new = []
     have = 0
     for _ in range(100):
+        _check_time(budget)
         q = uniform_samples(arm, rng, k)
         if obstacles:
             q = q[~collides(arm, q, obstacles)]
@@ -270,14 +338,18 @@ def _grow(arm, rng, nodes, k, obstacles):
     return np.vstack([nodes] + new)[: len(nodes) + k]
 
 
-def _add_candidate_edges(arm, nodes, k, edges, first_new):
+def _add_candidate_edges(arm, nodes, k, edges, first_new, budget=None):
     """Join every node from ``first_new`` on to its ``k`` nearest (wrap-aware) by a candidate
-    edge; edges already there keep their state. Memory grows with new nodes times all nodes."""
+    edge; edges already there keep their state. Blocks of new nodes against all nodes, each
+    block within BLOCK_BYTES (its distance arrays take about 4 floats per pair and joint)."""
     k = min(k, len(nodes) - 1)
     if k <= 0:
         return
-    for lo in range(first_new, len(nodes), 256):
-        block = np.arange(lo, min(lo + 256, len(nodes)))
+    rows = int(max(1, min(256, BLOCK_BYTES // (32 * len(nodes) * arm.n))))
+    for lo in range(first_new, len(nodes), rows):
+        _check_time(budget)
+        progress.report("PRM roadmap", lo - first_new, len(nodes) - first_new)
+        block = np.arange(lo, min(lo + rows, len(nodes)))
         d = arm.joint_delta(nodes[block, None, :], nodes[None, :, :])
         dist = np.sqrt(np.einsum("ijk,ijk->ij", d, d))
         dist[np.arange(len(block)), block] = np.inf

@@ -69,15 +69,23 @@ from typing import Mapping
 import numpy as np
 
 from rapp import collision_kernel
+from rapp import progress
 from rapp.collision import collides, segment_collision_free
-from rapp.errors import NoPathFound
+from rapp.errors import InvalidSetting, NoPathFound
 from rapp.ik import jacobian
 from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import Budget, Tree
 
-__all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "Grower"]
+__all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "Grower", "MIN_STEP", "MAX_STEP"]
 
 _BATCH = 32  # random targets drawn, and edges certified together, per batch
+
+#: The joint-space step of the sampling planners lies in ``[MIN_STEP, MAX_STEP]`` rad. Below
+#: 1e-6 rad no joint can be told apart (a 20-bit encoder resolves 6e-6 rad), and a step above
+#: pi would steer the long way round. With ``steer="step"``, :func:`rrt` also refuses a step
+#: too small to reach the goal within ``max_iterations`` (each iteration advances at most one
+#: step), and RRT-Connect one too small for its node limit.
+MIN_STEP, MAX_STEP = 1e-6, float(np.pi)
 
 
 #: The result of every planner (:class:`rapp.paths.PlannerResult`): ``path``, ``success``,
@@ -256,6 +264,7 @@ def rrt(
         if budget.time_budget is not None and time.perf_counter() - budget.t0 > budget.time_budget:
             return fail(f"RRT reached no goal within its time budget of {budget.time_budget:g} s "
                         f"({it} iterations)", it)
+        progress.report("RRT", it, max_iterations)
         batch = grow.draw(rng)
         for k in range(_BATCH):
             if hit >= 0 or it >= max_iterations:
@@ -277,7 +286,10 @@ def _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias, goal_thresh
         raise ValueError(f"steer must be 'step' or 'fraction', got {steer!r}")
     step = float(step)
     if not (np.isfinite(step) and step > 0) or (steer == "fraction" and step > 1):
-        raise ValueError(f"step must be > 0 (and <= 1 for steer='fraction'), got {step}")
+        raise InvalidSetting(f"step must be > 0 (and <= 1 for steer='fraction'), got {step}",
+                             "step")
+    if steer == "step" and not MIN_STEP <= step <= MAX_STEP:
+        raise InvalidSetting(f"step must lie in [{MIN_STEP:g}, pi] rad, got {step:g}", "step")
     if not 0.0 <= goal_bias <= 1.0:
         raise ValueError(f"goal_bias must lie in [0, 1], got {goal_bias}")
     if not (np.isfinite(goal_threshold) and goal_threshold > 0):
@@ -459,4 +471,25 @@ def plan_rrt(arm, obstacles, start, goal_qs=None, *, goal_xy=None, settings: Map
     [[0.0, 0.0], [0.1, 0.0], [0.2, 0.0], [0.25, 0.0]]
     """
     kw = {k: settings[k] for k in _SETTINGS if settings and k in settings}
+    if goal_qs is not None and goal_xy is None and kw.get("steer", "step") == "step":
+        _check_reachable(arm, start, goal_qs, float(kw.get("step", 0.1)),
+                         kw.get("max_iterations", 5000), float(kw.get("goal_threshold", 0.05)))
     return rrt(arm, start, goal_qs, obstacles, goal_xy=goal_xy, **kw).path
+
+
+def _check_reachable(arm, start, goals, step: float, max_iterations, goal_threshold: float):
+    """Refuse a ``step`` with which no run of ``max_iterations`` can reach a goal.
+
+    Every iteration moves the tree at most one step nearer a goal, so a goal ``d`` beyond the
+    threshold needs ``d / step`` iterations at least. (:func:`rrt` itself runs such a budget,
+    for a partial tree is worth drawing; a plan asking for one is a mistake in its settings.)
+    """
+    start = arm.check_q(start, "start").reshape(arm.n)
+    d = arm.joint_delta(start, arm.check_q(goals, "goal").reshape(-1, arm.n))
+    gap = float(np.sqrt((d * d).sum(axis=-1)).min()) - goal_threshold
+    iterations = Budget(max_iterations, None).max_iterations
+    if step > 0 and gap > step * iterations:
+        raise InvalidSetting(
+            f"step {step:g} rad is too small: the goal is {gap:.3g} rad beyond the goal "
+            f"threshold, at least {gap / step:.3g} steps, and max_iterations is {iterations}; "
+            f"use a step of at least {gap / iterations:.3g} rad (or more iterations)", "step")

@@ -16,15 +16,41 @@ from __future__ import annotations
 
 import numpy as np
 
+from rapp import progress
 from rapp.checks import finite_number
 from rapp.collision import reach_matrix, link_clearances, segment_collision_free
 from rapp import collision_kernel
 from rapp.obstacles import Circle
-from rapp.errors import NoPathFound
+from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import PlannerResult, tree_result
+from rapp.rrt import MAX_STEP, MIN_STEP
 from rapp.sampling import Budget, Tree, check_start_and_goals, uniform_samples, unwrapped_chain
 
-__all__ = ["rrt_connect"]
+__all__ = ["rrt_connect", "MAX_NODES", "MIN_STEP", "MAX_STEP", "smallest_step"]
+
+#: Nodes of both trees together at most. The nearest node is found by a linear scan, so an
+#: iteration costs time in proportion to the nodes (about 0.1 ms per 1,000 nodes for two
+#: joints); 20,000 keep a whole default run of 20,000 iterations within tens of seconds
+#: whatever the step, and the trees' memory under 6 MB for 16 joints. Every node advances
+#: at most ``step``, so this bounds the step from below: see :func:`smallest_step`.
+MAX_NODES = 20_000
+#: Bytes the clearances of one connect chain may take at once; a longer chain stops there (and
+#: goes on at the next iteration), so a tiny step cannot allocate ``distance / step`` points.
+CHAIN_BYTES = 64_000_000
+
+
+def smallest_step(distance: float) -> float:
+    """The smallest ``step`` with which the trees can join two configurations ``distance`` apart.
+
+    Each node lies at most ``step`` from its parent, so joining needs at least
+    ``distance / step`` nodes, and the trees hold :data:`MAX_NODES`.
+
+    Examples
+    --------
+    >>> float(smallest_step(2.0))
+    0.0001
+    """
+    return max(MIN_STEP, float(distance) / MAX_NODES)
 
 
 class _Tree(Tree):
@@ -119,8 +145,10 @@ def _endpoint_certified(c0, c1, bounds, touch):
     return ((c0 + c1 > bounds) & (c0 > touch) & (c1 > touch)).all(axis=-1)
 
 
-def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, clearance):
-    """Step from the node nearest ``target`` toward it: one step, or (``chain``) until blocked.
+def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, clearance,
+            room: int = MAX_NODES):
+    """Step from the node nearest ``target`` toward it: one step, or (``chain``) until blocked
+    or ``room`` nodes were added.
 
     Returns ``(index of the last node added or -1, reached)``; ``reached`` means that node is
     ``target`` itself (the short way round).
@@ -132,7 +160,9 @@ def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, cle
     dist = float(np.sqrt(d @ d))
     if dist == 0.0:
         return i, True
-    k = int(np.ceil(dist / step)) if chain else 1
+    k = min(int(np.ceil(dist / step)), room) if chain else 1
+    if k <= 0:  # the trees are full
+        return -1, False
     frac = np.minimum(np.arange(1, k + 1) * step / dist, 1.0)
     points = base + frac[:, None] * d  # unwrapped from base: the certified motion
     prev = np.vstack((base, points[:-1]))
@@ -201,8 +231,19 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     """
     obstacles = list(obstacles)
     step = finite_number(step, "step", above=0.0)
+    if not MIN_STEP <= step <= MAX_STEP:
+        raise InvalidSetting(f"step must lie in [{MIN_STEP:g}, pi] rad, got {step:g}", "step")
     budget = Budget(max_iterations, time_budget)
     start, goals = check_start_and_goals(arm, start, goal, obstacles)
+    gaps = arm.joint_delta(start, goals)
+    gap = float(np.sqrt((gaps * gaps).sum(axis=-1)).min())
+    if step < smallest_step(gap):
+        raise InvalidSetting(
+            f"step {step:g} rad is too small: the trees would need at least {gap / step:.3g} "
+            f"nodes to join the start and the goal {gap:.3g} rad apart, and they hold "
+            f"{MAX_NODES}; use a step of at least {smallest_step(gap):.3g} rad", "step")
+    # A chain's clearances take (points x links x discs) pairs of floats, several times over.
+    chain_room = max(1, CHAIN_BYTES // (64 * arm.n * (len(obstacles) + 1)))
     rng = np.random.default_rng(seed)
     reach = reach_matrix(arm)
     # Clearances this small cannot be told from touching (as in segment_collision_free).
@@ -210,16 +251,24 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     trees = [_Tree(arm, [start], clearance), _Tree(arm, goals, clearance)]
     meet = None
     # The start may already see a goal along one straight chain.
-    j, reached = _extend(trees[1], start, step, obstacles, True, reach, clearance)
+    room = lambda: min(chain_room, MAX_NODES - trees[0].m - trees[1].m)  # noqa: E731
+    j, reached = _extend(trees[1], start, step, obstacles, True, reach, clearance, room())
     if reached:
         meet = (0, j)
+    full = False
     while meet is None and not budget.spent():
+        if trees[0].m + trees[1].m >= MAX_NODES:
+            full = True
+            break
+        if budget.iterations % 64 == 0:
+            progress.report("RRT-Connect", budget.iterations, budget.max_iterations)
         a, b = trees if budget.iterations % 2 else trees[::-1]
         q_rand = uniform_samples(arm, rng, 1)[0]
         new, _ = _extend(a, q_rand, step, obstacles, False, reach, clearance)
         if new < 0:
             continue
-        other, reached = _extend(b, a.nodes[new], step, obstacles, True, reach, clearance)
+        other, reached = _extend(b, a.nodes[new], step, obstacles, True, reach, clearance,
+                                 room())
         if reached:
             meet = (new, other) if a is trees[0] else (other, new)
     nodes = np.vstack((trees[0].nodes, trees[1].nodes))
@@ -227,6 +276,10 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
                                                       trees[1].parent + trees[0].m, -1)))
     if meet is None:
         if raise_on_failure:
+            if full:
+                raise NoPathFound(f"RRT-Connect joined no goal before its trees reached their "
+                                  f"{MAX_NODES} nodes ({budget.iterations} iterations; each "
+                                  f"node advances at most step = {step:g} rad)")
             raise NoPathFound(f"RRT-Connect joined no goal in {budget.iterations} iterations")
         return tree_result(arm, None, nodes, parent, budget.iterations)
     walk = _root_chain(trees[0], meet[0])[::-1] + _root_chain(trees[1], meet[1])[1:]

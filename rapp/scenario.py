@@ -30,6 +30,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import stat
 from dataclasses import dataclass, field as dc_field
 from importlib import resources
 from types import MappingProxyType
@@ -43,6 +44,7 @@ from rapp.collision import clearance, collides, segment_point_distance
 from rapp.obstacles import Circle, Polygon
 from rapp import planners as planner_table
 from rapp.planners import MAX_GOAL_THRESHOLD, MAX_HEURISTIC_WEIGHT, MAX_TIME_BUDGET
+from rapp.prm import MEMORY_BUDGET as PRM_MEMORY_BUDGET, roadmap_bytes
 
 __all__ = [
     "Scenario",
@@ -69,7 +71,9 @@ __all__ = [
     "PROFILES",
     "GOAL_PATHS",
     "MAX_LINKS",
+    "MAX_OBSTACLES",
     "ALGORITHMS",
+    "check_limits",
     "SETTINGS_OF",
 ]
 
@@ -106,6 +110,17 @@ MAX_SAMPLES = 1_000_000
 #: (:data:`rapp.planners.PLANNERS`) says when rapp is imported; the loader reads the table itself.
 ALGORITHMS = planner_table.names()
 SETTINGS_OF = MappingProxyType({name: p.keys for name, p in planner_table.PLANNERS.items()})
+#: Samples per second of motion at most (above SAMPLES_ANY_RATE): a robot's servo loop runs at
+#: about 1 kHz, so denser samples describe nothing a controller could follow, and each costs
+#: about 15 us of timing and verification (a million take 15 s).
+MAX_SAMPLE_RATE = 1000.0
+#: Samples any trajectory may have, whatever its duration.
+SAMPLES_ANY_RATE = 10_000
+#: Obstacles at most. Every stage (occupancy, certification, shortcut, timing, verification)
+#: costs time linear in the number of obstacles: about 1.5 ms each on a default 100 x 100 plan
+#: (measured: 1,000 far-away discs add 1.4 s, 10,000 add 15 s), so this keeps a plan within a
+#: couple of seconds of its obstacle-free time. A file can hold 100,000 (MAX_FILE_BYTES).
+MAX_OBSTACLES = 1000
 
 
 def bytes_per_cell(n: int) -> int:
@@ -364,18 +379,54 @@ def _pairs(pairs):
 
 def _read_json(path) -> Any:
     name = os.fspath(path)
-    if os.path.isdir(name):
-        raise FileNotFound(f"{name!r} is a directory, not a scenario file", field="scenario")
     try:
-        with open(name, "rb") as fh:
-            raw = fh.read(MAX_FILE_BYTES + 1)
+        info = os.stat(name)
     except FileNotFoundError:
         raise FileNotFound(f"no such file {name!r}", field="scenario") from None
+    except (OSError, ValueError) as e:  # ValueError: an embedded NUL byte
+        raise FileNotFound(f"cannot read {name!r}: {_why(e)}", field="scenario") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise FileNotFound(f"{name!r} is a directory, not a scenario file", field="scenario")
+    if not stat.S_ISREG(info.st_mode):
+        # A FIFO would block until someone writes to it, a device may never end: refuse both.
+        raise FileNotFound(f"{name!r} is not a regular file ({_file_kind(info.st_mode)})",
+                           field="scenario")
+    try:
+        # O_NONBLOCK: should the name be swapped for a FIFO after the check, open() still
+        # returns at once, and fstat below refuses it.
+        fd = os.open(name, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except FileNotFoundError:
+        raise FileNotFound(f"no such file {name!r}", field="scenario") from None
+    except (OSError, ValueError) as e:
+        raise FileNotFound(f"cannot read {name!r}: {_why(e)}", field="scenario") from None
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise FileNotFound(f"{name!r} is not a regular file", field="scenario")
+        if hasattr(os, "set_blocking"):
+            os.set_blocking(fd, True)
+        with os.fdopen(fd, "rb") as fh:
+            fd = -1
+            raw = fh.read(MAX_FILE_BYTES + 1)
     except OSError as e:
-        raise FileNotFound(f"cannot read {name!r}: {e.strerror or e}", field="scenario") from None
+        raise FileNotFound(f"cannot read {name!r}: {_why(e)}", field="scenario") from None
+    finally:
+        if fd >= 0:
+            os.close(fd)
     if len(raw) > MAX_FILE_BYTES:
         raise InvalidFormat(f"file is larger than {MAX_FILE_BYTES} bytes", field="scenario")
     return _parse_bytes(raw)
+
+
+def _why(e: Exception) -> str:
+    return (getattr(e, "strerror", None) or str(e) or type(e).__name__).splitlines()[0]
+
+
+def _file_kind(mode: int) -> str:
+    for test, kind in ((stat.S_ISFIFO, "a named pipe"), (stat.S_ISCHR, "a character device"),
+                       (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return kind
+    return "not a file"
 
 
 def _parse_bytes(raw: bytes) -> Any:
@@ -650,13 +701,21 @@ def _parse_obstacle(r: _Reader, ob, f: str):
 
 def _parse_obstacles(r: _Reader, v, arm: Arm) -> tuple:
     out = []
-    for i, ob in enumerate(_list(v, "obstacles")):
+    items = _list(v, "obstacles")
+    _check_obstacle_count(len(items))
+    for i, ob in enumerate(items):
         f = f"obstacles[{i}]"
         obstacle, far = _parse_obstacle(r, ob, f)
         if far > arm.reach[1]:
             r.warnings.append(f"{f} lies beyond the arm's reach ({arm.reach[1]:g} m); it cannot collide")
         out.append(obstacle)
     return tuple(out)
+
+
+def _check_obstacle_count(k: int) -> None:
+    if k > MAX_OBSTACLES:
+        raise InvalidValue(f"at most {MAX_OBSTACLES} obstacles are supported, got {k} (each "
+                           "adds about 1.5 ms to every plan)", field="obstacles")
 
 
 def _parse_joints(r: _Reader, v, arm: Arm, field: str) -> tuple:
@@ -736,11 +795,18 @@ def _parse_trajectory(r: _Reader, v, n: int) -> TrajectorySettings:
                                f"{duration:g}", field="trajectory.duration")
     else:
         duration = None   # the shortest within the limits, found by rapp.plan
-    return TrajectorySettings(
-        duration=duration, profile=profile,
-        samples=_integer(d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES),
-        max_velocity=vmax, max_acceleration=amax,
-    )
+    samples = _integer(d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES)
+    _check_sample_rate(samples, duration)
+    return TrajectorySettings(duration=duration, profile=profile, samples=samples,
+                              max_velocity=vmax, max_acceleration=amax)
+
+
+def _check_sample_rate(samples: int, duration) -> None:
+    if duration is not None and samples > max(SAMPLES_ANY_RATE, MAX_SAMPLE_RATE * duration):
+        raise InvalidValue(
+            f"{samples} samples over {duration:g} s is {samples / duration:.3g} per second; "
+            f"at most {MAX_SAMPLE_RATE:g} per second (a servo loop's rate) or "
+            f"{SAMPLES_ANY_RATE} in all", field="trajectory.samples")
 
 
 def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
@@ -806,6 +872,15 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
         values[key] = _setting(spec, d[key] if key in d else default, d, n, entry.grid)
         if key in d and key not in entry.keys and spec.warns_when_ignored:
             warnings.append(f"planner.{key} is not a setting of {algorithm} and is ignored")
+    if algorithm == "prm":   # refused up front, as the grid is (rapp.prm checks it exactly)
+        nodes = 20 * values["samples"] + 1
+        peak = roadmap_bytes(n, nodes, values["neighbours"])
+        if peak > PRM_MEMORY_BUDGET:
+            raise InvalidValue(
+                f"a roadmap of up to {nodes} nodes (20 x samples) with {values['neighbours']} neighbours "
+                f"each would need about {peak / 1e9:.3g} GB, over the "
+                f"{PRM_MEMORY_BUDGET / 1e9:g} GB budget: lower planner.samples or "
+                "planner.neighbours", field="planner.samples")
     if algorithm == "rrt" and "algorithm" not in d:
         warnings.append(f"planner.algorithm: rrt, the default for more than "
                         f"{GRID_DEFAULT_MAX_JOINTS} joints (a grid fine enough to plan on would "
@@ -836,6 +911,43 @@ def _setting(spec, raw, d, n: int, grid: bool):
     if not spec.accepts(x):
         raise InvalidValue(f"must lie in {spec.range_text}, got {x:g}", field=field)
     return x
+
+
+def check_limits(scenario: Scenario) -> None:
+    """Refuse a :class:`Scenario` built in code that a scenario file could not hold.
+
+    The file reader bounds every count and setting that decides how long a plan takes or how
+    much memory it needs (obstacles, links, trajectory samples, every planner setting);
+    :func:`load_scenario` applies the same bounds to a Scenario it is given, counts first, so
+    that :func:`rapp.plan` refuses a million obstacles at once instead of working through them.
+
+    Raises
+    ------
+    InvalidValue
+        Naming the field, as the file reader would.
+
+    Examples
+    --------
+    >>> import dataclasses
+    >>> s = load_scenario("default")
+    >>> check_limits(s) is None
+    True
+    >>> check_limits(dataclasses.replace(s, obstacles=s.obstacles * 400))
+    Traceback (most recent call last):
+    ...
+    rapp.errors.InvalidValue: obstacles: at most 1000 obstacles are supported, got 1200 (each adds about 1.5 ms to every plan)
+    """
+    _check_obstacle_count(len(scenario.obstacles))
+    n = scenario.arm.n
+    if n > MAX_LINKS:
+        raise InvalidValue(f"at most {MAX_LINKS} links are supported, got {n}",
+                           field="arm.link_lengths")
+    t = scenario.trajectory
+    _check_sample_rate(_integer(t.samples, "trajectory.samples", 2, MAX_SAMPLES), t.duration)
+    p = scenario.planner
+    settings = {k: getattr(p, k) for k in _PLANNER_KEYS if hasattr(p, k)}
+    settings["cells"] = list(p.cells) if isinstance(p.cells, (tuple, list)) else p.cells
+    _planner(settings, n, [])
 
 
 def preflight(scenario: Scenario) -> None:
@@ -896,13 +1008,17 @@ def load_scenario(source, *, check: bool = True) -> Scenario:
     rapp.errors.InvalidValue: arm.link_lengths[1]: link length must be > 0 m, got -1
     """
     if isinstance(source, Scenario):
+        check_limits(source)
         return source
     if isinstance(source, Mapping):
         data, src = source, "<mapping>"
     elif isinstance(source, (str, os.PathLike)):
-        src = os.fspath(source)
-        if isinstance(src, bytes):
-            src = os.fsdecode(src)
+        try:
+            src = os.fspath(source)
+            if isinstance(src, bytes):
+                src = os.fsdecode(src)
+        except (TypeError, ValueError) as e:  # a PathLike whose __fspath__ misbehaves
+            raise FileNotFound(f"not a usable path: {_why(e)}", field="scenario") from None
         if not os.path.exists(src) and src.isidentifier() and _embedded(src).is_file():
             data = _parse_bytes(_embedded(src).read_bytes())
             src = f"rapp:scenarios/{src}.json"

@@ -8,6 +8,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import rapp
+import rapp.cartesian
 from rapp import Arm, Circle
 from rapp.cartesian import edge_deviation_bound, line_path
 from rapp.collision import segment_point_distance
@@ -172,11 +173,17 @@ def test_stretched_arm_is_a_singularity():
     assert np.linalg.norm(arm.end_effector(q[-1]) - (2.0 - 1e-5, 0.0)) <= TOL
 
 
-def test_collinear_three_link_start_is_a_singularity():
-    """Folded straight inside the annulus: the tip can only move across the arm at first."""
+def test_collinear_three_link_start_is_a_singularity(monkeypatch):
+    """Folded straight inside the annulus: the tip can only move across the arm at first.
+    A restart turns the arm along its self-motion first (tip held), out of the singularity."""
     arm = Arm([1.0, 0.5, 0.75])
-    with pytest.raises(PathNotFollowable, match=r"singularity at s=0\.000"):
-        line_path(arm, [0.0, 0.0, np.pi], (-0.5, 1.1))
+    with monkeypatch.context() as m:
+        m.setattr(rapp.cartesian, "RESTART_ANGLES", ())
+        with pytest.raises(PathNotFollowable, match=r"singularity at s=0\.000"):
+            line_path(arm, [0.0, 0.0, np.pi], (-0.5, 1.1))
+    q = line_path(arm, [0.0, 0.0, np.pi], (-0.5, 1.1))
+    a = arm.end_effector(np.array([0.0, 0.0, np.pi]))
+    assert _dense_deviation(arm, q, a, np.array([-0.5, 1.1])) <= TOL
     # Across the arm (the direction the Jacobian still spans) it moves off at once.
     q = line_path(arm, [0.0, 0.0, np.pi], (0.75, 0.5))
     assert _dense_deviation(arm, q, np.array([0.75, 0.0]), np.array([0.75, 0.5])) <= TOL

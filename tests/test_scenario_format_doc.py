@@ -359,7 +359,7 @@ def test_choices_and_limits_on_the_page_are_the_modules():
 def test_exit_code_table_matches_the_cli():
     codes = {int(row[0].strip("`")) for row in TABLES["exit-codes"]}
     assert codes == {cli.EXIT_OK, cli.EXIT_NO_PLAN, cli.EXIT_BAD_INPUT, cli.EXIT_INTERNAL,
-                     cli.EXIT_INTERRUPTED, cli.EXIT_BROKEN_PIPE}
+                     cli.EXIT_INTERRUPTED, cli.EXIT_TERMINATED, cli.EXIT_BROKEN_PIPE}
 
 
 def test_exception_table_names_the_scenario_errors():
