@@ -256,7 +256,7 @@ class _Solver:
                          for e in np.eye(n)])
         if not grad.any():
             return q
-        jac = np.stack(_fk_jac(self.lengths, q[:, None])[2:])[:, :, 0]
+        jac = np.stack(fk_and_jacobian(self.lengths, q[:, None])[2:])[:, :, 0]
         null = np.eye(n) - np.linalg.pinv(jac) @ jac
         dq = self.gain * (null @ grad) / self.scale
         norm = float(np.linalg.norm(dq))
@@ -437,7 +437,7 @@ def _self_motion_walk(arm, q0, p0, goal, obstacles, tolerance, max_step, sign, l
     for _ in range(int(np.ceil(4 * length / h))):   # each step moves at least h / 4
         if walked[-1] >= length:
             break
-        jac = np.stack(_fk_jac(solver.lengths, q[:, None])[2:])[:, :, 0]
+        jac = np.stack(fk_and_jacobian(solver.lengths, q[:, None])[2:])[:, :, 0]
         null = np.linalg.svd(jac)[2][2:]          # (n - 2, n): the self-motion directions
         v = null[0] if v_prev is None else null.T @ (null @ v_prev)
         norm = float(np.linalg.norm(v))

@@ -26,7 +26,7 @@ Examples
 >>> PLANNERS["rrt_connect"].keys
 ('step', 'max_iterations', 'seed', 'time_budget')
 >>> PLANNERS["rrt_star"].default("max_iterations"), STEP.accepts(4.0), STEP.range_text
-(3000, False, '(0, pi] rad')
+(3000, False, '[1e-06, pi] rad')
 >>> from rapp import Arm
 >>> r = run("rrt_connect", Arm([1.0, 1.0]), [0.0, 0.0], [[1.0, 0.5]], [], seed=2)
 >>> r.success, r.path[0].tolist(), round(r.cost, 4)
@@ -43,7 +43,7 @@ from typing import Any, Callable, Mapping
 from rapp.grid_route import grid_route
 from rapp.paths import PlannerResult
 from rapp.prm import prm
-from rapp.rrt import MAX_STEP, MIN_STEP, rrt
+from rapp.rrt import MAX_STEP, MIN_STEP, check_reachable, rrt
 from rapp.rrt_connect import rrt_connect
 from rapp.rrt_star import rrt_star
 
@@ -125,6 +125,9 @@ class Planner:
     description: str = ""
     #: The A* family plans on a grid: the loader checks ``cells`` against the memory limit.
     grid: bool = False
+    #: Settings checked against the problem before a run, ``check(arm, start, goal, **settings)``,
+    #: raising :class:`rapp.errors.InvalidSetting` (e.g. a step too small to reach the goal).
+    check: Callable[..., None] | None = None
 
     @property
     def keys(self) -> tuple:
@@ -182,7 +185,7 @@ PLANNERS: Mapping[str, Planner] = MappingProxyType({
                      "A* on the joint grid, every move certified", grid=True),
     "rrt": Planner("rrt", rrt, (STEP, GOAL_BIAS, GOAL_THRESHOLD, _iterations(20000), SEED,
                                 TIME_BUDGET),
-                   "a rapidly-exploring random tree from the start"),
+                   "a rapidly-exploring random tree from the start", check=check_reachable),
     "rrt_connect": Planner("rrt_connect", rrt_connect, (STEP, _iterations(20000), SEED, TIME_BUDGET),
                            "two trees, from the start and the goals, grown toward each other"),
     "rrt_star": Planner("rrt_star", rrt_star, (STEP, GOAL_BIAS, GOAL_THRESHOLD, _iterations(3000),
@@ -233,4 +236,6 @@ def run(name: str, arm, start, goal, obstacles=(), **settings) -> PlannerResult:
     kw = {s.key: settings.get(s.key, s.default) for s in p.settings}
     if "raise_on_failure" in settings:
         kw["raise_on_failure"] = settings["raise_on_failure"]
+    if p.check is not None:
+        p.check(arm, start, goal, **kw)
     return p.function(arm, start, goal, obstacles, **kw)

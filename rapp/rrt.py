@@ -76,7 +76,7 @@ from rapp.ik import jacobian
 from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import Budget, Tree
 
-__all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "Grower", "MIN_STEP", "MAX_STEP"]
+__all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "check_reachable", "Grower", "MIN_STEP", "MAX_STEP"]
 
 _BATCH = 32  # random targets drawn, and edges certified together, per batch
 
@@ -472,17 +472,28 @@ def plan_rrt(arm, obstacles, start, goal_qs=None, *, goal_xy=None, settings: Map
     """
     kw = {k: settings[k] for k in _SETTINGS if settings and k in settings}
     if goal_qs is not None and goal_xy is None and kw.get("steer", "step") == "step":
-        _check_reachable(arm, start, goal_qs, float(kw.get("step", 0.1)),
-                         kw.get("max_iterations", 5000), float(kw.get("goal_threshold", 0.05)))
+        check_reachable(arm, start, goal_qs, step=float(kw.get("step", 0.1)),
+                        max_iterations=kw.get("max_iterations", 5000),
+                        goal_threshold=float(kw.get("goal_threshold", 0.05)))
     return rrt(arm, start, goal_qs, obstacles, goal_xy=goal_xy, **kw).path
 
 
-def _check_reachable(arm, start, goals, step: float, max_iterations, goal_threshold: float):
+def check_reachable(arm, start, goals, *, step: float = 0.1, max_iterations=5000,
+                    goal_threshold: float = 0.05, **_other_settings) -> None:
     """Refuse a ``step`` with which no run of ``max_iterations`` can reach a goal.
 
     Every iteration moves the tree at most one step nearer a goal, so a goal ``d`` beyond the
     threshold needs ``d / step`` iterations at least. (:func:`rrt` itself runs such a budget,
     for a partial tree is worth drawing; a plan asking for one is a mistake in its settings.)
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> check_reachable(Arm([1.0, 1.0]), [0.0, 0.0], [2.0, 0.0], step=0.1, max_iterations=100)
+    >>> check_reachable(Arm([1.0, 1.0]), [0.0, 0.0], [2.0, 0.0], step=1e-4, max_iterations=100)
+    Traceback (most recent call last):
+    ...
+    rapp.errors.InvalidSetting: step 0.0001 rad is too small: ...
     """
     start = arm.check_q(start, "start").reshape(arm.n)
     d = arm.joint_delta(start, arm.check_q(goals, "goal").reshape(-1, arm.n))

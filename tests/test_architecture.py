@@ -108,11 +108,12 @@ LAYERS = {
     "core": {"arm", "obstacles", "collision", "collision_kernel", "cspace", "search", "ik", "symbolic", "trajectory",
              "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
              "reference"},
-    "planners": {"sampling", "grid_route", "rrt", "rrt_connect", "rrt_star", "prm", "planners"},
+    "planners": {"sampling", "grid_route", "rrt", "rrt_connect", "rrt_star", "prm", "planners",
+                 "progress"},
     "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "recorded",
                  "baseline", "traceability"},
     "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live"},
-    "interface": {"cli", "__main__", "__init__"},
+    "interface": {"cli", "__main__", "__init__", "interrupts"},
     "teaching": {"exercises", "cases", "grading"},
 }
 DRAWING_LIBRARIES = {"matplotlib", "ipywidgets", "PIL", "IPython", "anywidget"}
