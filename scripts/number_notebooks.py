@@ -15,7 +15,14 @@ metadata), and Jupyter Book 1.x (myst-nb) turns the front-matter rule off inside
 ``---`` block would print as a rule and a heading. So the front matter gets a cell of its own,
 first, tagged ``remove-cell``: myst-nb drops it from the HTML book, Lab reads it. The cell is
 recognised by its metadata (``"rapp": {"frontmatter": true}``), never by its text, and is rewritten
-from the toc on every run. One more thing Lab cannot follow is rewritten in the chapters' text:
+from the toc on every run. A chapter split over pages (``sections`` in the toc) numbers on across
+them in the book; its later pages' front matter says where each kind starts::
+
+    numbering:
+      enumerator: "12.%s"
+      figure:
+        start: 6
+ One more thing Lab cannot follow is rewritten in the chapters' text:
 a ``{doc}`` role, which Lab turns into a link to a file that does not exist, becomes a Markdown
 link to the notebook or page with the same title as its text (:func:`doc_links`), and a role
 whose text runs over a line break is put on one line (:func:`one_line_roles`). Nothing else in a
@@ -47,24 +54,45 @@ def read(path: Path):
     return nbformat.v4.reads(path.read_text(encoding="utf-8"))
 
 
-def chapter_numbers(toc_path: Path = ROOT / "_toc.yml") -> dict[str, int]:
-    """Chapter number of every file in the numbered parts of the toc, as the book numbers them.
+def toc_pages(toc_path: Path = ROOT / "_toc.yml") -> list[tuple[str, int | None]]:
+    """(file, chapter number or None) for every page of the toc, in reading order.
 
-    The numbered parts share one sequence (``use_multitoc_numbering``): the first chapter of a
-    part continues from the last chapter of the part before.
+    A chapter's ``sections`` (at any depth) are pages of that chapter and carry its number; the
+    numbered parts share one sequence (``use_multitoc_numbering``): the first chapter of a part
+    continues from the last chapter of the part before. The root page comes first, unnumbered.
+
+    >>> pages = dict(toc_pages())
+    >>> pages["notebooks/05_astar"], pages["book/intro"]
+    (5, None)
+    """
+    toc = yaml.safe_load(toc_path.read_text(encoding="utf-8"))
+    pages: list[tuple[str, int | None]] = [(toc["root"], None)]
+
+    def walk(entries, number):
+        for entry in entries or []:
+            if "file" in entry:
+                pages.append((entry["file"], number))
+            walk(entry.get("sections"), number)
+
+    chapter = 0
+    for part in toc.get("parts", []):
+        for entry in part.get("chapters", []):
+            if part.get("numbered"):
+                chapter += 1
+            walk([entry], chapter if part.get("numbered") else None)
+    return pages
+
+
+def chapter_numbers(toc_path: Path = ROOT / "_toc.yml") -> dict[str, int]:
+    """Chapter number of every file in the numbered parts of the toc, sub-pages included.
 
     >>> numbers = chapter_numbers()
     >>> numbers["notebooks/05_astar"]
     5
+    >>> numbers["notebooks/12_case_rrt_planning"]
+    12
     """
-    toc = yaml.safe_load(toc_path.read_text(encoding="utf-8"))
-    numbers: dict[str, int] = {}
-    for part in toc.get("parts", []):
-        if not part.get("numbered"):
-            continue
-        for chapter in part.get("chapters", []):
-            numbers[chapter["file"]] = len(numbers) + 1
-    return numbers
+    return {f: n for f, n in toc_pages(toc_path) if n is not None}
 
 
 @dataclass(frozen=True)
@@ -109,31 +137,33 @@ def _markdown_targets(text: str):
     return [f[1:] for f in sorted(found)]
 
 
-def book_targets(root: Path = ROOT) -> dict[str, Target]:
-    """Every label of the book's toc files, numbered as the HTML book numbers it.
+def _page_blocks(root: Path, docname: str):
+    path = root / f"{docname}.ipynb"
+    if path.exists():
+        return [c for c in read(path).cells if not is_front_matter_cell(c)]
+    if (root / f"{docname}.md").exists():
+        return [nbformat.v4.new_markdown_cell((root / f"{docname}.md").read_text(encoding="utf-8"))]
+    return None
 
-    Chapter N's figures, equations (labelled ones: ``math_number_all`` is off), exercises and each
-    kind of pseudocode block are counted separately, in reading order: N.1, N.2, …
 
-    >>> t = book_targets()
-    >>> t["alg-ch05-astar"].kind, t["alg-ch05-astar"].number
-    ('proof:algorithm', '5.2')
+def book_numbering(root: Path = ROOT) -> tuple[dict[str, Target], dict[str, dict[str, int]]]:
+    """The book's targets (as :func:`book_targets`) and, per page, how many of each numbered kind
+    its chapter's earlier pages hold: the counts a sub-page's numbers continue from.
+
+    Sphinx (numfig, ``numfig_secnum_depth`` 1) keys its counters by chapter, not by page, and
+    walks the toc in reading order, so a chapter's second page continues its first page's
+    figures, equations, exercises and algorithms; jupyterlab-myst starts every notebook at 1
+    unless the front matter says where (:func:`front_matter`).
     """
-    numbers = chapter_numbers(root / "_toc.yml")
-    toc = yaml.safe_load((root / "_toc.yml").read_text(encoding="utf-8"))
-    docnames = [toc["root"]] + [c["file"] for part in toc.get("parts", []) for c in part["chapters"]]
     targets: dict[str, Target] = {}
-    for docname in docnames:
-        path = root / f"{docname}.ipynb"
-        if path.exists():
-            nb = read(path)
-            blocks = [c for c in nb.cells if not is_front_matter_cell(c)]
-        elif (root / f"{docname}.md").exists():
-            blocks = [nbformat.v4.new_markdown_cell((root / f"{docname}.md").read_text(encoding="utf-8"))]
-        else:
+    starts: dict[str, dict[str, int]] = {}
+    chapter_counts: dict[int, dict[str, int]] = {}
+    for docname, chapter in toc_pages(root / "_toc.yml"):
+        blocks = _page_blocks(root, docname)
+        if blocks is None:
             continue
-        chapter = numbers.get(docname)
-        counts: dict[str, int] = {}
+        counts = chapter_counts.setdefault(chapter, {}) if chapter is not None else {}
+        starts[docname] = dict(counts)
 
         def add(kind, label, text, numbered):
             number = ""
@@ -151,7 +181,21 @@ def book_targets(root: Path = ROOT) -> dict[str, Target]:
                 meta = cell.metadata.get("mystnb", cell.metadata.get("myst", {})).get("figure")
                 if meta and meta.get("caption"):
                     add("figure", meta.get("name", ""), meta["caption"], True)
-    return targets
+    return targets, starts
+
+
+def book_targets(root: Path = ROOT) -> dict[str, Target]:
+    """Every label of the book's toc files, numbered as the HTML book numbers it.
+
+    Chapter N's figures, equations (labelled ones: ``math_number_all`` is off), exercises and each
+    kind of pseudocode block are counted separately, in reading order across the chapter's pages
+    (its ``sections`` in the toc): N.1, N.2, …
+
+    >>> t = book_targets()
+    >>> t["alg-ch05-astar"].kind, t["alg-ch05-astar"].number
+    ('proof:algorithm', '5.2')
+    """
+    return book_numbering(root)[0]
 
 
 _REF = re.compile(r"\{(?:ref|numref|prf:ref|eq)\}`(?:[^`<]*<)?(?P<label>[^`<>\n]+)>?`")
@@ -270,7 +314,7 @@ def one_line_roles(source: str) -> str:
     return _ROLE_ACROSS_LINES.sub(lambda m: re.sub(r"\s*\n\s*", " ", m.group(0)), source)
 
 
-def front_matter(number: int) -> str:
+def front_matter(number: int, starts: dict[str, int] | None = None) -> str:
     """The source of chapter ``number``'s front-matter cell.
 
     ``enumerator`` is a template for every numbered kind (exercise, algorithm, equation, figure);
@@ -281,16 +325,35 @@ def front_matter(number: int) -> str:
     numbering:
       enumerator: "5.%s"
     ---
+
+    On a chapter's later page, ``starts`` (kind -> how many its earlier pages hold) makes each
+    kind continue where the earlier pages stopped. The keys are jupyterlab-myst's kinds
+    (``proof:algorithm`` for ``prf:algorithm``), and its ``start`` is the first number:
+
+    >>> print(front_matter(12, {"figure": 5, "exercise": 0}))
+    ---
+    numbering:
+      enumerator: "12.%s"
+      figure:
+        start: 6
+    ---
     """
-    return "\n".join(["---", "numbering:", f'  enumerator: "{number}.%s"', "---"])
+    lines = ["---", "numbering:", f'  enumerator: "{number}.%s"']
+    for kind, count in sorted((starts or {}).items()):
+        if count:
+            lines += [f'  "{kind}":' if ":" in kind else f"  {kind}:", f"    start: {count + 1}"]
+    return "\n".join(lines + ["---"])
 
 
 def is_front_matter_cell(cell) -> bool:
     return cell.cell_type == "markdown" and bool(cell.metadata.get("rapp", {}).get(MARK))
 
 
-def numbered(nb, number: int, index: str = "", path: Path | None = None):
+def numbered(nb, number: int, index: str = "", path: Path | None = None,
+             starts: dict[str, int] | None = None):
     """A copy of notebook ``nb`` whose first cell is chapter ``number``'s front matter.
+
+    ``starts`` (from :func:`book_numbering`) are the counts of the chapter's earlier pages.
 
     ``index`` (from :func:`lab_index`) follows the front matter in the same cell. With the
     notebook's ``path``, its ``{doc}`` roles become links to the files (:func:`doc_links`).
@@ -301,7 +364,7 @@ def numbered(nb, number: int, index: str = "", path: Path | None = None):
         if c.cell_type == "markdown":
             text = one_line_roles(c.source)
             c.source = doc_links(text, path) if path is not None else text
-    source = front_matter(number) + (f"\n{index}" if index else "")
+    source = front_matter(number, starts) + (f"\n{index}" if index else "")
     cell = nbformat.v4.new_markdown_cell(
         source, metadata={"tags": ["remove-cell"], "rapp": {MARK: True}})
     cell.id = f"rapp-frontmatter-{number:02d}"  # stable, so a re-run changes nothing
@@ -326,13 +389,14 @@ def main(argv: list[str] | None = None) -> int:
                         help="change nothing; exit 1 when a notebook's front matter is out of date")
     args = parser.parse_args(argv)
     stale = []
-    targets, terms = book_targets(), glossary()
+    (targets, starts), terms = book_numbering(), glossary()
     for docname, number in chapter_numbers().items():
         path = ROOT / f"{docname}.ipynb"
         if not path.exists():
             continue  # a Markdown page: Sphinx numbers it, Lab never opens it
         nb = read(path)
-        new = numbered(nb, number, lab_index(nb, docname, targets, terms), path)
+        new = numbered(nb, number, lab_index(nb, docname, targets, terms), path,
+                       starts.get(docname))
         if new == nb:
             continue
         stale.append(path.relative_to(ROOT).as_posix())

@@ -28,19 +28,66 @@ sys.modules[spec.name] = number_notebooks  # dataclasses look their module up th
 spec.loader.exec_module(number_notebooks)
 
 
-def numbered_chapters() -> list[tuple[int, Path]]:
-    """(number, notebook) in book order: a plain walk over the numbered parts of the toc."""
+def numbered_pages() -> list[tuple[int, Path]]:
+    """(chapter number, notebook) in reading order: a plain walk over the numbered parts of the
+    toc, where a chapter's ``sections`` (at any depth) are further pages of the same chapter."""
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
-    files = [c["file"] for p in toc["parts"] if p.get("numbered") for c in p["chapters"]]
-    return [(i, ROOT / f"{f}.ipynb") for i, f in enumerate(files, 1) if (ROOT / f"{f}.ipynb").exists()]
+    pages = []
+
+    def files(entry):
+        return [entry["file"]] + [f for s in entry.get("sections", []) for f in files(s)]
+
+    chapters = [c for p in toc["parts"] if p.get("numbered") for c in p["chapters"]]
+    for number, chapter in enumerate(chapters, 1):
+        pages += [(number, ROOT / f"{f}.ipynb") for f in files(chapter)]
+    return [(n, path) for n, path in pages if path.exists()]
 
 
-CHAPTERS = numbered_chapters()
+PAGES = numbered_pages()
+CHAPTERS = [(n, p) for i, (n, p) in enumerate(PAGES) if i == 0 or PAGES[i - 1][0] != n]
+SPLIT = sorted({n for n, _ in PAGES if sum(m == n for m, _ in PAGES) > 1})
+IDS = [p.stem for _, p in PAGES]
 
 
 @functools.cache
 def load(path: Path):
     return nbformat.read(path, as_version=4)  # validated here, once per notebook
+
+
+def body(path: Path) -> str:
+    """The page's own Markdown: every Markdown cell but the script's first one."""
+    return "\n\n".join(c.source for c in load(path).cells[1:] if c.cell_type == "markdown")
+
+
+_BOX = r"^(?:`{3,}|:{3,})\{%s\}[^\n]*\n((?:[ \t]*:[\w-]+:[^\n]*\n)*)"
+_EQ = r"\$\$.+?\$\$[ \t]*\(([\w.:-]+)\)"
+
+
+def counted(path: Path) -> dict[str, list[str]]:
+    """kind -> labels ("" when none) of the page's numbered items, in reading order, counted by
+    hand: code cells' captioned figures, exercise and pseudocode boxes, labelled equations."""
+    nb, text = load(path), body(path)
+    found = {"figure": [c.metadata["mystnb"]["figure"].get("name", "") for c in nb.cells
+                        if c.cell_type == "code"
+                        and c.metadata.get("mystnb", {}).get("figure", {}).get("caption")],
+             "equation": re.findall(_EQ, text, re.S)}
+    for kind, directive in [("exercise", "exercise"), ("proof:algorithm", "prf:algorithm")]:
+        opts = [m.group(1) for m in re.finditer(_BOX % directive, text, re.M)]
+        found[kind] = [(re.findall(r":label:\s*(\S+)", o) or [""])[0] for o in opts
+                       if ":nonumber:" not in o]
+    return found
+
+
+def earlier(number: int, path: Path) -> dict[str, int]:
+    """How many of each kind the chapter's pages before ``path`` hold."""
+    counts: dict[str, int] = {}
+    for n, p in PAGES:
+        if p == path:
+            return counts
+        if n == number:
+            for kind, labels in counted(p).items():
+                counts[kind] = counts.get(kind, 0) + len(labels)
+    raise AssertionError(f"{path} is not in the toc")
 
 
 def test_every_notebook_is_up_to_date_with_the_toc():
@@ -49,7 +96,16 @@ def test_every_notebook_is_up_to_date_with_the_toc():
         "run: python scripts/number_notebooks.py (after a toc change or a notebook merge)")
 
 
-@pytest.mark.parametrize("number,path", CHAPTERS, ids=[p.stem for _, p in CHAPTERS])
+def test_the_split_chapters_are_walked():
+    # The toc's sections are pages of their chapter, numbered with it (not chapters of their own).
+    numbers = number_notebooks.chapter_numbers()
+    assert SPLIT, "no chapter has sections: this file's split-page tests test nothing"
+    for n, path in PAGES:
+        assert numbers[path.relative_to(ROOT).with_suffix("").as_posix()] == n
+    assert max(numbers.values()) == len(CHAPTERS)
+
+
+@pytest.mark.parametrize("number,path", PAGES, ids=IDS)
 def test_first_cell_is_lab_only_front_matter_with_the_chapter_number(number, path):
     nb = load(path)
     first = nb.cells[0]
@@ -58,23 +114,42 @@ def test_first_cell_is_lab_only_front_matter_with_the_chapter_number(number, pat
     m = re.match(r"---\n(.*?)\n---\n?", first.source, re.S)
     assert m, "jupyterlab-myst reads front matter only at the very top of the first cell"
     front = yaml.safe_load(m.group(1))
-    assert front == {"numbering": {"enumerator": f"{number}.%s"}}
-    # exactly one such cell, and the chapter's own first cell (its title) follows it
+    # A later page of a split chapter continues its numbers: jupyterlab-myst's per-kind
+    # `start` is the first number Lab gives that kind on this page.
+    starts = {kind: {"start": k + 1} for kind, k in earlier(number, path).items() if k}
+    assert front == {"numbering": {"enumerator": f"{number}.%s", **starts}}
+    # exactly one such cell, and the page's own first cell (its title, maybe labelled) follows it
     assert sum(number_notebooks.is_front_matter_cell(c) for c in nb.cells) == 1
-    assert nb.cells[1].cell_type == "markdown" and nb.cells[1].source.startswith("# ")
+    assert nb.cells[1].cell_type == "markdown"
+    assert re.match(r"(\([\w.:-]+\)=\n)?# ", nb.cells[1].source), (
+        "the page does not open with its title: text before it shows above the title in the "
+        "book and in Lab")
 
 
 @pytest.mark.parametrize("number,path", CHAPTERS, ids=[p.stem for _, p in CHAPTERS])
 def test_lab_numbers_exercises_as_the_catalog_does(number, path):
-    # rapp.exercises.check("N.k") is the k-th exercise box of chapter N, in reading order.
-    nb = load(path)
-    body = "\n\n".join(c.source for c in nb.cells[1:] if c.cell_type == "markdown")
-    boxes = len(re.findall(r"^(?:`{3,}|:{3,})\{exercise\}", body, re.M))
+    # rapp.exercises.check("N.k") is the k-th exercise box of chapter N, in reading order across
+    # the chapter's pages; Lab numbers each page's boxes from its front matter's start.
+    boxes = sum(len(counted(p)["exercise"]) for n, p in PAGES if n == number)
     ids = sorted(int(e.id.split(".")[1]) for e in rapp.exercises.catalog() if e.chapter == number)
     assert ids == list(range(1, boxes + 1))
 
 
-@pytest.mark.parametrize("number,path", CHAPTERS, ids=[p.stem for _, p in CHAPTERS])
+@pytest.mark.parametrize("number,path", PAGES, ids=IDS)
+def test_lab_counts_to_the_books_numbers(number, path):
+    # Lab counts the page's own exercises, algorithms and equations from the front matter's
+    # start (figures come from code cells, numbered in the index); the book counts over the
+    # chapter. Each labelled one must get the same number from both.
+    targets = number_notebooks.book_targets()
+    start = earlier(number, path)
+    for kind in ("equation", "exercise", "proof:algorithm"):
+        for k, label in enumerate(counted(path)[kind], start.get(kind, 0) + 1):
+            # (a label also used by a heading is the heading's in the script's table)
+            if label and targets[label].kind == kind:
+                assert targets[label].number == f"{number}.{k}", (kind, label)
+
+
+@pytest.mark.parametrize("number,path", PAGES, ids=IDS)
 def test_every_reference_has_a_target_in_lab(number, path):
     # What Lab parses: every Markdown cell, the front-matter cell's index included.
     nb = load(path)
@@ -98,7 +173,7 @@ def test_figure_numbers_follow_the_notebook_order():
         assert f":label: {name}\n:enumerator: 5.{k}\n" in index
 
 
-@pytest.mark.parametrize("number,path", CHAPTERS, ids=[p.stem for _, p in CHAPTERS])
+@pytest.mark.parametrize("number,path", PAGES, ids=IDS)
 def test_unlabelled_equations_come_after_the_labelled_ones(number, path):
     # The book numbers labelled display equations only (math_number_all off); jupyterlab-myst
     # numbers every one and has no per-equation switch that Sphinx also accepts. Their numbers
