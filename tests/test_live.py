@@ -71,14 +71,20 @@ def objects(sc: dict):
 
 
 @pytest.fixture(scope="module")
-def page():
-    with playwright.sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"])
-        pg = browser.new_page()
-        pg.set_content("<html><body></body></html>")
-        pg.add_script_tag(content=live.core_js())
-        yield pg
-        browser.close()
+def pw():
+    """One Playwright for the module: a second sync_playwright() while one runs is refused."""
+    with playwright.sync_playwright() as p:
+        yield p
+
+
+@pytest.fixture(scope="module")
+def page(pw):
+    browser = pw.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"])
+    pg = browser.new_page()
+    pg.set_content("<html><body></body></html>")
+    pg.add_script_tag(content=live.core_js())
+    yield pg
+    browser.close()
 
 
 def _cases():
@@ -181,7 +187,7 @@ def _lab_notebook(path) -> None:
     nbformat.write(nb, path)
 
 
-def test_the_explorer_works_in_jupyterlab_and_tells_python(tmp_path):
+def test_the_explorer_works_in_jupyterlab_and_tells_python(tmp_path, pw):
     """Lab renders the explorer with anywidget's own front end; a drag redraws it, and the
     kernel sees where the reader left the obstacle."""
     import os
@@ -206,45 +212,44 @@ def test_the_explorer_works_in_jupyterlab_and_tells_python(tmp_path):
          "--IdentityProvider.token=live"],
         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     try:
-        with playwright.sync_playwright() as pw:
-            browser = pw.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"])
-            page = browser.new_page(viewport={"width": 1300, "height": 900})
-            page.set_default_timeout(90_000)
-            deadline = time.monotonic() + 60
-            while True:
-                try:
-                    page.goto(f"http://127.0.0.1:{port}/lab/tree/live.ipynb?token=live&reset")
-                    break
-                except playwright.Error:
-                    if time.monotonic() > deadline:
-                        raise
-                    time.sleep(0.5)
-            page.wait_for_selector(".jp-Notebook .jp-Cell")
-            page.wait_for_function("""() => [...document.querySelectorAll('.jp-StatusBar-TextItem')]
-                .some(e => /\\|\\s*Idle/.test(e.textContent))""")
-            page.locator(".jp-CodeCell").first.click()
-            page.keyboard.press("Shift+Enter")
-            root = page.locator("[data-rapp-live]")
-            root.wait_for()
-            page.wait_for_function("() => document.querySelector('[data-rapp-live]').dataset.rappFrame >= 1")
-            page.wait_for_timeout(1000)  # handles are placed on the frame after the first drawing
-            frame = int(root.get_attribute("data-rapp-frame"))
-            box = root.locator('[data-rapp-drag="obstacle-0"]').bounding_box()
-            x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-            page.mouse.move(x, y)
-            page.mouse.down()
-            page.mouse.move(x - 60, y + 20, steps=10)
-            page.mouse.up()
-            page.wait_for_function(f"() => +document.querySelector('[data-rapp-live]').dataset.rappFrame > {frame}",
-                                   timeout=15_000)
-            page.keyboard.press("Escape")
-            page.locator(".jp-CodeCell").nth(1).click()
-            page.keyboard.press("Shift+Enter")
-            out = page.locator(".jp-CodeCell").nth(1).locator(".jp-OutputArea-output")
-            out.filter(has_text="centre").wait_for()
-            text = out.inner_text()
-            assert "centre" in text and "[1.75, 0.75]" not in text, text
-            browser.close()
+        browser = pw.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"])
+        page = browser.new_page(viewport={"width": 1300, "height": 900})
+        page.set_default_timeout(90_000)
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                page.goto(f"http://127.0.0.1:{port}/lab/tree/live.ipynb?token=live&reset")
+                break
+            except playwright.Error:
+                if time.monotonic() > deadline:
+                    raise
+                time.sleep(0.5)
+        page.wait_for_selector(".jp-Notebook .jp-Cell")
+        page.wait_for_function("""() => [...document.querySelectorAll('.jp-StatusBar-TextItem')]
+            .some(e => /\\|\\s*Idle/.test(e.textContent))""")
+        page.locator(".jp-CodeCell").first.click()
+        page.keyboard.press("Shift+Enter")
+        root = page.locator("[data-rapp-live]")
+        root.wait_for()
+        page.wait_for_function("() => document.querySelector('[data-rapp-live]').dataset.rappFrame >= 1")
+        page.wait_for_timeout(1000)  # handles are placed on the frame after the first drawing
+        frame = int(root.get_attribute("data-rapp-frame"))
+        box = root.locator('[data-rapp-drag="obstacle-0"]').bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        page.mouse.move(x, y)
+        page.mouse.down()
+        page.mouse.move(x - 60, y + 20, steps=10)
+        page.mouse.up()
+        page.wait_for_function(f"() => +document.querySelector('[data-rapp-live]').dataset.rappFrame > {frame}",
+                               timeout=15_000)
+        page.keyboard.press("Escape")
+        page.locator(".jp-CodeCell").nth(1).click()
+        page.keyboard.press("Shift+Enter")
+        out = page.locator(".jp-CodeCell").nth(1).locator(".jp-OutputArea-output")
+        out.filter(has_text="centre").wait_for()
+        text = out.inner_text()
+        assert "centre" in text and "[1.75, 0.75]" not in text, text
+        browser.close()
     finally:
         server.terminate()
         server.wait(30)

@@ -359,10 +359,12 @@ def test_prm_honours_its_time_budget_inside_a_batch(samples, neighbours):
               time_budget=budget, raise_on_failure=False)
     spent = time.process_time() - t0
     assert spent < 4 * budget + 0.5, spent
-    if not res.success:
-        with pytest.raises(NoPathFound, match="time budget"):
-            prm(arm, [0.0, 0.0], [2.5, 0.3], obs, samples=samples, neighbours=neighbours,
-                time_budget=budget)
+    # A run cut short by its budget says so (a second run may get further: time is not seeded).
+    try:
+        prm(arm, [0.0, 0.0], [2.5, 0.3], obs, samples=samples, neighbours=neighbours,
+            time_budget=budget)
+    except NoPathFound as e:
+        assert "time budget" in str(e)
 
 
 # --------------------------------------------------------------------------- 5. long work
