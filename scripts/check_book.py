@@ -301,7 +301,8 @@ def _press_changes(page, handle) -> bool:
     return False
 
 
-def check_in_browser(base_url: str, pages: list[tuple[str, int]]) -> dict[str, tuple[list[str], dict]]:
+def check_in_browser(base_url: str, pages: list[tuple[str, int]],
+                     live_only: frozenset = frozenset()) -> dict[str, tuple[list[str], dict]]:
     """Open every page as a reader would, at 1280 px and at 390 px, and measure it.
 
     ``pages`` are (relative URL, number of saved widget views). At 1280 px: the seconds until the
@@ -325,7 +326,8 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]]) -> dict[str, t
             measured: dict = {}
             t0 = time.monotonic()
             page.goto(base_url + rel, wait_until="domcontentloaded")
-            has_slider = views or page.locator(".animation").count()
+            # Live explorers (rapp.live) are dragged, not pressed: check_live times and checks them.
+            has_slider = (views and rel not in live_only) or page.locator(".animation").count()
             # The first slider that moves its figure: how long a reader waits to use the page.
             while has_slider and time.monotonic() - t0 < 30:
                 first = page.locator(_HANDLES)
@@ -481,7 +483,10 @@ def main(argv: list[str] | None = None) -> int:
             results = list(pool.map(visit, pages))
         with_widgets = [(p.relative_to(root).as_posix(), p.read_text(encoding="utf-8").count(WIDGET_VIEW))
                         for p in pages]
-        browsed = check_in_browser(base_url, with_widgets)
+        # Pages whose widgets are all live explorers (no ipywidgets slider among them).
+        live_only = frozenset(rel for rel, n in with_widgets if n and "rapp.live.Explorer" in (
+            html := (root / rel).read_text(encoding="utf-8")) and "SliderModel" not in html)
+        browsed = check_in_browser(base_url, with_widgets, live_only)
         if args.shots:
             args.shots.mkdir(parents=True, exist_ok=True)
         live = check_live(base_url, [p.relative_to(root).as_posix() for p in pages
