@@ -22,7 +22,8 @@ def _literal(text: str) -> nodes.literal:
 
 def note_for(notebook: str) -> nodes.admonition:
     """The box for ``notebook``, a path relative to the repository root."""
-    box = nodes.admonition(classes=["tip", "rapp-open-in-lab"])
+    # Folded (sphinx-togglebutton's "dropdown"): one line above the lesson, opened on a click.
+    box = nodes.admonition(classes=["tip", "dropdown", "rapp-open-in-lab"])
     box += nodes.title(text=TITLE)
     para = nodes.paragraph()
     para += nodes.Text("This page is the notebook ")
