@@ -117,6 +117,7 @@ def test_implement_exercises_turn_bad_functions_into_verdicts(answer):
         assert verdict.message and "check itself failed" not in verdict.message, (ex.id, verdict.message)
 
 
+@pytest.mark.slow  # waits out the 5 s wall limit
 def test_a_function_that_never_returns_is_stopped():
     def spins(*args):
         while True:
