@@ -691,6 +691,41 @@ def _check_astar_step(trace, k):
             f"step k must be in 0..{trace.expansions} (the last shows the path), got {k}")
 
 
+def _relaxed_arrows(ax, current, relaxed) -> None:
+    """Purple arrows from ``current`` to each relaxed neighbour; one across the seam leaves
+    here and re-enters on the other side."""
+    arrow = dict(arrowstyle="-|>", color=COLORS["purple"], lw=1.8, mutation_scale=12)
+    u = np.array(current, dtype=float)
+    for v in relaxed:
+        v = np.array(v, dtype=float)
+        d = v - u
+        crossed = np.abs(d) > 1
+        if crossed.any():
+            d = -np.sign(d) * crossed + d * ~crossed
+            ax.annotate("", xy=u + 0.75 * d, xytext=u + 0.2 * d, arrowprops=arrow, zorder=6)
+            ax.annotate("", xy=v - 0.2 * d, xytext=v - 0.75 * d, arrowprops=arrow, zorder=6)
+        else:
+            ax.annotate("", xy=u + 0.8 * d, xytext=u + 0.2 * d, arrowprops=arrow, zorder=6)
+
+
+def _astar_step_title(trace, k, g, closed, frontier, current) -> str:
+    """The title of :func:`plot_astar_step`: the expansion with g, h and f, or the end."""
+    if current is None:
+        return (f"end: goal taken off the open list after {trace.expansions} expansions;\n"
+                f"path of cost {trace.cost} rebuilt from the parent map")
+    gu = int(g[current])
+    hu = float(trace.h[current])
+    # trace.h is the weighted heuristic w·h: name it so when the weight is not 1.
+    d = np.abs(np.subtract(current, trace.goal))
+    gd1 = int(np.where(trace.wraps, np.minimum(d, np.array(trace.occupied.shape) - d), d).sum())
+    h_name = "h" if hu == gd1 else "w·h"
+    seam = any((np.abs(np.subtract(v, current)) > 1).any() for v in trace.relaxed[k])
+    return (f"step {k + 1} of {trace.expansions}: expand {current}, "
+            f"g = {gu}, {h_name} = {hu:g}, f = {gu + hu:g}\n"
+            f"closed: {int(closed.sum())} cells, open list: {int(frontier.sum())} cells"
+            + ("; a step across the seam" if seam else ""))
+
+
 def plot_astar_step(trace, k, ax=None, *, annotate=True, legend=True):
     """One step of A* on a 2-joint grid: closed set, open list, current cell, the wrap.
 
@@ -790,19 +825,8 @@ def plot_astar_step(trace, k, ax=None, *, annotate=True, legend=True):
     ax.plot(seg[:, 0], seg[:, 1], "-", color=COLORS["blue"], lw=2.5, alpha=0.9, zorder=5,
             label=name)
     handles.append(Line2D([], [], color=COLORS["blue"], lw=2.5, label=name))
-    if not end and trace.relaxed[k]:
-        arrow = dict(arrowstyle="-|>", color=COLORS["purple"], lw=1.8, mutation_scale=12)
-        u = np.array(current, dtype=float)
-        for v in trace.relaxed[k]:
-            v = np.array(v, dtype=float)
-            d = v - u
-            crossed = np.abs(d) > 1
-            if crossed.any():  # across the seam: leave here, re-enter on the other side
-                d = -np.sign(d) * crossed + d * ~crossed
-                ax.annotate("", xy=u + 0.75 * d, xytext=u + 0.2 * d, arrowprops=arrow, zorder=6)
-                ax.annotate("", xy=v - 0.2 * d, xytext=v - 0.75 * d, arrowprops=arrow, zorder=6)
-            else:
-                ax.annotate("", xy=u + 0.8 * d, xytext=u + 0.2 * d, arrowprops=arrow, zorder=6)
+    if not end:
+        _relaxed_arrows(ax, current, trace.relaxed[k])
     handles.append(Line2D([], [], color=COLORS["purple"], lw=1.8, marker=">",
                           label="neighbours relaxed"))
     ax.plot(*trace.start, "o", color=START, ms=12, mec=TEXT, mew=1.0, zorder=7)
@@ -813,22 +837,7 @@ def plot_astar_step(trace, k, ax=None, *, annotate=True, legend=True):
         Line2D([], [], ls="", marker="*", color=GOAL, mec=TEXT, ms=14,
                                 label="goal"),
     ]
-    if end:
-        title = (f"end: goal taken off the open list after {trace.expansions} expansions;\n"
-                 f"path of cost {trace.cost} rebuilt from the parent map")
-    else:
-        gu = int(g[current])
-        hu = float(trace.h[current])
-        # trace.h is the weighted heuristic w·h: name it so when the weight is not 1.
-        d = np.abs(np.subtract(current, trace.goal))
-        gd1 = int(np.where(trace.wraps, np.minimum(d, np.array(trace.occupied.shape) - d), d).sum())
-        h_name = "h" if hu == gd1 else "w·h"
-        seam = any((np.abs(np.subtract(v, current)) > 1).any() for v in trace.relaxed[k])
-        title = (f"step {k + 1} of {trace.expansions}: expand {current}, "
-                 f"g = {gu}, {h_name} = {hu:g}, f = {gu + hu:g}\n"
-                 f"closed: {int(closed.sum())} cells, open list: {int(frontier.sum())} cells"
-                 + ("; a step across the seam" if seam else ""))
-    ax.set_title(title, fontsize="medium")
+    ax.set_title(_astar_step_title(trace, k, g, closed, frontier, current), fontsize="medium")
     if legend:
         _legend(ax, handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0),
                 borderaxespad=0.0, fontsize="small")
@@ -1087,6 +1096,44 @@ def plot_light_cspace(occupancy, grid, ax):
     return ax
 
 
+def _rrt_iteration(ax, arm, nodes, s, draw, frame, blocked) -> str:
+    """One RRT iteration ``s`` drawn (target, nearest node, the new edge); its title."""
+    lo, span, wraps = frame
+    near = nodes[s.nearest]
+    target = arm.wrap(s.target)
+    draw(near[None], (near + arm.joint_delta(near, target))[None], colors=COLORS["purple"],
+         linewidths=1.8, linestyles=(0, (1.5, 2.0)), zorder=4)
+    ax.plot(*target[:2], "D", color=COLORS["purple"], mec=TEXT, mew=0.8, ms=8, zorder=7)
+    ax.plot(*near[:2], "o", mfc="none", mec=COLORS["orange"], mew=2.5, ms=14, zorder=6)
+    ok = s.accepted
+    colour = COLORS["blue"] if ok else TEXT
+    draw(near[None], s.new[None], colors=colour, linewidths=3.0,
+         linestyles="-" if ok else "--", zorder=5)
+    shown = split_at_seam(np.asarray(s.new, dtype=float)[:2], lo, span, wraps)[0]
+    ax.plot(*shown, "o" if ok else "X", color=colour, mec="white" if ok else TEXT, ms=9,
+            zorder=6)
+    what = ("the last edge, to the goal" if s.join else
+            "target: the goal (goal bias)" if s.goal_biased else "target: a random sample")
+    verdict = {"added": f"edge certified free, node {s.node} added",
+               "blocked": "edge not certified free: rejected",
+               "no move": "target is the nearest node: no move"}[s.status]
+    return (f"iteration {s.iteration}, {what}\nnearest node {s.nearest}; {verdict} "
+            f"({blocked + (s.status == 'blocked')} blocked so far)")
+
+
+def _rrt_iteration_handles() -> list:
+    """Legend entries of :func:`_rrt_iteration`'s marks."""
+    return [
+        Line2D([], [], ls=(0, (1.5, 2.0)), lw=1.8, marker="D", color=COLORS["purple"], mec=TEXT,
+               ms=7, label="target, and the way to it"),
+        Line2D([], [], ls="", marker="o", mfc="none", mec=COLORS["orange"], mew=2.5, ms=11,
+               label="nearest node"),
+        Line2D([], [], color=COLORS["blue"], lw=3, marker="o", mec="white",
+               label="new edge: added"),
+        Line2D([], [], color=TEXT, lw=2.5, ls="--", marker="X", label="new edge: blocked"),
+    ]
+
+
 def plot_rrt_step(arm, result, trace, k, ax=None, *, occupancy=None, grid=None, goal=None,
                   legend=True):
     """One iteration of RRT in the plane of the first two joints: sample, nearest, new edge.
@@ -1190,37 +1237,8 @@ def plot_rrt_step(arm, result, trace, k, ax=None, *, occupancy=None, grid=None, 
         else:
             title = f"end: no path in {result.iterations} iterations ({m} nodes)"
     else:
-        s = trace[k]
-        near = nodes[s.nearest]
-        target = arm.wrap(s.target)
-        draw(near[None], (near + arm.joint_delta(near, target))[None], colors=COLORS["purple"],
-             linewidths=1.8, linestyles=(0, (1.5, 2.0)), zorder=4)
-        ax.plot(*target[:2], "D", color=COLORS["purple"], mec=TEXT, mew=0.8, ms=8, zorder=7)
-        ax.plot(*near[:2], "o", mfc="none", mec=COLORS["orange"], mew=2.5, ms=14, zorder=6)
-        ok = s.accepted
-        colour = COLORS["blue"] if ok else TEXT
-        draw(near[None], s.new[None], colors=colour, linewidths=3.0,
-             linestyles="-" if ok else "--", zorder=5)
-        shown = split_at_seam(np.asarray(s.new, dtype=float)[:2], lo, span, wraps)[0]
-        ax.plot(*shown, "o" if ok else "X", color=colour, mec="white" if ok else TEXT, ms=9,
-                zorder=6)
-        what = ("the last edge, to the goal" if s.join else
-                "target: the goal (goal bias)" if s.goal_biased else "target: a random sample")
-        verdict = {"added": f"edge certified free, node {s.node} added",
-                   "blocked": "edge not certified free: rejected",
-                   "no move": "target is the nearest node: no move"}[s.status]
-        title = (f"iteration {s.iteration}, {what}\nnearest node {s.nearest}; {verdict} "
-                 f"({blocked + (s.status == 'blocked')} blocked so far)")
-    if not end:
-        handles += [
-            Line2D([], [], ls=(0, (1.5, 2.0)), lw=1.8, marker="D", color=COLORS["purple"], mec=TEXT,
-                   ms=7, label="target, and the way to it"),
-            Line2D([], [], ls="", marker="o", mfc="none", mec=COLORS["orange"], mew=2.5, ms=11,
-                   label="nearest node"),
-            Line2D([], [], color=COLORS["blue"], lw=3, marker="o", mec="white",
-                   label="new edge: added"),
-            Line2D([], [], color=TEXT, lw=2.5, ls="--", marker="X", label="new edge: blocked"),
-        ]
+        title = _rrt_iteration(ax, arm, nodes, trace[k], draw, (lo, span, wraps), blocked)
+        handles += _rrt_iteration_handles()
     q0 = result.nodes[0]
     ax.plot(*q0[:2], "o", color=START, ms=12, mec=TEXT, mew=1.0, zorder=8)
     handles.append(Line2D([], [], ls="", marker="o", color=START, mec=TEXT, ms=10, label="start"))
