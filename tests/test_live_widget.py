@@ -40,7 +40,7 @@ def test_bad_input_names_the_field(call, field):
         call()
 
 
-@pytest.mark.parametrize("name", ["04_configuration_space.ipynb", "05_astar.ipynb"])
+@pytest.mark.parametrize("name", ["04_configuration_space.ipynb", "05_astar.ipynb", "05_astar_variants.ipynb"])
 def test_the_chapters_carry_the_current_explorer(name):
     """The static book runs the JavaScript saved in the notebook's widget state: after a change
     to rapp/live/*.js, chapters 4 and 5 must be re-executed (scripts/execute_notebooks.py)."""
