@@ -234,12 +234,18 @@ def test_chapter_reads_as_the_book_numbers_it_without_running(lab, name):
     # Cells render one by one, and jupyterlab-myst numbers the notebook again after each: wait
     # until every exercise box and figure caption is there, then read.
     try:
-        page.wait_for_function("""([n, ex, fig]) => {
+        # ... and the page's last algorithm: a page without exercises is otherwise read too soon.
+        skip = want["skip"]["algorithms"] + len(want["algorithms"])
+        last_alg = f"Algorithm {n}.{skip} " if want["algorithms"] else ""
+        page.wait_for_function("""([n, ex, fig, lastAlg]) => {
             const nb = document.querySelector('%s .jp-Notebook');
             const titles = [...nb.querySelectorAll('aside.myst-exercise .myst-exercise-title')];
+            const algs = [...nb.querySelectorAll('.myst-proof > div:first-child')]
+                .map(e => e.textContent.replace(/\\s+/g, ' ').trim());
             return titles.length === ex && titles.every(t => t.textContent.startsWith(`Exercise ${n}.`))
-                && nb.querySelectorAll('figcaption').length >= fig;
-        }""" % PANEL, arg=[n, len(want["exercises"]), len(want["figures"])], timeout=60_000)
+                && nb.querySelectorAll('figcaption').length >= fig
+                && (!lastAlg || algs.some(a => a.startsWith(lastAlg)));
+        }""" % PANEL, arg=[n, len(want["exercises"]), len(want["figures"]), last_alg], timeout=60_000)
     except playwright.Error:
         pass  # read what is there: the assertions below say what is missing
     page.wait_for_timeout(300)
