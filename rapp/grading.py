@@ -505,6 +505,19 @@ def write_sheets(key: str, students: list[str], exercise_ids: list[str], folder:
     return paths
 
 
+def _input_error(exc: Exception, err) -> int:
+    """One line naming what was wrong with the instructor's input; exit status 2.
+
+    A file that cannot be read (OSError, or bytes that are not UTF-8) is named by its path; a
+    ValueError says itself which option is wrong.
+    """
+    if isinstance(exc, (OSError, UnicodeDecodeError)):
+        print(f"rapp: error: {getattr(exc, 'filename', '') or 'input'}: {exc.__class__.__name__}", file=err)
+    else:
+        print(f"rapp: error: {exc}", file=err)
+    return 2
+
+
 def run_assign(args, out, err) -> int:
     """``python -m rapp assign``: 0 done, 2 bad input (one line naming it)."""
     try:
@@ -513,12 +526,8 @@ def run_assign(args, out, err) -> int:
         ids = list(parse_weights(args.exercises))
         if not students:
             raise ValueError(f"--roster: {args.roster} names no student")
-    except (OSError, UnicodeDecodeError) as exc:
-        print(f"rapp: error: {getattr(exc, 'filename', '') or 'input'}: {exc.__class__.__name__}", file=err)
-        return 2
-    except ValueError as exc:
-        print(f"rapp: error: {exc}", file=err)
-        return 2
+    except (OSError, ValueError) as exc:
+        return _input_error(exc, err)
     from rapp.exercises import variants
     paths = write_sheets(key, students, ids, Path(args.out))
     own = [i for i in ids if variants.has_variant(i)]
@@ -541,12 +550,8 @@ def run(args, out, err) -> int:
             raise ValueError("--exercises: name the assignment, e.g. --exercises 5.1,5.2:2")
         roster = read_roster(Path(args.roster)) if args.roster else None
         key = read_key(Path(args.key)) if args.key else None
-    except (OSError, UnicodeDecodeError) as exc:
-        print(f"rapp: error: {getattr(exc, 'filename', '') or 'input'}: {exc.__class__.__name__}", file=err)
-        return 2
-    except ValueError as exc:
-        print(f"rapp: error: {exc}", file=err)
-        return 2
+    except (OSError, ValueError) as exc:
+        return _input_error(exc, err)
     if not (args.time > 0 and args.memory > 0):
         print("rapp: error: --time and --memory must be > 0", file=err)
         return 2

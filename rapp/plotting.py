@@ -33,7 +33,7 @@ from matplotlib.patheffects import withStroke
 from matplotlib.ticker import MaxNLocator
 
 from rapp.collision import closest_point_on_segment
-from rapp.cspace import cell_extent as _extent
+from rapp.cspace import cell_extent
 # The colours live in rapp.palette and split_at_seam in rapp.paths (no matplotlib there), so that
 # code that draws nothing can name them; both stay importable from here.
 from rapp.palette import (ARM, COLORS, EFFECTOR, GOAL, JOINT_COLORS, OBSTACLE, OCCUPIED, PATH,
@@ -488,7 +488,7 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
     occ = np.asarray(occupancy)
     if occ.ndim < 2:
         raise ValueError("plot_cspace draws grids of two or more joints")
-    ext = _extent(grid)
+    ext = cell_extent(grid)
     if occ.ndim == 2:
         img = occ.astype(float)
         cmap = ListedColormap(["white", OCCUPIED])
@@ -1090,7 +1090,7 @@ def plot_light_cspace(occupancy, grid, ax):
     if occ.ndim != 2 or grid is None:
         raise ValueError("occupancy must be a 2-joint grid, given with its grid")
     if not any(im.get_gid() == "light-cspace" for im in ax.images):
-        ax.imshow(occ.T.astype(float), origin="lower", extent=_extent(grid),
+        ax.imshow(occ.T.astype(float), origin="lower", extent=cell_extent(grid),
                   cmap=ListedColormap(["white", _LIGHT_CSPACE]), vmin=0.0, vmax=1.0,
                   interpolation="nearest", aspect="equal", zorder=0, gid="light-cspace")
     return ax
