@@ -38,7 +38,7 @@ from rapp.cspace import cell_extent
 # code that draws nothing can name them; both stay importable from here.
 from rapp.palette import (ARM, COLORS, EFFECTOR, GOAL, JOINT_COLORS, OBSTACLE, OCCUPIED, PATH,
                           START, TEXT)
-from rapp.paths import even_indices as _subsample, split_at_seam
+from rapp.paths import even_indices, split_at_seam
 
 __all__ = [
     "COLORS",
@@ -603,7 +603,7 @@ def plot_plan(plan, scenario=None, *, fig=None, ghosts=6, unit="m", expanded=Non
         _legend(ax_c, loc="upper right")
     plot_workspace(arm, ax_w, unit=unit)
     plot_obstacles(scenario.obstacles, ax_w)
-    plot_arm(arm, q[_subsample(len(q), ghosts + 2)[1:-1]], ax_w, frame=False)
+    plot_arm(arm, q[even_indices(len(q), ghosts + 2)[1:-1]], ax_w, frame=False)
     xy = np.asarray(plan.xy, dtype=float)
     ax_w.plot(xy[:, 0], xy[:, 1], "-", color=PATH, lw=2, label="end-effector path", zorder=4)
     plot_arm(arm, q[0], ax_w, color=START, label="start", frame=False)
@@ -1323,7 +1323,7 @@ def animate(arm, q, obstacles=(), t=None, trail=True, *, max_frames=60, interval
     >>> close_animation(anim)
     """
     q = np.asarray(q, dtype=float).reshape(-1, arm.n)
-    idx = _subsample(len(q), max_frames)
+    idx = even_indices(len(q), max_frames)
     pts = arm.joint_positions(q[idx])
     times = None if t is None else np.asarray(t, dtype=float)[idx]
     ax = _axes(ax)

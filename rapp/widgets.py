@@ -34,7 +34,7 @@ from rapp.search import bfs_distances
 from rapp.plotting import subplots
 from rapp.trajectory import cubic, quintic
 from rapp.view_stack import Control, selected, values_of, view_stack
-from rapp.view_stack import sliders_of as _slider_list
+from rapp.view_stack import sliders_of as stack_sliders  # widgets.sliders_of names them
 
 __all__ = [
     "arm_explorer",
@@ -87,7 +87,7 @@ def sliders_of(widget):
     >>> list(sliders_of(collision_explorer(steps=3)))
     ['centre x (m)', 'centre y (m)']
     """
-    return {s.description: s for s in _slider_list(widget)}
+    return {s.description: s for s in stack_sliders(widget)}
 
 
 @_book_style
