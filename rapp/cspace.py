@@ -22,9 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.collision import check_obstacle, motion_bounds, segment_clearances
+from rapp.collision import check_obstacle, motion_bounds
 from rapp.obstacles import Circle, Polygon
-from rapp.checks import positive_integer
 
 __all__ = ["JointGrid", "occupancy", "grid_q", "certified_free", "cell_extent", "check_grid",
            "prefix_grid", "MAX_GRID_CELLS"]

@@ -37,7 +37,6 @@ import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 __all__ = ["GradeLimits", "StudentResult", "parse_weights", "read_roster", "read_key", "grade_submission",
            "grade_class", "write_csv", "write_feedback", "write_sheets", "add_parser", "run", "run_assign"]

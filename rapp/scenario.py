@@ -43,7 +43,6 @@ from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParame
 from rapp.collision import clearance, collides, segment_point_distance
 from rapp.obstacles import Circle, Polygon
 from rapp import planners as planner_table
-from rapp.planners import MAX_GOAL_THRESHOLD, MAX_HEURISTIC_WEIGHT, MAX_TIME_BUDGET
 from rapp.prm import MEMORY_BUDGET as PRM_MEMORY_BUDGET, roadmap_bytes
 
 __all__ = [
@@ -304,7 +303,7 @@ class Scenario:
             else:
                 obs.append({"type": "polygon", "vertices": [list(v) for v in ob.vertices]})
         limits = self.arm.joint_limits
-        p, t = self.planner, self.trajectory
+        p = self.planner
         keys = ("cells", "heuristic_weight", "max_expansions", "seed") + tuple(p.values())
         planner = {"algorithm": p.algorithm, **{k: getattr(p, k) for k in dict.fromkeys(keys)}}
         planner["cells"] = list(p.cells)

@@ -29,7 +29,6 @@ Examples
 
 from __future__ import annotations
 
-import base64
 import html
 import io
 import itertools

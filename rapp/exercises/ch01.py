@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.exercises.core import (CLOSE_FACTOR, TOLERANCE, TOLERANCE_ANGLES, Exercise, Judgement, as_number_array,
-                                 close, describe, implement, numeric)
+from rapp.exercises.core import (CLOSE_FACTOR, TOLERANCE_ANGLES, Exercise, Judgement, as_number_array, close,
+                                 describe, implement, numeric)
 
 __all__ = ["EXERCISES"]
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from rapp.arm import Arm
-from rapp.exercises.core import Exercise, Judgement, describe, implement, numeric
+from rapp.exercises.core import Exercise, describe, implement, numeric
 
 __all__ = ["EXERCISES"]
 

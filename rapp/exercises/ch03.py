@@ -15,7 +15,7 @@ import numpy as np
 from rapp.arm import Arm
 from rapp.collision import (line_distance_mis, motion_bounds, segment_hits_circle, segment_hits_polygon,
                             segment_point_distance, segment_polygon_distance)
-from rapp.exercises.core import Exercise, Judgement, as_number_array, describe, implement, numeric
+from rapp.exercises.core import Exercise, Judgement, describe, implement, numeric
 from rapp.obstacles import Polygon
 
 __all__ = ["EXERCISES"]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from rapp import trajectory
-from rapp.exercises.core import Exercise, Judgement, as_number_array, describe, implement, numeric
+from rapp.exercises.core import Exercise, as_number_array, describe, implement, numeric
 
 __all__ = ["EXERCISES"]
 

@@ -20,7 +20,7 @@ import numpy as np
 from rapp.arm import Arm
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import NoPathFound, RappError
-from rapp.exercises.core import Exercise, Judgement, as_number_array, describe, implement, numeric
+from rapp.exercises.core import Exercise, Judgement, describe, implement, numeric
 from rapp.obstacles import Circle
 from rapp.rrt_star import choose_parent_and_add
 from rapp.sampling import Tree

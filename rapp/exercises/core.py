@@ -28,7 +28,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from rapp.exercises.sandbox import Died, Limits, Opaque, Raised, Remote, Sandbox, TimedOut, bounded
+from rapp.exercises.sandbox import Died, Limits, Opaque, Raised, Remote, Sandbox, TimedOut
 
 __all__ = ["Verdict", "Exercise", "Judgement", "numeric", "implement", "close_numbers", "describe", "as_number_array", "KINDS", "close",
            "TOLERANCE", "TOLERANCE_ANGLES", "TOLERANCE_COUNT", "REL_TOL", "ABS_TOL", "CLOSE_FACTOR"]
