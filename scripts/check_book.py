@@ -326,6 +326,14 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]],
             measured: dict = {}
             t0 = time.monotonic()
             page.goto(base_url + rel, wait_until="domcontentloaded")
+            try:  # a redirect stub (the root index.html) has nothing to measure
+                stub = page.evaluate("!!document.querySelector('meta[http-equiv=\"refresh\" i]')")
+            except Exception:  # it has navigated away already: a redirect too
+                stub = True
+            if stub:
+                results[rel] = ([], {"slider": 0})
+                page.close()
+                continue
             # Live explorers (rapp.live) are dragged, not pressed: check_live times and checks them.
             has_slider = (views and rel not in live_only) or page.locator(".animation").count()
             # The first slider that moves its figure: how long a reader waits to use the page.
