@@ -44,6 +44,7 @@ __all__ = [
     "motion_bounds",
     "reach_matrix",
     "segment_collision_free",
+    "check_segments",
     "path_collision_free",
     "MAX_PENDING_INTERVALS",
 ]
@@ -403,6 +404,43 @@ def reach_matrix(arm) -> np.ndarray:
     return np.where(np.arange(n)[:, None] <= np.arange(n)[None, :], R, 0.0)
 
 
+def check_segments(arm, q0, q1, min_interval, max_intervals) -> tuple:
+    """The arguments of :func:`segment_collision_free`, checked and flattened.
+
+    Returns ``(q0, q1, dq, bounds, shape, min_interval, cap)``: the endpoints as
+    C-contiguous ``(m, n)`` copies, ``dq = q1 - q0``, the per-link motion bounds of
+    each segment (``|dq| @`` :func:`reach_matrix`), the broadcast batch shape, and the
+    two limits as validated numbers. Both the compiled and the numpy certificate
+    (:func:`rapp.reference.segment_collision_free`) start here, so they refuse the
+    same inputs with the same one-line errors.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> q0, q1, dq, bounds, shape, h, cap = check_segments(Arm([1.0, 1.0]), [0.0, 0.0],
+    ...                                                    [[0.5, 0.0], [0.0, 1.0]], 1e-9, 64)
+    >>> shape, dq.tolist(), bounds.tolist()
+    ((2,), [[0.5, 0.0], [0.0, 1.0]], [[0.5, 1.0], [0.0, 1.0]])
+    >>> check_segments(Arm([1.0, 1.0]), [0.0, 0.0], [0.0, 0.0], 0.0, 64)
+    Traceback (most recent call last):
+    ...
+    ValueError: min_interval must be a finite number > 0, got 0.0
+    """
+    q0, q1 = arm.check_q(q0, "q0"), arm.check_q(q1, "q1")
+    try:
+        q0, q1 = np.broadcast_arrays(q0, q1)
+    except ValueError:
+        raise ValueError(f"q0 and q1 must broadcast together, got shapes {q0.shape} and {q1.shape}") from None
+    min_interval = finite_number(min_interval, "min_interval", above=0.0)
+    cap = positive_integer(max_intervals, "max_intervals", lo=2)
+    shape = q0.shape[:-1]
+    # Copies where broadcast (numba wants real arrays).
+    q0, q1 = np.ascontiguousarray(q0.reshape(-1, arm.n)), np.ascontiguousarray(q1.reshape(-1, arm.n))
+    dq = q1 - q0
+    bounds = np.abs(dq) @ reach_matrix(arm)  # (m, n); finite: angles and lengths are bounded
+    return q0, q1, dq, bounds, shape, min_interval, cap
+
+
 def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9,
                            max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
     """Certify that every configuration on the joint-space segments ``q0 → q1`` is free.
@@ -469,20 +507,10 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
         return reference.segment_collision_free(arm, q0, q1, obstacles, min_interval=min_interval,
                                                 max_intervals=max_intervals)
     packed = pack(obstacles)
-    q0, q1 = arm.check_q(q0, "q0"), arm.check_q(q1, "q1")
-    try:
-        q0, q1 = np.broadcast_arrays(q0, q1)
-    except ValueError:
-        raise ValueError(f"q0 and q1 must broadcast together, got shapes {q0.shape} and {q1.shape}") from None
-    min_interval = finite_number(min_interval, "min_interval", above=0.0)
-    cap = positive_integer(max_intervals, "max_intervals", lo=2)
-    shape = q0.shape[:-1]
+    q0, q1, dq, bounds, shape, min_interval, cap = check_segments(arm, q0, q1, min_interval,
+                                                                  max_intervals)
     if not len(obstacles):
         return np.ones(shape, dtype=bool)
-    # Copies where broadcast (numba wants real arrays).
-    q0, q1 = np.ascontiguousarray(q0.reshape(-1, arm.n)), np.ascontiguousarray(q1.reshape(-1, arm.n))
-    dq = q1 - q0
-    bounds = np.abs(dq) @ reach_matrix(arm)  # (m, n); finite: angles and lengths are bounded
     touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
     code = k.certify(arm.lengths, q0, dq, bounds, *packed, min_interval, cap, touch)
     if (code < 0).any():  # more intervals than allowed: the numpy version raises the message

@@ -40,12 +40,12 @@ import math
 
 import numpy as np
 
-from rapp.checks import finite_number, positive_integer
+from rapp.checks import positive_integer
 from rapp.collision import (
     MAX_PENDING_INTERVALS,
     check_obstacle,
+    check_segments,
     motion_bounds,
-    reach_matrix,
     segment_clearances,
     segment_hits_polygon,
     segment_point_distance,
@@ -246,23 +246,18 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
 
     Examples
     --------
-    >>> from rapp import Arm, Circle
+    The compiled certificate's answers, from the same checked arguments:
+
+    >>> from rapp import Arm, Circle, collision
     >>> arm, obs = Arm([1.0, 1.0]), [Circle((0.0, 1.5), 0.3)]
-    >>> segment_collision_free(arm, [[0.0, 0.0], [0.0, 0.0]], [[0.5, 0.0], [3.0, 0.0]], obs).tolist()
-    [True, False]
+    >>> q1 = [[0.5, 0.0], [3.0, 0.0], [1.2, 0.3]]
+    >>> free = segment_collision_free(arm, [0.0, 0.0], q1, obs)
+    >>> free.tolist(), bool((free == collision.segment_collision_free(arm, [0.0, 0.0], q1, obs)).all())
+    ([True, False, True], True)
     """
     obstacles = [check_obstacle(ob) for ob in obstacles]
-    q0, q1 = arm.check_q(q0, "q0"), arm.check_q(q1, "q1")
-    try:
-        q0, q1 = np.broadcast_arrays(q0, q1)
-    except ValueError:
-        raise ValueError(f"q0 and q1 must broadcast together, got shapes {q0.shape} and {q1.shape}") from None
-    min_interval = finite_number(min_interval, "min_interval", above=0.0)
-    cap = positive_integer(max_intervals, "max_intervals", lo=2)
-    shape = q0.shape[:-1]
-    q0, q1 = q0.reshape(-1, arm.n), q1.reshape(-1, arm.n)
-    dq = q1 - q0
-    bounds = np.abs(dq) @ reach_matrix(arm)  # (m, n); finite: angles and lengths are bounded
+    q0, q1, dq, bounds, shape, min_interval, cap = check_segments(arm, q0, q1, min_interval,
+                                                                  max_intervals)
     free = np.ones(q0.shape[0], dtype=bool)
     if not obstacles:
         return free.reshape(shape)

@@ -33,7 +33,7 @@ import re
 from importlib import resources
 from pathlib import Path
 
-__all__ = ["SRS_ITEMS", "OUT_OF_SCOPE", "NODE_ID", "load_map", "found", "problems",
+__all__ = ["SRS_ITEMS", "srs_label", "OUT_OF_SCOPE", "NODE_ID", "load_map", "found", "problems",
            "static_table"]
 
 #: The items of seed 000, in the SRS's order (book/srs.md restates them).
@@ -44,6 +44,24 @@ SRS_ITEMS = (
     + [f"NFR{i}" for i in range(1, 6)]
     + [f"LC{i}" for i in range(1, 9)]
 )
+#: The SRS page's labels of the theory-model items, whose ids are too long for a label.
+_TM_LABELS = {"TM:FWDKinematics": "srs-tm-fk", "TM:SegmentCircleCollision": "srs-tm-collision",
+              "TM:AStarJointSpace": "srs-tm-astar"}
+
+
+def srs_label(item: str) -> str:
+    """The label of an SRS item's heading on book/srs.md.
+
+    Examples
+    --------
+    >>> [srs_label(item) for item in ("A1", "TM:AStarJointSpace", "NFR3")]
+    ['srs-a1', 'srs-tm-astar', 'srs-nfr3']
+    """
+    if item not in SRS_ITEMS:
+        raise ValueError(f"item must be one of the SRS items, got {item!r}")
+    return _TM_LABELS.get(item, "srs-" + item.lower())
+
+
 #: The items the package leaves out by design; boundary tests hold them.
 OUT_OF_SCOPE = frozenset({"LC4", "LC6", "LC7", "LC8", "NFR2"})
 #: A test node id of the map: ``tests/test_x.py::test_y`` or ``tests/test_x.py::TestX::test_y``.

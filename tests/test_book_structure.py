@@ -14,18 +14,14 @@ import nbformat
 import pytest
 import yaml
 
+from rapp.traceability import SRS_ITEMS, srs_label
+
 ROOT = Path(__file__).resolve().parent.parent
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
 WIDGET_STATE = "application/vnd.jupyter.widget-state+json"
 
-SRS_LABELS = (
-    [f"srs-a{i}" for i in range(1, 8)]
-    + ["srs-tm-fk", "srs-tm-collision", "srs-tm-astar", "srs-gd1", "srs-dd1", "srs-im1"]
-    + [f"srs-r{i}" for i in range(1, 6)]
-    + [f"srs-nfr{i}" for i in range(1, 6)]
-    + [f"srs-lc{i}" for i in range(1, 9)]
-)
+SRS_LABELS = [srs_label(item) for item in SRS_ITEMS]
 # Printed timings differ run to run, so nbval would fail on them, and they belong in benchmarks/.
 TIMING = re.compile(r"Wall time|CPU times|per loop|[Ee]lapsed|took \d|\d\s*(ms|µs|us)\b")
 TIMING_MAGIC = re.compile(r"^\s*%{1,2}(time|timeit|prun)\b", re.MULTILINE)

@@ -9,6 +9,9 @@ numba everything falls back to the numpy versions.
 from __future__ import annotations
 
 import importlib
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -26,14 +29,9 @@ from rapp.rrt_star import rrt_star
 
 pytestmark = pytest.mark.skipif(collision_kernel.kernels() is None, reason="numba is not installed")
 
-LINKS3 = [1.0, 0.8, 0.5]
-OBSTACLES3 = [
-    rapp.Circle((1.4, 0.9), 0.35),
-    rapp.Circle((-0.4, 1.5), 0.3),
-    rapp.Circle((0.2, -1.3), 0.3),
-    rapp.Circle((1.0, -1.0), 0.3),
-    rapp.Polygon.rectangle((-1.9, -0.6), 0.5, 1.0),
-]
+# The 3-link problem of the benchmarks, defined once in benchmarks/bench_core.py.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from bench_core import LINKS3, OBSTACLES3  # noqa: E402
 
 
 @st.composite
