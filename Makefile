@@ -18,6 +18,9 @@ PY_STAMP := $(VENV)/.environment.stamp
 NODE_STAMP := node_modules/.package-lock.json
 VENDOR_STAMP := book/_static_vendor/offline/.stamp
 export PIP_DISABLE_PIP_VERSION_CHECK := 1
+# Byte-code caches on: pytest then keeps each test module's rewritten assertions in
+# __pycache__ instead of rewriting ~200 modules in every worker of every run (~5 CPU-s each).
+unexport PYTHONDONTWRITEBYTECODE
 export NO_COLOR := 1
 
 .PHONY: setup setup-python setup-js book test check notebooks clean student-book
