@@ -387,6 +387,41 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]],
     return results
 
 
+# Moving a slider (its value set as a reader's drag sets it, then an `input` event) must redraw
+# the explorer at once: the C-space picture changes, and the status line with it. The speed
+# slider only paces the animation.
+_MOVE_SLIDER = """(input) => {
+    const v = +input.value, lo = +input.min, hi = +input.max, step = +input.step || 1;
+    input.value = String(v + step <= hi ? v + step : v - step);
+    input.dispatchEvent(new Event("input", {bubbles: true}));
+    return input.parentElement.textContent.trim().split(" ")[0];
+}"""
+_SWITCH_MENU = """(select) => {
+    select.selectedIndex = (select.selectedIndex + 1) % select.options.length;
+    select.dispatchEvent(new Event("change", {bubbles: true}));
+    return select.value;
+}"""
+
+
+def _controls_redraw(page, root, canvas: str) -> list[str]:
+    """Move each slider of an explorer and switch its menu; each must change the C-space picture."""
+    problems = []
+    status = "(root) => root.querySelector('.rl-status').textContent"
+    controls = [(s, _MOVE_SLIDER) for s in root.locator("input[type=range]").all()]
+    controls += [(s, _SWITCH_MENU) for s in root.locator("select").all()]
+    for control, action in controls:
+        if not control.is_visible():
+            continue
+        before = (root.evaluate(canvas), root.evaluate(status))
+        label = control.evaluate(action)
+        if label == "speed":
+            continue
+        page.wait_for_timeout(300)
+        if (root.evaluate(canvas), root.evaluate(status)) == before:
+            problems.append(f"control {label!r} changed, but the picture and the status line stayed")
+    return problems
+
+
 def check_live(base_url: str, pages: list[str], shots: Path | None = None) -> dict[str, tuple[list[str], dict]]:
     """Drag every live explorer (``data-rapp-live``) and check that it redraws.
 
@@ -444,6 +479,7 @@ def check_live(base_url: str, pages: list[str], shots: Path | None = None) -> di
                     problems.append(f"{name}: dragged, but it did not recompute")
                 elif root.evaluate(canvas) == image:
                     problems.append(f"{name}: dragged and recomputed, but the C-space picture stayed")
+                problems += [f"{name}: {p}" for p in _controls_redraw(page, root, canvas)]
             results[rel] = (problems, {"live": roots.count()})
             page.close()
         browser.close()

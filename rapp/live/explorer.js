@@ -88,6 +88,16 @@ function render({ model, el: host }) {
   const csPanel = el("div", { class: "rl-panel" }, row);
   const csCap = el("div", { class: "rl-cap" }, csPanel);
   const cs = el("canvas", { width: W, height: W, "data-rapp-drag": "cspace" }, csPanel);
+  const DPR = Math.min(3, Math.max(1, Math.round(window.devicePixelRatio || 1)));
+  for (const cv of [ws, cs]) {
+    cv.width = cv.height = W * DPR;
+    cv.style.width = W + "px";
+  }
+  const ctx2d = (cv) => {
+    const x = cv.getContext("2d");
+    x.setTransform(DPR, 0, 0, DPR, 0, 0);
+    return x;
+  };
   const status = el("div", { class: "rl-status", "aria-live": "polite" }, root);
   el("div", {
     class: "rl-note",
@@ -95,10 +105,10 @@ function render({ model, el: host }) {
       ? "Computed in this page, in JavaScript: the C-space by rapp.occupancy's closed-form interval per link and obstacle, " +
         "and A* as rapp.astar runs it: unit steps to the 4 neighbours (across the seam on a wrapping axis), " +
         "f = g + w·h with the toroidal Manhattan heuristic GD1, ties to the larger g, then the smaller cell number; " +
-        "blue: closed set, orange: open list. tests/test_live.py checks both against rapp."
+        "blue: closed set, yellow: open list; orange-red squares: where the path crosses the seam. tests/test_live.py checks both against rapp."
       : "Computed in this page, in JavaScript, on every move: for each link and obstacle the closed-form interval of " +
         "joint angles at which the link touches it (rapp.occupancy), painted onto the grid; tests/test_live.py checks " +
-        "the grid against rapp.occupancy. The dashed red border is the seam: θ = −π and θ = π are the same angle.",
+        "the grid against rapp.occupancy. The dashed orange-red border is the seam: θ = −π and θ = π are the same angle.",
   }, root);
 
   // ---- controls
@@ -111,7 +121,9 @@ function render({ model, el: host }) {
     inp.addEventListener("input", () => {
       out.textContent = inp.value;
       on(+inp.value);
+      schedule();
     });
+    inp.addEventListener("change", () => sync());
     return inp;
   }
   // The arm's controls; hidden while the A* explorer searches a painted grid, which has no arm.
@@ -126,26 +138,28 @@ function render({ model, el: host }) {
       const o = el("option", { value: v, text: t }, sel);
       if (v === S.source) o.selected = true;
     });
-    sel.addEventListener("change", () => { S.source = sel.value; resetEnds(); S.dirty = true; });
+    sel.addEventListener("change", () => { S.source = sel.value; resetEnds(); S.dirty = true; schedule(); });
     slider("weight w", 1, 3, 0.25, S.weight, (v) => { S.weight = v; S.dirty = true; });
     playBtn = el("button", { text: "▶ play" }, ctl);
     const stepBtn = el("button", { text: "step" }, ctl);
     const endBtn = el("button", { text: "to the end" }, ctl);
     slider("speed", 1, 40, 1, S.perFrame, (v) => { S.perFrame = v; });
     playBtn.addEventListener("click", () => {
+      flush();
       if (!S.playing && S.search && S.search.status !== "running") restartSearch();
       S.playing = !S.playing;
       playBtn.textContent = S.playing ? "❚❚ pause" : "▶ play";
       tick();
     });
     stepBtn.addEventListener("click", () => {
+      flush();
       if (S.search && S.search.status !== "running") restartSearch();
       S.playing = false;
       playBtn.textContent = "▶ play";
       S.search.step(1);
       draw();
     });
-    endBtn.addEventListener("click", () => { S.playing = false; playBtn.textContent = "▶ play"; S.search.step(Infinity); draw(); });
+    endBtn.addEventListener("click", () => { flush(); S.playing = false; playBtn.textContent = "▶ play"; S.search.step(Infinity); draw(); });
   }
 
   // ---- geometry of the two panels
@@ -311,11 +325,11 @@ function render({ model, el: host }) {
         c = [150, 150, 150];
         if (layers) for (let o = 0; o < layers.length; o++) if (layers[o][k]) { c = RGB[o % RGB.length].map((v) => 0.55 * v + 40); break; }
       } else if (Sx && Sx.closed[k]) c = [170, 205, 240];
-      else if (Sx && Sx.g[k] > 0 && Sx.g[k] < 2147483647) c = [250, 200, 120];
+      else if (Sx && Sx.g[k] > 0 && Sx.g[k] < 2147483647) c = [240, 228, 66];
       d[p] = c[0]; d[p + 1] = c[1]; d[p + 2] = c[2]; d[p + 3] = 255;
     }
     ctx0.putImageData(img, 0, 0);
-    const c = cs.getContext("2d");
+    const c = ctx2d(cs);
     c.imageSmoothingEnabled = false;
     c.clearRect(0, 0, W, W);
     c.drawImage(off, 0, 0, W, W);
@@ -339,8 +353,9 @@ function render({ model, el: host }) {
           c.lineTo(q[0] + ex, q[1] + ey);
           c.moveTo(p[0] - ex, p[1] - ey);
           c.fillStyle = "#D55E00";
-          c.fillRect(q[0] + ex - 4, q[1] + ey - 4, 8, 8);
-          c.fillRect(p[0] - ex - 4, p[1] - ey - 4, 8, 8);
+          const edge = (v) => Math.min(W - 5, Math.max(5, v));
+          c.fillRect(edge(q[0] + ex / 2) - 5, edge(q[1] + ey / 2) - 5, 10, 10);
+          c.fillRect(edge(p[0] - ex / 2) - 5, edge(p[1] - ey / 2) - 5, 10, 10);
         }
         if (k === 0) c.moveTo(p[0], p[1]); else c.lineTo(p[0], p[1]);
       }
@@ -351,7 +366,7 @@ function render({ model, el: host }) {
       c.strokeStyle = "#000"; c.lineWidth = 2; c.strokeRect(p[0] - cellPx() / 2, p[1] - cellPx() / 2, cellPx(), cellPx());
     }
     // Workspace.
-    const w = ws.getContext("2d");
+    const w = ctx2d(ws);
     w.clearRect(0, 0, W, W);
     w.strokeStyle = "#ddd"; w.setLineDash([3, 3]); w.beginPath();
     const o = toPx([0, 0]), rpx = ((L[0] + L[1]) / reach()) * (W / 2);
@@ -415,13 +430,16 @@ function render({ model, el: host }) {
   }
 
   // ---- the frame loop: at most one recompute and one drawing per animation frame
+  function flush() {
+    if (S.dirty) { S.dirty = false; recompute(); }
+  }
   let pending = false;
   function schedule() {
     if (pending) return;
     pending = true;
     requestAnimationFrame(() => {
       pending = false;
-      if (S.dirty) { S.dirty = false; recompute(); }
+      flush();
       draw();
     });
   }
