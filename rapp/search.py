@@ -38,7 +38,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rapp import heap
 from rapp.errors import InvalidCell, NoPathFound
+from rapp.jit import jit
 from rapp.checks import sorted_unique, finite_number, positive_integer
 
 __all__ = [
@@ -488,17 +490,34 @@ def astar_search(
 def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     """A* of :func:`astar_search` over flat cell numbers, written for numba.
 
-    The same search in the same order: heap entries ordered by ``(f, -g, cell)``
+    The same search in the same order: entries ordered by ``(f, -g, cell)``
     (``f = g + w h``), lazy deletion of stale entries, cells never re-expanded,
-    the goal accepted when it is taken off the heap, the same expansion limit;
-    so it expands the same cells and returns the same path. Arrays instead of
-    Python objects: ``g`` and ``parent`` of grid size in int32, with ``g = -1``
-    marking a closed cell (blocked cells are closed from the start, so the one
-    test ``g(u) + 1 >= g[v]`` rejects closed cells and paths that are no
-    better); a binary heap over two growing arrays (``f`` and the key
-    ``cell - g * size``, which orders as ``(-g, cell)``); neighbours by stride
-    arithmetic with the wrap of each axis; GD1 updated per step from one table
-    of per-axis distances (a step changes one coordinate).
+    the goal accepted when it is taken off the open list, the same expansion
+    limit; so it expands the same cells and returns the same path.
+
+    Arrays instead of Python objects: ``g`` of grid size in int32, with
+    ``g = -1`` marking a closed cell (blocked cells are closed from the start,
+    so the one test ``g(u) + 1 >= g[v]`` rejects closed cells and paths that are
+    no better); the step that reached each cell in one byte (``2 axis + (step <
+    0)``), from which the path is walked back; neighbours by stride arithmetic
+    with the wrap of each axis; GD1 updated per step from one table of per-axis
+    distances (a step changes one coordinate). An open entry is ``f`` and the
+    key ``h << sb | cell`` (``h`` the unweighted GD1, ``sb`` bits hold any
+    cell): among equal ``f`` a smaller ``h`` is a larger ``g``, so the key
+    orders the ties as ``(-g, cell)`` does.
+
+    The open list. With ``w = 1`` (the default) ``f`` is an integer, and since
+    GD1 is consistent and changes by at most 1 per unit step, a step raises
+    ``f`` by 0, 1 or 2: the open entries span three values ``F, F + 1, F + 2``
+    above the ``F`` being expanded. So the list is three buckets by ``f mod
+    3`` (a bucket queue, Dial 1969): entries of ``F + 1`` and ``F + 2`` are
+    appended unsorted; when level ``F`` runs out, the next level is sorted once
+    by key and popped from its end. A step that keeps ``f`` lowers ``h``, so
+    its key is below every key left in level ``F``: it is inserted at the end,
+    past only the entries of the same expansion. No comparison of ``f`` and no
+    sift through a heap; the pops are those of the binary heap, in the same
+    order. With ``w > 1`` ``f`` is not an integer, and the list is the binary
+    heap of :mod:`rapp.heap` over the pairs ``(f, key)``.
 
     Returns ``(status, expansions, flat_path)``: status 0 found, 1 goal
     unreachable, 2 expansion limit hit (``limit < 0``: no limit).
@@ -527,65 +546,83 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
         path = np.empty(1, np.int64)
         path[0] = s
         return 0, 0, path
+    sb = 1
+    while (1 << sb) <= size:
+        sb += 1
+    mask = (1 << sb) - 1
     g = np.empty(size, np.int32)
     for i in range(size):
         g[i] = -1 if blocked[i] else 2147483647
-    parent = np.empty(size, np.int32)
+    came = np.empty(size, np.uint8)
     coord = np.empty(n, np.int64)
-    cap = 4096
-    hf = np.empty(cap, np.float64)
-    hk = np.empty(cap, np.int64)
     hs = 0
     for a in range(n):
         hs += dist[base[a] + (s // strides[a]) % shape[a]]
     g[s] = 0
-    hf[0] = weight * hs
-    hk[0] = s
-    length = 1
+    unit = weight == 1.0
+    # w = 1: bucket f % 3 is row f % 3, negated keys (an ascending sort puts the smallest last).
+    bk = np.empty((3, 1024), np.int64)
+    bl = np.zeros(3, np.int64)
+    F = hs
+    cur = F % 3
+    # w > 1: the binary heap.
+    hf = np.empty(1024, np.float64)
+    hk = np.empty(1024, np.int64)
+    length = 0
+    if unit:
+        bk[cur, 0] = -((hs << sb) | s)
+        bl[cur] = 1
+    else:
+        length = heap.push(hf, hk, length, weight * hs, (hs << sb) | s)
     expansions = 0
-    while length > 0:
-        # Pop the smallest (f, key): move the last entry down from the root.
-        u = hk[0] % size
-        length -= 1
-        if length > 0:
-            xf = hf[length]
-            xk = hk[length]
-            i = 0
-            while True:
-                j = 2 * i + 1
-                if j >= length:
-                    break
-                r = j + 1
-                if r < length and (hf[r] < hf[j] or (hf[r] == hf[j] and hk[r] < hk[j])):
-                    j = r
-                if hf[j] < xf or (hf[j] == xf and hk[j] < xk):
-                    hf[i] = hf[j]
-                    hk[i] = hk[j]
-                    i = j
+    while True:
+        if unit:
+            if bl[cur] == 0:
+                if bl[(cur + 1) % 3] > 0:
+                    F += 1
+                elif bl[(cur + 2) % 3] > 0:
+                    F += 2
                 else:
-                    break
-            hf[i] = xf
-            hk[i] = xk
+                    return 1, expansions, none
+                cur = F % 3
+                bk[cur, :bl[cur]].sort()
+            bl[cur] -= 1
+            key = -bk[cur, bl[cur]]
+        else:
+            if length == 0:
+                return 1, expansions, none
+            _, key, length = heap.pop(hf, hk, length)
+        u = key & mask
         gu = g[u]
         if gu < 0:
             continue
         if u == t:
             path = np.empty(gu + 1, np.int64)
             v = t
-            for k in range(gu, -1, -1):
+            for k in range(gu, 0, -1):
                 path[k] = v
-                v = parent[v]
+                a = came[v] >> 1
+                m = shape[a]
+                c = (v // strides[a]) % m
+                pc = c + 1 if came[v] & 1 else c - 1
+                if pc < 0:
+                    pc = m - 1
+                elif pc == m:
+                    pc = 0
+                v += (pc - c) * strides[a]
+            path[0] = v
             return 0, expansions, path
         if expansions == limit:
             return 2, expansions, none
         g[u] = -1
         expansions += 1
         gv = gu + 1
-        hu = 0
+        hu = key >> sb
+        rem = u
         for a in range(n):
-            c = (u // strides[a]) % shape[a]
+            c = rem // strides[a]
+            rem -= c * strides[a]
             coord[a] = c
-            hu += dist[base[a] + c]
         for a in range(n):
             m = shape[a]
             c = coord[a]
@@ -599,30 +636,26 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
                 if gv >= g[v]:
                     continue
                 g[v] = gv
-                parent[v] = u
-                fv = gv + weight * (hu - dist[base[a] + c] + dist[base[a] + nc])
-                kv = v - gv * size
-                if length == cap:
-                    cap *= 2
-                    nf = np.empty(cap, np.float64)
-                    nk = np.empty(cap, np.int64)
-                    nf[:length] = hf[:length]
-                    nk[:length] = hk[:length]
-                    hf = nf
-                    hk = nk
-                # Push: move the hole up from the end.
-                i = length
-                length += 1
-                while i > 0:
-                    p = (i - 1) >> 1
-                    if fv < hf[p] or (fv == hf[p] and kv < hk[p]):
-                        hf[i] = hf[p]
-                        hk[i] = hk[p]
-                        i = p
-                    else:
-                        break
-                hf[i] = fv
-                hk[i] = kv
+                came[v] = 2 * a + (step < 0)
+                hv = hu - dist[base[a] + c] + dist[base[a] + nc]
+                kv = (hv << sb) | v
+                if not unit:
+                    hf, hk = heap.room(hf, hk, length)
+                    length = heap.push(hf, hk, length, gv + weight * hv, kv)
+                    continue
+                b = (cur + 1 + hv - hu) % 3
+                i = bl[b]
+                if i == bk.shape[1]:
+                    grown = np.empty((3, 2 * i), np.int64)
+                    for r in range(3):
+                        grown[r, :bl[r]] = bk[r, :bl[r]]
+                    bk = grown
+                bl[b] = i + 1
+                if b == cur:  # same f, smaller h: sorts below what is left of level F
+                    while i > 0 and bk[b, i - 1] > -kv:
+                        bk[b, i] = bk[b, i - 1]
+                        i -= 1
+                bk[b, i] = -kv
     return 1, expansions, none
 
 
@@ -634,14 +667,8 @@ COMPILE_FROM = 1 << 16
 @functools.cache
 def _compiled_astar():
     """:func:`_astar_kernel` compiled by numba (cached on disk), or None without numba."""
-    try:
-        import numba
-    except ImportError:
-        return None
-    try:
-        return numba.njit(cache=True, nogil=True)(_astar_kernel)
-    except RuntimeError:  # no writable cache directory: compile on every run
-        return numba.njit(nogil=True)(_astar_kernel)
+    # The kernel calls heap.push and heap.pop: those are compiled first.
+    return jit(_astar_kernel) if heap.compiled() else None
 
 
 def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expansions=None):
