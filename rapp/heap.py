@@ -2,11 +2,11 @@
 
 The entries are pairs ``(key, item)`` held in two parallel arrays, ``keys[:length]`` and
 ``items[:length]``, and ordered as :mod:`heapq` orders the tuples ``(key, item)``: by key,
-ties by item. The functions hold no state and allocate nothing (but :func:`room`, when the
-arrays are full), so that numba compiles them into the loops that call them: PRM's Dijkstra
-(:mod:`rapp.prm`, distance and node) and weighted A* (:mod:`rapp.search`, ``f`` and a key
-that orders the ties). They are plain Python, and run as such without numba;
-:func:`compiled` swaps them for their compiled versions before those loops are compiled.
+ties by item. The functions hold no state and allocate nothing, so that numba compiles them
+into the loops that call them: PRM's Dijkstra (:mod:`rapp.prm`, distance and node) and
+weighted A* (:mod:`rapp.search`, ``f`` and a key that orders the ties). They are plain
+Python, and run as such without numba; :func:`compiled` swaps them for their compiled
+versions before those loops are compiled.
 
 Examples
 --------
@@ -28,13 +28,13 @@ import numpy as np
 
 from rapp.jit import jit
 
-__all__ = ["push", "pop", "before", "room", "compiled"]
+__all__ = ["push", "pop", "before", "compiled"]
 
 
 def push(keys, items, length, key, item):
     """Insert ``(key, item)`` into the heap of ``length`` entries; return ``length + 1``.
 
-    The arrays must have room for one more entry (see :func:`room`). The hole left at the
+    The arrays must have room for one more entry. The hole left at the
     end moves up past every parent that orders after the new pair.
     """
     i = length
@@ -74,19 +74,8 @@ def before(key_a, item_a, key_b, item_b):
     return key_a < key_b or (key_a == key_b and item_a < item_b)
 
 
-def room(keys, items, length):
-    """The two arrays, copied into ones twice as long if ``length`` fills them."""
-    if length < keys.shape[0]:
-        return keys, items
-    k = np.empty(2 * length + 1, keys.dtype)
-    it = np.empty(2 * length + 1, items.dtype)
-    k[:length] = keys[:length]
-    it[:length] = items[:length]
-    return k, it
-
-
 def compiled():
-    """Compile :func:`before`, :func:`push`, :func:`pop` and :func:`room` with numba.
+    """Compile :func:`before`, :func:`push` and :func:`pop` with numba.
 
     Replaces this module's functions by their compiled versions (cached on disk), so that
     a kernel compiled afterwards, which calls ``heap.push``, finds compiled code there.
@@ -95,7 +84,7 @@ def compiled():
     g = globals()
     if hasattr(g["push"], "py_func"):  # a numba dispatcher: compiled already
         return True
-    jitted = {name: jit(g[name]) for name in ("before", "push", "pop", "room")}
+    jitted = {name: jit(g[name]) for name in ("before", "push", "pop")}
     if None in jitted.values():
         return False
     g.update(jitted)

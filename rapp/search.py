@@ -504,20 +504,10 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     distances (a step changes one coordinate). An open entry is ``f`` and the
     key ``h << sb | cell`` (``h`` the unweighted GD1, ``sb`` bits hold any
     cell): among equal ``f`` a smaller ``h`` is a larger ``g``, so the key
-    orders the ties as ``(-g, cell)`` does.
-
-    The open list. With ``w = 1`` (the default) ``f`` is an integer, and since
-    GD1 is consistent and changes by at most 1 per unit step, a step raises
-    ``f`` by 0, 1 or 2: the open entries span three values ``F, F + 1, F + 2``
-    above the ``F`` being expanded. So the list is three buckets by ``f mod
-    3`` (a bucket queue, Dial 1969): entries of ``F + 1`` and ``F + 2`` are
-    appended unsorted; when level ``F`` runs out, the next level is sorted once
-    by key and popped from its end. A step that keeps ``f`` lowers ``h``, so
-    its key is below every key left in level ``F``: it is inserted at the end,
-    past only the entries of the same expansion. No comparison of ``f`` and no
-    sift through a heap; the pops are those of the binary heap, in the same
-    order. With ``w > 1`` ``f`` is not an integer, and the list is the binary
-    heap of :mod:`rapp.heap` over the pairs ``(f, key)``.
+    orders the ties as ``(-g, cell)`` does. The loop itself is
+    :func:`_astar_loop`; it returns when the open list needs more room, and
+    the longer arrays are made here (an array reassigned inside the loop would
+    cost numba two atomic reference counts per iteration).
 
     Returns ``(status, expansions, flat_path)``: status 0 found, 1 goal
     unreachable, 2 expansion limit hit (``limit < 0``: no limit).
@@ -541,7 +531,6 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
             if wraps[a] and m - d < d:
                 d = m - d
             dist[base[a] + c] = d
-    none = np.empty(0, np.int64)
     if s == t:
         path = np.empty(1, np.int64)
         path[0] = s
@@ -549,71 +538,118 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     sb = 1
     while (1 << sb) <= size:
         sb += 1
-    mask = (1 << sb) - 1
     g = np.empty(size, np.int32)
     for i in range(size):
         g[i] = -1 if blocked[i] else 2147483647
     came = np.empty(size, np.uint8)
-    coord = np.empty(n, np.int64)
     hs = 0
     for a in range(n):
         hs += dist[base[a] + (s // strides[a]) % shape[a]]
     g[s] = 0
-    unit = weight == 1.0
-    # w = 1: bucket f % 3 is row f % 3, negated keys (an ascending sort puts the smallest last).
+    # state: F (the f level being expanded, w = 1), open entries (w > 1), expansions.
+    state = np.array([hs, 0, 0])
     bk = np.empty((3, 1024), np.int64)
     bl = np.zeros(3, np.int64)
-    F = hs
-    cur = F % 3
-    # w > 1: the binary heap.
     hf = np.empty(1024, np.float64)
     hk = np.empty(1024, np.int64)
-    length = 0
-    if unit:
-        bk[cur, 0] = -((hs << sb) | s)
-        bl[cur] = 1
+    if weight == 1.0:
+        bk[hs % 3, 0] = -((hs << sb) | s)
+        bl[hs % 3] = 1
     else:
-        length = heap.push(hf, hk, length, weight * hs, (hs << sb) | s)
-    expansions = 0
+        state[1] = heap.push(hf, hk, 0, weight * hs, (hs << sb) | s)
+    while True:
+        status = _astar_loop(g, came, shape, strides, wraps, dist, base, sb, t, weight, limit,
+                             bk, bl, hf, hk, state)
+        if status < 3:
+            break
+        # The open list is full: the same entries in arrays twice as long.
+        if weight == 1.0:
+            longer = np.empty((3, 2 * bk.shape[1]), np.int64)
+            longer[:, :bk.shape[1]] = bk
+            bk = longer
+        else:
+            lf, lk = np.empty(2 * hf.shape[0], np.float64), np.empty(2 * hf.shape[0], np.int64)
+            lf[:hf.shape[0]] = hf
+            lk[:hf.shape[0]] = hk
+            hf, hk = lf, lk
+    if status > 0:
+        return status, state[2], np.empty(0, np.int64)
+    path = np.empty(g[t] + 1, np.int64)  # the loop left g[t] open: the goal's cost
+    v = t
+    for k in range(g[t], 0, -1):
+        path[k] = v
+        a = came[v] >> 1
+        m = shape[a]
+        c = (v // strides[a]) % m
+        pc = c + 1 if came[v] & 1 else c - 1
+        if pc < 0:
+            pc = m - 1
+        elif pc == m:
+            pc = 0
+        v += (pc - c) * strides[a]
+    path[0] = v
+    return 0, state[2], path
+
+
+def _astar_loop(g, came, shape, strides, wraps, dist, base, sb, t, weight, limit, bk, bl, hf, hk,
+                state):
+    """The loop of :func:`_astar_kernel`: expand until the goal (0), none is left (1), the limit
+    (2), or the open list may not hold the next expansion's entries (3; resumed after).
+
+    The open list. With ``w = 1`` (the default) ``f`` is an integer, and since
+    GD1 is consistent and changes by at most 1 per unit step, a step raises
+    ``f`` by 0, 1 or 2: the open entries span three values ``F, F + 1, F + 2``
+    above the ``F`` being expanded. So the list is three buckets by ``f mod
+    3`` (a bucket queue, Dial 1969), rows of ``bk`` with lengths ``bl``: entries
+    of ``F + 1`` and ``F + 2`` are appended unsorted, as negated keys; when
+    level ``F`` runs out, the next level is sorted once and popped from its
+    end. A step that keeps ``f`` lowers ``h``, so its key is below every key
+    left in level ``F``: it is inserted at the end, past only the entries of
+    the same expansion. No comparison of ``f`` and no sift through a heap; the
+    pops are those of the binary heap, in the same order. With ``w > 1``, ``f``
+    is not an integer, and the list is the binary heap of :mod:`rapp.heap`
+    over the pairs ``(f, key)`` in ``hf`` and ``hk``.
+    """
+    n = shape.shape[0]
+    mask = (1 << sb) - 1
+    unit = weight == 1.0
+    F, length, expansions = state[0], state[1], state[2]
+    cur = F % 3
+    coord = np.empty(n, np.int64)
+    status = 1
     while True:
         if unit:
+            if max(bl[0], bl[1], bl[2]) + 2 * n > bk.shape[1]:
+                status = 3
+                break
             if bl[cur] == 0:
                 if bl[(cur + 1) % 3] > 0:
                     F += 1
                 elif bl[(cur + 2) % 3] > 0:
                     F += 2
                 else:
-                    return 1, expansions, none
+                    break
                 cur = F % 3
                 bk[cur, :bl[cur]].sort()
             bl[cur] -= 1
             key = -bk[cur, bl[cur]]
         else:
+            if length + 2 * n > hf.shape[0]:
+                status = 3
+                break
             if length == 0:
-                return 1, expansions, none
+                break
             _, key, length = heap.pop(hf, hk, length)
         u = key & mask
         gu = g[u]
         if gu < 0:
             continue
         if u == t:
-            path = np.empty(gu + 1, np.int64)
-            v = t
-            for k in range(gu, 0, -1):
-                path[k] = v
-                a = came[v] >> 1
-                m = shape[a]
-                c = (v // strides[a]) % m
-                pc = c + 1 if came[v] & 1 else c - 1
-                if pc < 0:
-                    pc = m - 1
-                elif pc == m:
-                    pc = 0
-                v += (pc - c) * strides[a]
-            path[0] = v
-            return 0, expansions, path
+            status = 0
+            break
         if expansions == limit:
-            return 2, expansions, none
+            status = 2
+            break
         g[u] = -1
         expansions += 1
         gv = gu + 1
@@ -640,23 +676,18 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
                 hv = hu - dist[base[a] + c] + dist[base[a] + nc]
                 kv = (hv << sb) | v
                 if not unit:
-                    hf, hk = heap.room(hf, hk, length)
                     length = heap.push(hf, hk, length, gv + weight * hv, kv)
                     continue
                 b = (cur + 1 + hv - hu) % 3
                 i = bl[b]
-                if i == bk.shape[1]:
-                    grown = np.empty((3, 2 * i), np.int64)
-                    for r in range(3):
-                        grown[r, :bl[r]] = bk[r, :bl[r]]
-                    bk = grown
                 bl[b] = i + 1
                 if b == cur:  # same f, smaller h: sorts below what is left of level F
                     while i > 0 and bk[b, i - 1] > -kv:
                         bk[b, i] = bk[b, i - 1]
                         i -= 1
                 bk[b, i] = -kv
-    return 1, expansions, none
+    state[0], state[1], state[2] = F, length, expansions
+    return status
 
 
 #: Grids of at least this many cells are searched by the compiled kernel even when numba is
@@ -667,8 +698,13 @@ COMPILE_FROM = 1 << 16
 @functools.cache
 def _compiled_astar():
     """:func:`_astar_kernel` compiled by numba (cached on disk), or None without numba."""
-    # The kernel calls heap.push and heap.pop: those are compiled first.
-    return jit(_astar_kernel) if heap.compiled() else None
+    # The kernel calls _astar_loop, which calls heap.push and heap.pop: those are compiled first.
+    if not heap.compiled():
+        return None
+    g = globals()
+    if not hasattr(g["_astar_loop"], "py_func"):  # not yet a numba dispatcher
+        g["_astar_loop"] = jit(g["_astar_loop"])
+    return jit(_astar_kernel)
 
 
 def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expansions=None):
