@@ -548,10 +548,11 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     g[s] = 0
     # state: F (the f level being expanded, w = 1), open entries (w > 1), expansions.
     state = np.array([hs, 0, 0])
-    bk = np.empty((3, 1024), np.int64)
+    # Small to start with (the tests' grids make them grow): doubled when full.
+    bk = np.empty((3, 16), np.int64)
     bl = np.zeros(3, np.int64)
-    hf = np.empty(1024, np.float64)
-    hk = np.empty(1024, np.int64)
+    hf = np.empty(16, np.float64)
+    hk = np.empty(16, np.int64)
     if weight == 1.0:
         bk[hs % 3, 0] = -((hs << sb) | s)
         bl[hs % 3] = 1

@@ -404,6 +404,51 @@ def test_compiled_astar_equals_teaching_astar_and_bfs_optimum(case, w):
             astar(occ, start, goal, wraps=wraps, heuristic_weight=w, max_expansions=r.expansions - 1)
 
 
+@st.composite
+def larger_grids(draw):
+    """2-D and 3-D grids big enough for wide open lists: odd and even sides, each axis wrapping
+    or not, walls as dense as a maze or none."""
+    n = draw(st.integers(2, 3))
+    side = {2: 48, 3: 13}[n]
+    shape = tuple(draw(st.lists(st.integers(2, side), min_size=n, max_size=n)))
+    wraps = tuple(draw(st.lists(st.booleans(), min_size=n, max_size=n)))
+    density = draw(st.sampled_from([0.0, 0.2, 0.35, 0.5]))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    occ = rng.random(shape) < density
+    start = tuple(int(rng.integers(m)) for m in shape)
+    goal = tuple(int(rng.integers(m)) for m in shape)
+    occ[start] = occ[goal] = False
+    return occ, wraps, start, goal
+
+
+@settings(max_examples=150, deadline=None)
+@given(larger_grids(), st.sampled_from([1.0, 1.0, 1.0, 1.7]))
+def test_compiled_astar_is_optimal_against_the_slow_bfs(case, w):
+    # The compiled kernel (bucket queue for w = 1, rapp.heap for w > 1; its open list starts
+    # small and grows here) against the slow deque BFS of this file, sharing no code with it:
+    # the optimal length, every step a unit move between free cells, the teaching search's path.
+    pytest.importorskip("numba")
+    from rapp import search
+
+    assert search._compiled_astar() is not None  # numba imported: astar runs the kernel
+    occ, wraps, start, goal = case
+    opt = slow_bfs(occ, start, wraps).get(goal)
+    if opt is None:
+        with pytest.raises(NoPathFound, match="cannot be reached"):
+            astar(occ, start, goal, wraps=wraps, heuristic_weight=w)
+        return
+    path = astar(occ, start, goal, wraps=wraps, heuristic_weight=w)
+    assert_valid_path(path, occ, start, goal, wraps)
+    if w == 1.0:
+        assert len(path) - 1 == opt
+    else:
+        assert opt <= len(path) - 1 <= w * opt
+    r = astar_search(occ, start, goal, wraps=wraps, heuristic_weight=w)
+    assert path == [tuple(c) for c in r.path.tolist()]
+    # The same expansions: the limit at the teaching search's count still finds the path.
+    assert astar(occ, start, goal, wraps=wraps, heuristic_weight=w, max_expansions=r.expansions) == path
+
+
 def test_astar_is_compiled_when_numba_is_installed():
     pytest.importorskip("numba")
     from rapp import search
