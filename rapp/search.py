@@ -23,7 +23,9 @@ inner loop only reads Python lists and a bytearray, which is several times
 faster than tuples of indices. :func:`astar` runs the same search, in the same
 order, compiled with numba (``@njit(cache=True)``, see :func:`_astar_kernel`)
 when numba can be imported, and falls back to :func:`astar_search` when it
-cannot. numba is imported on the first search of a grid of :data:`COMPILE_FROM`
+cannot. Its open list is a bucket queue of three ``f`` levels when ``w = 1``
+(see :func:`_astar_loop`) and the binary heap of :mod:`rapp.heap` otherwise;
+both pop the entries in the order of the heap of :func:`astar_search`. numba is imported on the first search of a grid of :data:`COMPILE_FROM`
 cells or more, not with rapp: a smaller grid is searched in Python until then.
 """
 
@@ -714,8 +716,9 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     The search of :func:`astar_search` (see there for the heuristic, the
     tie-breaking and the ``cost <= w * optimum`` bound of weighted A*), compiled
     with numba (:func:`_astar_kernel`): the same cells expanded in the same
-    order and the same path, 10-25 times faster than that Python loop on the
-    benchmark grids (``benchmarks/bench_search.py``). If numba cannot be
+    order and the same path, 40-70 times faster than that Python loop on the
+    benchmark grids (``benchmarks/bench_search.py``), and faster than the C++ A*
+    of pyastar2d (``benchmarks/bench_astar_cpp.py``). If numba cannot be
     imported it falls back to :func:`astar_search` itself (same results,
     slower). The first call imports numba and loads the compiled kernel from
     its on-disk cache (or compiles it once, some seconds).
