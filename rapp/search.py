@@ -764,7 +764,7 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     # Importing numba costs more than this Python loop spends on a small grid (a command
     # planning on 100 x 100 cells would pay it for nothing); once it is imported, use it.
     kernel = _compiled_astar() if occ.size >= COMPILE_FROM or "numba" in sys.modules else None
-    if kernel is None or occ.size >= 2**31 - 1:  # int32 cells; keys cell - g * size in int64
+    if kernel is None or occ.size >= 2**31 - 1:  # int32 g and cells; keys h << sb | cell in int64
         r = astar_search(
             occupied,
             start,
