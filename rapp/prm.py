@@ -46,9 +46,9 @@ BLOCK_BYTES = 64_000_000
 def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target):
     """Dijkstra over a CSR graph (node u's neighbours ``dst[start[u]:stop[u]]``), for numba.
 
-    The heap (:mod:`rapp.heap`) holds ``(distance, node)`` pairs compared as heapq compares the
-    tuples of :func:`_dijkstra`, and every neighbour list is in the order :func:`_dijkstra` builds, so
-    both pop the same nodes in the same order and return the same parents.
+    The heap (:mod:`rapp.heap`) holds ``(distance, node)`` pairs compared as heapq compares
+    the tuples of :func:`_dijkstra`, and every neighbour list is in the order :func:`_dijkstra`
+    builds, so both pop the same nodes in the same order and return the same parents.
     """
     dist = np.full(n, np.inf)
     parent = np.full(n, -1, dtype=np.int64)

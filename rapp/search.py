@@ -25,8 +25,9 @@ order, compiled with numba (``@njit(cache=True)``, see :func:`_astar_kernel`)
 when numba can be imported, and falls back to :func:`astar_search` when it
 cannot. Its open list is a bucket queue of three ``f`` levels when ``w = 1``
 (see :func:`_astar_loop`) and the binary heap of :mod:`rapp.heap` otherwise;
-both pop the entries in the order of the heap of :func:`astar_search`. numba is imported on the first search of a grid of :data:`COMPILE_FROM`
-cells or more, not with rapp: a smaller grid is searched in Python until then.
+both pop the entries in the order of the heap of :func:`astar_search`. numba
+is imported on the first search of a grid of :data:`COMPILE_FROM` cells or
+more, not with rapp: a smaller grid is searched in Python until then.
 """
 
 from __future__ import annotations
