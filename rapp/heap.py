@@ -10,6 +10,7 @@ versions before those loops are compiled.
 
 Examples
 --------
+>>> import numpy as np
 >>> keys, items = np.empty(4), np.empty(4, dtype=np.int64)
 >>> n = 0
 >>> for k, i in [(2.0, 7), (1.0, 9), (2.0, 3)]:
@@ -23,8 +24,6 @@ Examples
 """
 
 from __future__ import annotations
-
-import numpy as np
 
 from rapp.jit import jit
 
