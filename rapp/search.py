@@ -505,9 +505,11 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     0)``), from which the path is walked back; neighbours by stride arithmetic
     with the wrap of each axis; GD1 updated per step from one table of per-axis
     distances (a step changes one coordinate). An open entry is ``f`` and the
-    key ``h << sb | cell`` (``h`` the unweighted GD1, ``sb`` bits hold any
-    cell): among equal ``f`` a smaller ``h`` is a larger ``g``, so the key
-    orders the ties as ``(-g, cell)`` does. The loop itself is
+    key ``h << sb | packed`` (``h`` the unweighted GD1; ``packed`` the cell's
+    coordinates in bit fields, the last axis lowest, ``sb`` bits in all, which
+    order as flat cell numbers do and are read back without a division): among
+    equal ``f`` a smaller ``h`` is a larger ``g``, so the key orders the ties as
+    ``(-g, cell)`` does. The loop itself is
     :func:`_astar_loop`; it returns when the open list needs more room, and
     the longer arrays are made here (an array reassigned inside the loop would
     cost numba two atomic reference counts per iteration).
@@ -538,16 +540,24 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
         path = np.empty(1, np.int64)
         path[0] = s
         return 0, 0, path
-    sb = 1
-    while (1 << sb) <= size:
-        sb += 1
+    # Packed coordinates: axis a in bits shift[a]..shift[a] + width, the last axis lowest, so
+    # that packed numbers order as flat cell numbers do; sb bits hold them all.
+    shift = np.zeros(n, np.int64)
+    sb = 0
+    for a in range(n - 1, -1, -1):
+        shift[a] = sb
+        while (1 << (sb - shift[a])) < shape[a]:
+            sb += 1
     g = np.empty(size, np.int32)
     for i in range(size):
         g[i] = -1 if blocked[i] else 2147483647
     came = np.empty(size, np.uint8)
     hs = 0
+    ps = 0
     for a in range(n):
-        hs += dist[base[a] + (s // strides[a]) % shape[a]]
+        c = (s // strides[a]) % shape[a]
+        hs += dist[base[a] + c]
+        ps |= c << shift[a]
     g[s] = 0
     # state: F (the f level being expanded, w = 1), open entries (w > 1), expansions.
     state = np.array([hs, 0, 0])
@@ -557,13 +567,13 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     hf = np.empty(16, np.float64)
     hk = np.empty(16, np.int64)
     if weight == 1.0:
-        bk[hs % 3, 0] = -((hs << sb) | s)
+        bk[hs % 3, 0] = -((hs << sb) | ps)
         bl[hs % 3] = 1
     else:
-        state[1] = heap.push(hf, hk, 0, weight * hs, (hs << sb) | s)
+        state[1] = heap.push(hf, hk, 0, weight * hs, (hs << sb) | ps)
     while True:
-        status = _astar_loop(g, came, shape, strides, wraps, dist, base, sb, t, weight, limit,
-                             bk, bl, hf, hk, state)
+        status = _astar_loop(g, came, shape, strides, shift, wraps, dist, base, sb, t, weight,
+                             limit, bk, bl, hf, hk, state)
         if status < 3:
             break
         # The open list is full: the same entries in arrays twice as long.
@@ -595,8 +605,8 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     return 0, state[2], path
 
 
-def _astar_loop(g, came, shape, strides, wraps, dist, base, sb, t, weight, limit, bk, bl, hf, hk,
-                state):
+def _astar_loop(g, came, shape, strides, shift, wraps, dist, base, sb, t, weight, limit, bk, bl,
+                hf, hk, state):
     """The loop of :func:`_astar_kernel`: expand until the goal (0), none is left (1), the limit
     (2), or the open list may not hold the next expansion's entries (3; resumed after).
 
@@ -620,6 +630,9 @@ def _astar_loop(g, came, shape, strides, wraps, dist, base, sb, t, weight, limit
     F, length, expansions = state[0], state[1], state[2]
     cur = F % 3
     coord = np.empty(n, np.int64)
+    fmask = np.empty(n, np.int64)
+    for a in range(n):
+        fmask[a] = (1 << ((sb if a == 0 else shift[a - 1]) - shift[a])) - 1
     status = 1
     while True:
         if unit:
@@ -644,7 +657,12 @@ def _astar_loop(g, came, shape, strides, wraps, dist, base, sb, t, weight, limit
             if length == 0:
                 break
             _, key, length = heap.pop(hf, hk, length)
-        u = key & mask
+        pu = key & mask
+        u = 0
+        for a in range(n):
+            c = (pu >> shift[a]) & fmask[a]
+            coord[a] = c
+            u += c * strides[a]
         gu = g[u]
         if gu < 0:
             continue
@@ -658,11 +676,6 @@ def _astar_loop(g, came, shape, strides, wraps, dist, base, sb, t, weight, limit
         expansions += 1
         gv = gu + 1
         hu = key >> sb
-        rem = u
-        for a in range(n):
-            c = rem // strides[a]
-            rem -= c * strides[a]
-            coord[a] = c
         for a in range(n):
             m = shape[a]
             c = coord[a]
@@ -678,7 +691,7 @@ def _astar_loop(g, came, shape, strides, wraps, dist, base, sb, t, weight, limit
                 g[v] = gv
                 came[v] = 2 * a + (step < 0)
                 hv = hu - dist[base[a] + c] + dist[base[a] + nc]
-                kv = (hv << sb) | v
+                kv = (hv << sb) | (pu + ((nc - c) << shift[a]))
                 if not unit:
                     length = heap.push(hf, hk, length, gv + weight * hv, kv)
                     continue
@@ -765,7 +778,9 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     # Importing numba costs more than this Python loop spends on a small grid (a command
     # planning on 100 x 100 cells would pay it for nothing); once it is imported, use it.
     kernel = _compiled_astar() if occ.size >= COMPILE_FROM or "numba" in sys.modules else None
-    if kernel is None or occ.size >= 2**31 - 1:  # int32 g and cells; keys h << sb | cell in int64
+    # The kernel: g and cells in int32; keys h << sb | packed coordinates in int64.
+    sb = sum((m - 1).bit_length() for m in occ.shape)
+    if kernel is None or occ.size >= 2**31 - 1 or sb + sum(occ.shape).bit_length() > 62:
         r = astar_search(
             occupied,
             start,
