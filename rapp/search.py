@@ -730,7 +730,7 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     The search of :func:`astar_search` (see there for the heuristic, the
     tie-breaking and the ``cost <= w * optimum`` bound of weighted A*), compiled
     with numba (:func:`_astar_kernel`): the same cells expanded in the same
-    order and the same path, 40-70 times faster than that Python loop on the
+    order and the same path, 30-70 times faster than that Python loop on the
     benchmark grids (``benchmarks/bench_search.py``), and faster than the C++ A*
     of pyastar2d (``benchmarks/bench_astar_cpp.py``). If numba cannot be
     imported it falls back to :func:`astar_search` itself (same results,
