@@ -27,13 +27,12 @@ import json
 import os
 import platform
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_core import CIRCLES, GOAL_Q, LINKS, START_Q  # noqa: E402  the problem, defined once
+from bench_core import CIRCLES, GOAL_Q, LINKS, START_Q, side_by_side  # noqa: E402  the problem, defined once
 
 import rapp  # noqa: E402
 from rapp.search import astar_search  # noqa: E402
@@ -53,18 +52,6 @@ def unrolled(occ, start, goal):
     return w, s, g
 
 
-def interleaved(fns, rounds):
-    """Best-of-``rounds`` seconds of each function, called in turn round by round; and the
-    last result of each."""
-    best, out = {k: np.inf for k in fns}, {}
-    for _ in range(rounds):
-        for k, fn in fns.items():
-            t0 = time.perf_counter()
-            out[k] = fn()
-            best[k] = min(best[k], time.perf_counter() - t0)
-    return best, out
-
-
 def time_grid(M, pyastar2d):
     """Best-of times of rapp and of pyastar2d (plain grid, then unrolled torus) on one grid.
 
@@ -78,30 +65,24 @@ def time_grid(M, pyastar2d):
     s, g = tuple(grid.index(START_Q).tolist()), tuple(grid.index(GOAL_Q).tolist())
     path = rapp.astar(occ, s, g)  # loads the compiled kernel
     expansions = astar_search(occ, s, g).expansions
+    mine = lambda: rapp.astar(occ, s, g)  # noqa: E731
     if pyastar2d is None:
-        best, _ = interleaved({"rapp": lambda: rapp.astar(occ, s, g)}, ROUNDS[M])
-        return {"rapp_s": best["rapp"], "rapp_path_cells": len(path), "rapp_expansions": expansions,
-                "rapp_ns_per_expansion": best["rapp"] / expansions * 1e9}
+        (alone,), _ = side_by_side(ROUNDS[M], [mine])
+        return {"rapp_s": alone, "rapp_path_cells": len(path), "rapp_expansions": expansions,
+                "rapp_ns_per_expansion": alone / expansions * 1e9}
     w1 = np.where(occ, np.inf, 1.0).astype(np.float32)
-    plain, paths = interleaved({
-        "rapp": lambda: rapp.astar(occ, s, g),
-        "peer": lambda: pyastar2d.astar_path(w1, s, g, allow_diagonal=False)}, ROUNDS[M])
-    assert len(paths["peer"]) == len(path), "the path lengths differ"
+    (r1, p1), (_, plain_path) = side_by_side(ROUNDS[M], [
+        mine, lambda: pyastar2d.astar_path(w1, s, g, allow_diagonal=False)])
     w3, s3, g3 = unrolled(occ, s, g)
-    torus, paths = interleaved({
-        "rapp": lambda: rapp.astar(occ, s, g),
-        "peer": lambda: pyastar2d.astar_path(w3, s3, g3, allow_diagonal=False)}, ROUNDS[M])
-    assert len(paths["peer"]) == len(path), "the path lengths differ"
-    return {"rapp_s": plain["rapp"], "rapp_path_cells": len(path), "rapp_expansions": expansions,
-            "rapp_ns_per_expansion": plain["rapp"] / expansions * 1e9,
-            "pyastar2d_no_wrap_s": plain["peer"],
-            "pyastar2d_no_wrap_path_cells": len(paths["peer"]),
-            "rapp_over_pyastar2d_no_wrap": plain["rapp"] / plain["peer"],
-            "pyastar2d_no_wrap_over_rapp": plain["peer"] / plain["rapp"],
-            "rapp_s_beside_torus": torus["rapp"],
-            "pyastar2d_s": torus["peer"],
-            "rapp_over_pyastar2d": torus["rapp"] / torus["peer"],
-            "pyastar2d_over_rapp": torus["peer"] / torus["rapp"]}
+    (r3, p3), (_, torus_path) = side_by_side(ROUNDS[M], [
+        mine, lambda: pyastar2d.astar_path(w3, s3, g3, allow_diagonal=False)])
+    assert len(plain_path) == len(torus_path) == len(path), "the path lengths differ"
+    return {"rapp_s": r1, "rapp_path_cells": len(path), "rapp_expansions": expansions,
+            "rapp_ns_per_expansion": r1 / expansions * 1e9,
+            "pyastar2d_no_wrap_s": p1, "pyastar2d_no_wrap_path_cells": len(plain_path),
+            "rapp_over_pyastar2d_no_wrap": r1 / p1, "pyastar2d_no_wrap_over_rapp": p1 / r1,
+            "rapp_s_beside_torus": r3, "pyastar2d_s": p3,
+            "rapp_over_pyastar2d": r3 / p3, "pyastar2d_over_rapp": p3 / r3}
 
 
 def table(grids, before):
