@@ -410,7 +410,7 @@ def test_compiled_astar_equals_teaching_astar_and_bfs_optimum(case, w):
 larger_grids = grids(sides={2: 48, 3: 13}, densities=(0.0, 0.2, 0.35, 0.5), min_side=2)
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=80, deadline=None)
 @given(larger_grids, st.sampled_from([1.0, 1.0, 1.0, 1.7]))
 def test_compiled_astar_is_optimal_against_the_slow_bfs(case, w):
     # The compiled kernel (bucket queue for w = 1, rapp.heap for w > 1; its open list starts
