@@ -22,10 +22,11 @@ import time
 
 import numpy as np
 
-from rapp import progress
+from rapp import heap, progress
 from rapp.checks import positive_integer
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import InvalidSetting, NoPathFound
+from rapp.jit import jit
 from rapp.paths import PlannerResult, tree_result
 from rapp.rrt import RRTResult
 from rapp.sampling import Budget, check_start_and_goals, uniform_samples, unwrapped_chain
@@ -45,9 +46,9 @@ BLOCK_BYTES = 64_000_000
 def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target):
     """Dijkstra over a CSR graph (node u's neighbours ``dst[start[u]:stop[u]]``), for numba.
 
-    The heap holds ``(distance, node)`` pairs compared as heapq compares the tuples of
-    :func:`_dijkstra`, and every neighbour list is in the order :func:`_dijkstra` builds, so
-    both pop the same nodes in the same order and return the same parents.
+    The heap (:mod:`rapp.heap`) holds ``(distance, node)`` pairs compared as heapq compares
+    the tuples of :func:`_dijkstra`, and every neighbour list is in the order :func:`_dijkstra`
+    builds, so both pop the same nodes in the same order and return the same parents.
     """
     dist = np.full(n, np.inf)
     parent = np.full(n, -1, dtype=np.int64)
@@ -57,41 +58,9 @@ def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target):
     size = 0
     for s in sources:
         dist[s] = 0.0
-        # push (0, s)
-        i = size
-        size += 1
-        while i > 0:
-            p = (i - 1) >> 1
-            if 0.0 < hd[p] or (0.0 == hd[p] and s < hu[p]):
-                hd[i] = hd[p]
-                hu[i] = hu[p]
-                i = p
-            else:
-                break
-        hd[i] = 0.0
-        hu[i] = s
+        size = heap.push(hd, hu, size, 0.0, s)
     while size:
-        d = hd[0]
-        u = hu[0]
-        size -= 1
-        if size:  # sift the last entry down from the root
-            ld = hd[size]
-            lu = hu[size]
-            i = 0
-            while True:
-                c = 2 * i + 1
-                if c >= size:
-                    break
-                if c + 1 < size and (hd[c + 1] < hd[c] or (hd[c + 1] == hd[c] and hu[c + 1] < hu[c])):
-                    c += 1
-                if hd[c] < ld or (hd[c] == ld and hu[c] < lu):
-                    hd[i] = hd[c]
-                    hu[i] = hu[c]
-                    i = c
-                else:
-                    break
-            hd[i] = ld
-            hu[i] = lu
+        d, u, size = heap.pop(hd, hu, size)
         if d > dist[u]:
             continue
         if is_target[u]:
@@ -102,32 +71,14 @@ def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target):
             if nd < dist[v]:
                 dist[v] = nd
                 parent[v] = u
-                i = size
-                size += 1
-                while i > 0:
-                    p = (i - 1) >> 1
-                    if nd < hd[p] or (nd == hd[p] and v < hu[p]):
-                        hd[i] = hd[p]
-                        hu[i] = hu[p]
-                        i = p
-                    else:
-                        break
-                hd[i] = nd
-                hu[i] = v
+                size = heap.push(hd, hu, size, nd, v)
     return parent, -1
 
 
 @functools.cache
 def _compiled_dijkstra():
     """:func:`_dijkstra_kernel` compiled by numba (cached on disk), or None without numba."""
-    try:
-        import numba
-    except ImportError:
-        return None
-    try:
-        return numba.njit(cache=True, nogil=True)(_dijkstra_kernel)
-    except RuntimeError:  # no writable cache directory: compile on every run
-        return numba.njit(nogil=True)(_dijkstra_kernel)
+    return jit(_dijkstra_kernel) if heap.compiled() else None  # heap's functions first
 
 
 def _shortest(nodes_n: int, edges: dict, sources, targets, budget=None):

@@ -23,8 +23,11 @@ inner loop only reads Python lists and a bytearray, which is several times
 faster than tuples of indices. :func:`astar` runs the same search, in the same
 order, compiled with numba (``@njit(cache=True)``, see :func:`_astar_kernel`)
 when numba can be imported, and falls back to :func:`astar_search` when it
-cannot. numba is imported on the first search of a grid of :data:`COMPILE_FROM`
-cells or more, not with rapp: a smaller grid is searched in Python until then.
+cannot. Its open list is a bucket queue of three ``f`` levels when ``w = 1``
+(see :func:`_astar_loop`) and the binary heap of :mod:`rapp.heap` otherwise;
+both pop the entries in the order of the heap of :func:`astar_search`. numba
+is imported on the first search of a grid of :data:`COMPILE_FROM` cells or
+more, not with rapp: a smaller grid is searched in Python until then.
 """
 
 from __future__ import annotations
@@ -38,7 +41,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rapp import heap
 from rapp.errors import InvalidCell, NoPathFound
+from rapp.jit import jit
 from rapp.checks import sorted_unique, finite_number, positive_integer
 
 __all__ = [
@@ -488,17 +493,26 @@ def astar_search(
 def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
     """A* of :func:`astar_search` over flat cell numbers, written for numba.
 
-    The same search in the same order: heap entries ordered by ``(f, -g, cell)``
+    The same search in the same order: entries ordered by ``(f, -g, cell)``
     (``f = g + w h``), lazy deletion of stale entries, cells never re-expanded,
-    the goal accepted when it is taken off the heap, the same expansion limit;
-    so it expands the same cells and returns the same path. Arrays instead of
-    Python objects: ``g`` and ``parent`` of grid size in int32, with ``g = -1``
-    marking a closed cell (blocked cells are closed from the start, so the one
-    test ``g(u) + 1 >= g[v]`` rejects closed cells and paths that are no
-    better); a binary heap over two growing arrays (``f`` and the key
-    ``cell - g * size``, which orders as ``(-g, cell)``); neighbours by stride
-    arithmetic with the wrap of each axis; GD1 updated per step from one table
-    of per-axis distances (a step changes one coordinate).
+    the goal accepted when it is taken off the open list, the same expansion
+    limit; so it expands the same cells and returns the same path.
+
+    Arrays instead of Python objects: ``g`` of grid size in int32, with
+    ``g = -1`` marking a closed cell (blocked cells are closed from the start,
+    so the one test ``g(u) + 1 >= g[v]`` rejects closed cells and paths that are
+    no better); the step that reached each cell in one byte (``2 axis + (step <
+    0)``), from which the path is walked back; neighbours by stride arithmetic
+    with the wrap of each axis; GD1 updated per step from one table of per-axis
+    distances (a step changes one coordinate). An open entry is ``f`` and the
+    key ``h << sb | packed`` (``h`` the unweighted GD1; ``packed`` the cell's
+    coordinates in bit fields, the last axis lowest, ``sb`` bits in all, which
+    order as flat cell numbers do and are read back without a division): among
+    equal ``f`` a smaller ``h`` is a larger ``g``, so the key orders the ties as
+    ``(-g, cell)`` does. The loop itself is
+    :func:`_astar_loop`; it returns when the open list needs more room, and
+    the longer arrays are made here (an array reassigned inside the loop would
+    cost numba two atomic reference counts per iteration).
 
     Returns ``(status, expansions, flat_path)``: status 0 found, 1 goal
     unreachable, 2 expansion limit hit (``limit < 0``: no limit).
@@ -522,70 +536,146 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
             if wraps[a] and m - d < d:
                 d = m - d
             dist[base[a] + c] = d
-    none = np.empty(0, np.int64)
     if s == t:
         path = np.empty(1, np.int64)
         path[0] = s
         return 0, 0, path
+    # Packed coordinates: axis a in bits shift[a]..shift[a] + width, the last axis lowest, so
+    # that packed numbers order as flat cell numbers do; sb bits hold them all.
+    shift = np.zeros(n, np.int64)
+    sb = 0
+    for a in range(n - 1, -1, -1):
+        shift[a] = sb
+        while (1 << (sb - shift[a])) < shape[a]:
+            sb += 1
     g = np.empty(size, np.int32)
     for i in range(size):
         g[i] = -1 if blocked[i] else 2147483647
-    parent = np.empty(size, np.int32)
-    coord = np.empty(n, np.int64)
-    cap = 4096
-    hf = np.empty(cap, np.float64)
-    hk = np.empty(cap, np.int64)
+    came = np.empty(size, np.uint8)
     hs = 0
+    ps = 0
     for a in range(n):
-        hs += dist[base[a] + (s // strides[a]) % shape[a]]
+        c = (s // strides[a]) % shape[a]
+        hs += dist[base[a] + c]
+        ps |= c << shift[a]
     g[s] = 0
-    hf[0] = weight * hs
-    hk[0] = s
-    length = 1
-    expansions = 0
-    while length > 0:
-        # Pop the smallest (f, key): move the last entry down from the root.
-        u = hk[0] % size
-        length -= 1
-        if length > 0:
-            xf = hf[length]
-            xk = hk[length]
-            i = 0
-            while True:
-                j = 2 * i + 1
-                if j >= length:
-                    break
-                r = j + 1
-                if r < length and (hf[r] < hf[j] or (hf[r] == hf[j] and hk[r] < hk[j])):
-                    j = r
-                if hf[j] < xf or (hf[j] == xf and hk[j] < xk):
-                    hf[i] = hf[j]
-                    hk[i] = hk[j]
-                    i = j
+    # state: F (the f level being expanded, w = 1), open entries (w > 1), expansions.
+    state = np.array([hs, 0, 0])
+    # Small to start with (the tests' grids make them grow): doubled when full.
+    bk = np.empty((3, 16), np.int64)
+    bl = np.zeros(3, np.int64)
+    hf = np.empty(16, np.float64)
+    hk = np.empty(16, np.int64)
+    if weight == 1.0:
+        bk[hs % 3, 0] = -((hs << sb) | ps)
+        bl[hs % 3] = 1
+    else:
+        state[1] = heap.push(hf, hk, 0, weight * hs, (hs << sb) | ps)
+    while True:
+        status = _astar_loop(g, came, shape, strides, shift, wraps, dist, base, sb, t, weight,
+                             limit, bk, bl, hf, hk, state)
+        if status < 3:
+            break
+        # The open list is full: the same entries in arrays twice as long.
+        if weight == 1.0:
+            longer = np.empty((3, 2 * bk.shape[1]), np.int64)
+            longer[:, :bk.shape[1]] = bk
+            bk = longer
+        else:
+            lf, lk = np.empty(2 * hf.shape[0], np.float64), np.empty(2 * hf.shape[0], np.int64)
+            lf[:hf.shape[0]] = hf
+            lk[:hf.shape[0]] = hk
+            hf, hk = lf, lk
+    if status > 0:
+        return status, state[2], np.empty(0, np.int64)
+    path = np.empty(g[t] + 1, np.int64)  # the loop left g[t] open: the goal's cost
+    v = t
+    for k in range(g[t], 0, -1):
+        path[k] = v
+        a = came[v] >> 1
+        m = shape[a]
+        c = (v // strides[a]) % m
+        pc = c + 1 if came[v] & 1 else c - 1
+        if pc < 0:
+            pc = m - 1
+        elif pc == m:
+            pc = 0
+        v += (pc - c) * strides[a]
+    path[0] = v
+    return 0, state[2], path
+
+
+def _astar_loop(g, came, shape, strides, shift, wraps, dist, base, sb, t, weight, limit, bk, bl,
+                hf, hk, state):
+    """The loop of :func:`_astar_kernel`: expand until the goal (0), none is left (1), the limit
+    (2), or the open list may not hold the next expansion's entries (3; resumed after).
+
+    The open list. With ``w = 1`` (the default) ``f`` is an integer, and since
+    GD1 is consistent and changes by at most 1 per unit step, a step raises
+    ``f`` by 0, 1 or 2: the open entries span three values ``F, F + 1, F + 2``
+    above the ``F`` being expanded. So the list is three buckets by ``f mod
+    3`` (a bucket queue, Dial 1969), rows of ``bk`` with lengths ``bl``: entries
+    of ``F + 1`` and ``F + 2`` are appended unsorted, as negated keys; when
+    level ``F`` runs out, the next level is sorted once and popped from its
+    end. A step that keeps ``f`` lowers ``h``, so its key is below every key
+    left in level ``F``: it is inserted at the end, past only the entries of
+    the same expansion. No comparison of ``f`` and no sift through a heap; the
+    pops are those of the binary heap, in the same order. With ``w > 1``, ``f``
+    is not an integer, and the list is the binary heap of :mod:`rapp.heap`
+    over the pairs ``(f, key)`` in ``hf`` and ``hk``.
+    """
+    n = shape.shape[0]
+    mask = (1 << sb) - 1
+    unit = weight == 1.0
+    F, length, expansions = state[0], state[1], state[2]
+    cur = F % 3
+    coord = np.empty(n, np.int64)
+    fmask = np.empty(n, np.int64)
+    for a in range(n):
+        fmask[a] = (1 << ((sb if a == 0 else shift[a - 1]) - shift[a])) - 1
+    status = 1
+    while True:
+        if unit:
+            if max(bl[0], bl[1], bl[2]) + 2 * n > bk.shape[1]:
+                status = 3
+                break
+            if bl[cur] == 0:
+                if bl[(cur + 1) % 3] > 0:
+                    F += 1
+                elif bl[(cur + 2) % 3] > 0:
+                    F += 2
                 else:
                     break
-            hf[i] = xf
-            hk[i] = xk
+                cur = F % 3
+                bk[cur, :bl[cur]].sort()
+            bl[cur] -= 1
+            key = -bk[cur, bl[cur]]
+        else:
+            if length + 2 * n > hf.shape[0]:
+                status = 3
+                break
+            if length == 0:
+                break
+            _, key, length = heap.pop(hf, hk, length)
+        pu = key & mask
+        u = 0
+        for a in range(n):
+            c = (pu >> shift[a]) & fmask[a]
+            coord[a] = c
+            u += c * strides[a]
         gu = g[u]
         if gu < 0:
             continue
         if u == t:
-            path = np.empty(gu + 1, np.int64)
-            v = t
-            for k in range(gu, -1, -1):
-                path[k] = v
-                v = parent[v]
-            return 0, expansions, path
+            status = 0
+            break
         if expansions == limit:
-            return 2, expansions, none
+            status = 2
+            break
         g[u] = -1
         expansions += 1
         gv = gu + 1
-        hu = 0
-        for a in range(n):
-            c = (u // strides[a]) % shape[a]
-            coord[a] = c
-            hu += dist[base[a] + c]
+        hu = key >> sb
         for a in range(n):
             m = shape[a]
             c = coord[a]
@@ -599,31 +689,22 @@ def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
                 if gv >= g[v]:
                     continue
                 g[v] = gv
-                parent[v] = u
-                fv = gv + weight * (hu - dist[base[a] + c] + dist[base[a] + nc])
-                kv = v - gv * size
-                if length == cap:
-                    cap *= 2
-                    nf = np.empty(cap, np.float64)
-                    nk = np.empty(cap, np.int64)
-                    nf[:length] = hf[:length]
-                    nk[:length] = hk[:length]
-                    hf = nf
-                    hk = nk
-                # Push: move the hole up from the end.
-                i = length
-                length += 1
-                while i > 0:
-                    p = (i - 1) >> 1
-                    if fv < hf[p] or (fv == hf[p] and kv < hk[p]):
-                        hf[i] = hf[p]
-                        hk[i] = hk[p]
-                        i = p
-                    else:
-                        break
-                hf[i] = fv
-                hk[i] = kv
-    return 1, expansions, none
+                came[v] = 2 * a + (step < 0)
+                hv = hu - dist[base[a] + c] + dist[base[a] + nc]
+                kv = (hv << sb) | (pu + ((nc - c) << shift[a]))
+                if not unit:
+                    length = heap.push(hf, hk, length, gv + weight * hv, kv)
+                    continue
+                b = (cur + 1 + hv - hu) % 3
+                i = bl[b]
+                bl[b] = i + 1
+                if b == cur:  # same f, smaller h: sorts below what is left of level F
+                    while i > 0 and bk[b, i - 1] > -kv:
+                        bk[b, i] = bk[b, i - 1]
+                        i -= 1
+                bk[b, i] = -kv
+    state[0], state[1], state[2] = F, length, expansions
+    return status
 
 
 #: Grids of at least this many cells are searched by the compiled kernel even when numba is
@@ -634,14 +715,13 @@ COMPILE_FROM = 1 << 16
 @functools.cache
 def _compiled_astar():
     """:func:`_astar_kernel` compiled by numba (cached on disk), or None without numba."""
-    try:
-        import numba
-    except ImportError:
+    # The kernel calls _astar_loop, which calls heap.push and heap.pop: those are compiled first.
+    if not heap.compiled():
         return None
-    try:
-        return numba.njit(cache=True, nogil=True)(_astar_kernel)
-    except RuntimeError:  # no writable cache directory: compile on every run
-        return numba.njit(nogil=True)(_astar_kernel)
+    g = globals()
+    if not hasattr(g["_astar_loop"], "py_func"):  # not yet a numba dispatcher
+        g["_astar_loop"] = jit(g["_astar_loop"])
+    return jit(_astar_kernel)
 
 
 def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expansions=None):
@@ -650,8 +730,9 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     The search of :func:`astar_search` (see there for the heuristic, the
     tie-breaking and the ``cost <= w * optimum`` bound of weighted A*), compiled
     with numba (:func:`_astar_kernel`): the same cells expanded in the same
-    order and the same path, 10-25 times faster than that Python loop on the
-    benchmark grids (``benchmarks/bench_search.py``). If numba cannot be
+    order and the same path, 30-70 times faster than that Python loop on the
+    benchmark grids (``benchmarks/bench_search.py``), and faster than the C++ A*
+    of pyastar2d (``benchmarks/bench_astar_cpp.py``). If numba cannot be
     imported it falls back to :func:`astar_search` itself (same results,
     slower). The first call imports numba and loads the compiled kernel from
     its on-disk cache (or compiles it once, some seconds).
@@ -697,7 +778,9 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     # Importing numba costs more than this Python loop spends on a small grid (a command
     # planning on 100 x 100 cells would pay it for nothing); once it is imported, use it.
     kernel = _compiled_astar() if occ.size >= COMPILE_FROM or "numba" in sys.modules else None
-    if kernel is None or occ.size >= 2**31 - 1:  # int32 cells; keys cell - g * size in int64
+    # The kernel: g and cells in int32; keys h << sb | packed coordinates in int64.
+    sb = sum((m - 1).bit_length() for m in occ.shape)
+    if kernel is None or occ.size >= 2**31 - 1 or sb + sum(occ.shape).bit_length() > 62:
         r = astar_search(
             occupied,
             start,

@@ -74,12 +74,13 @@ def assert_valid_path(path, occ, start, goal, wraps):
 
 
 @st.composite
-def grids(draw, free_ends=True):
-    n = draw(st.integers(1, 3))
-    side = {1: 25, 2: 10, 3: 5}[n]
-    shape = tuple(draw(st.lists(st.integers(1, side), min_size=n, max_size=n)))
+def grids(draw, free_ends=True, sides=None, densities=(0.0, 0.1, 0.25, 0.4, 0.6), min_side=1):
+    """A random grid: ``sides`` maps each dimension drawn to its largest side."""
+    sides = sides or {1: 25, 2: 10, 3: 5}
+    n = draw(st.integers(min(sides), max(sides)))
+    shape = tuple(draw(st.lists(st.integers(min_side, sides[n]), min_size=n, max_size=n)))
     wraps = tuple(draw(st.lists(st.booleans(), min_size=n, max_size=n)))
-    density = draw(st.sampled_from([0.0, 0.1, 0.25, 0.4, 0.6]))
+    density = draw(st.sampled_from(densities))
     rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
     occ = rng.random(shape) < density
     start = tuple(int(rng.integers(m)) for m in shape)
@@ -402,6 +403,39 @@ def test_compiled_astar_equals_teaching_astar_and_bfs_optimum(case, w):
     if r.expansions > 0:
         with pytest.raises(NoPathFound, match=f"limit of {r.expansions - 1} expansions"):
             astar(occ, start, goal, wraps=wraps, heuristic_weight=w, max_expansions=r.expansions - 1)
+
+
+#: 2-D and 3-D grids big enough for wide open lists: odd and even sides, each axis wrapping or
+#: not, walls as dense as a maze or none.
+larger_grids = grids(sides={2: 48, 3: 13}, densities=(0.0, 0.2, 0.35, 0.5), min_side=2)
+
+
+@settings(max_examples=80, deadline=None)
+@given(larger_grids, st.sampled_from([1.0, 1.0, 1.0, 1.7]))
+def test_compiled_astar_is_optimal_against_the_slow_bfs(case, w):
+    # The compiled kernel (bucket queue for w = 1, rapp.heap for w > 1; its open list starts
+    # small and grows here) against the slow deque BFS of this file, sharing no code with it:
+    # the optimal length, every step a unit move between free cells, the teaching search's path.
+    pytest.importorskip("numba")
+    from rapp import search
+
+    assert search._compiled_astar() is not None  # numba imported: astar runs the kernel
+    occ, wraps, start, goal = case
+    opt = slow_bfs(occ, start, wraps).get(goal)
+    if opt is None:
+        with pytest.raises(NoPathFound, match="cannot be reached"):
+            astar(occ, start, goal, wraps=wraps, heuristic_weight=w)
+        return
+    path = astar(occ, start, goal, wraps=wraps, heuristic_weight=w)
+    assert_valid_path(path, occ, start, goal, wraps)
+    if w == 1.0:
+        assert len(path) - 1 == opt
+    else:
+        assert opt <= len(path) - 1 <= w * opt
+    r = astar_search(occ, start, goal, wraps=wraps, heuristic_weight=w)
+    assert path == [tuple(c) for c in r.path.tolist()]
+    # The same expansions: the limit at the teaching search's count still finds the path.
+    assert astar(occ, start, goal, wraps=wraps, heuristic_weight=w, max_expansions=r.expansions) == path
 
 
 def test_astar_is_compiled_when_numba_is_installed():
