@@ -14,6 +14,21 @@ it the fair peers of the same run: a loop of ``ik_2link`` itself (the batching a
 ``ik``'s joint limits and checks), and the textbook closed form in plain numpy (``arccos`` of
 the law of cosines, both elbows), which skips the input checks and the boundary care.
 
+The third comparison, the fair peer of the 3-link case: robotics-toolbox-python's C++
+Gauss-Newton solver ``ik_GN`` (the version pinned in ``benchmarks/requirements.txt``) on the
+same arm built as an ETS robot of three revolute joints in the plane, position-only mask (the
+2-D tip), called once per target on every 5th of the 10,000 targets (2,000 targets: a stable
+per-target time), best of 3 passes, both with its normal-matrix inverse and with
+``pinv=True`` (the option its documentation gives for redundant robots); the faster is the
+peer. Its tolerance is on ``E = e^T e / 2``, set so that ``|e| <= 1e-10`` m like rapp's; every
+solution it reports is checked with ``rapp``'s forward kinematics to within 1e-9 m. CPU time
+(``time.process_time``) and wall time (``time.perf_counter``) per target, beside rapp's on the
+whole batch; the ratio is rtb's time over rapp's. rapp's default start is exact for these
+targets (two links by the law of cosines, the third held straight), so its Newton-Raphson has
+nothing left to do; the row "rapp from random starts" gives ``ik_numeric`` the kind of start
+``ik_GN`` gets (a random configuration per target) and times the iteration itself, and "rapp,
+numpy path" the batch without numba.
+
 Run: ``python benchmarks/bench_ik.py`` -> prints a table, writes
 ``rapp/recorded/ik.json``; ``--only-2link`` re-measures the 2-link comparison alone and
 replaces that part of the file (with its own date and load).
@@ -31,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rapp import Arm, ik, ik_2link, ik_numeric
+from rapp import Arm, ik, ik_2link, ik_kernel, ik_numeric
 
 N_TARGETS = 10_000
 TOL = 1e-10
@@ -64,6 +79,93 @@ def best_of(fn, repeat):
         out = fn()
         times.append(time.perf_counter() - t)
     return min(times), out
+
+
+def best_cpu_wall(fn, repeat):
+    """Best CPU time (``time.process_time``) and best wall time of ``repeat`` calls, and the
+    last result."""
+    cpu, wall = [], []
+    out = None
+    for _ in range(repeat):
+        c, w = time.process_time(), time.perf_counter()
+        out = fn()
+        wall.append(time.perf_counter() - w)
+        cpu.append(time.process_time() - c)
+    return min(cpu), min(wall), out
+
+
+RTB_EVERY = 5      # rtb solves every 5th target: 2,000 of the 10,000
+RTB_REPEAT = 3
+
+
+def planar_robot(lengths):
+    """The arm as a robotics-toolbox ETS robot: Rz(q1) tx(L1) Rz(q2) tx(L2) ... in the plane."""
+    import roboticstoolbox as rtb
+    from roboticstoolbox import ET
+
+    ets = ET.Rz()
+    for k, length in enumerate(lengths):
+        ets = ets * ET.tx(float(length))
+        if k + 1 < len(lengths):
+            ets = ets * ET.Rz()
+    return rtb.Robot(ets)
+
+
+def rtb_comparison(arm: Arm, targets, us_rapp_cpu, us_rapp_wall) -> dict | None:
+    """robotics-toolbox's ``ik_GN``, one call per target, on every RTB_EVERY-th target."""
+    try:
+        import roboticstoolbox
+    except ImportError:
+        print("robotics-toolbox-python not installed (pip install -r benchmarks/requirements.txt): "
+              "no ik_GN comparison")
+        return None
+    robot = planar_robot(arm.link_lengths)
+    sample = targets[::RTB_EVERY]
+    poses = []
+    for x, y in sample:
+        pose = np.eye(4)
+        pose[0, 3], pose[1, 3] = x, y
+        poses.append(pose)
+    mask = np.array([1.0, 1.0, 0.0, 0.0, 0.0, 0.0])   # x and y of the tip only
+    e_tol = 0.5 * TOL**2                              # E = e^T e / 2 <= this  <=>  |e| <= TOL
+    variants = {}
+    for pinv in (False, True):
+        def run():
+            np.random.seed(0)   # ik_GN draws its random starts from numpy's global generator
+            return [robot.ik_GN(p, mask=mask, tol=e_tol, joint_limits=False, pinv=pinv)
+                    for p in poses]
+        run()  # warm-up
+        cpu, wall, sols = best_cpu_wall(run, RTB_REPEAT)
+        q = np.array([s.q for s in sols])
+        ok = np.array([bool(s.success) for s in sols])
+        err = np.linalg.norm(arm.end_effector(q) - sample, axis=-1)
+        variants["pinv" if pinv else "inverse"] = {
+            "cpu_us_per_target": 1e6 * cpu / len(sample),
+            "wall_us_per_target": 1e6 * wall / len(sample),
+            "success_rate": float(ok.mean()),
+            "max_error_m": float(err.max()),
+            "max_error_ok_m": float(err[ok].max(initial=0.0)),
+            "all_ok_within_1e-9_m": bool(np.all(err[ok] <= 1e-9)),
+            "mean_iterations": float(np.mean([s.iterations for s in sols])),
+            "mean_searches": float(np.mean([s.searches for s in sols])),
+        }
+    best = min(variants, key=lambda k: variants[k]["cpu_us_per_target"])
+    peer = variants[best]
+    return {
+        "peer": f"roboticstoolbox-python {roboticstoolbox.__version__} Robot.ik_GN (C++), "
+                "one call per target, mask [1, 1, 0, 0, 0, 0], joint_limits=False, random start",
+        "targets_sampled": len(sample),
+        "sample": f"every {RTB_EVERY}th of the {len(targets)} targets",
+        "repeats": RTB_REPEAT,
+        "tol_E": e_tol,
+        "variants": variants,
+        "fastest_variant": best,
+        "rapp_cpu_us_per_target": us_rapp_cpu,
+        "rapp_wall_us_per_target": us_rapp_wall,
+        "ratio_cpu_rtb_over_rapp": peer["cpu_us_per_target"] / us_rapp_cpu,
+        "ratio_wall_rtb_over_rapp": peer["wall_us_per_target"] / us_rapp_wall,
+        "goal": "ratio_cpu_rtb_over_rapp >= 150 and every rapp target within 1e-9 m",
+    }
 
 
 def numpy_2link(l1, l2, targets):
@@ -129,8 +231,22 @@ def main():
     targets = arm.end_effector(rng.uniform(-np.pi, np.pi, (N_TARGETS, arm.n)))
 
     ik_numeric(arm, targets[:100])  # warm-up
-    t_fast, (q, ok) = best_of(lambda: ik_numeric(arm, targets, tol=TOL), repeat=7)
+    compiled = ik_kernel.loaded(len(targets)) is not None
+    cpu_fast, t_fast, (q, ok) = best_cpu_wall(lambda: ik_numeric(arm, targets, tol=TOL), repeat=7)
     err = np.linalg.norm(arm.end_effector(q) - targets, axis=-1)
+    # The iteration itself: a random start per target, as ik_GN gets.
+    starts = np.random.default_rng(1).uniform(-np.pi, np.pi, targets.shape[:1] + (arm.n,))
+    cpu_rand, t_rand, (q_r, ok_r) = best_cpu_wall(
+        lambda: ik_numeric(arm, targets, starts, tol=TOL), repeat=5)
+    err_r = np.linalg.norm(arm.end_effector(q_r) - targets, axis=-1)
+    # The numpy path, as without numba.
+    loaded = ik_kernel.loaded
+    ik_kernel.loaded = lambda m: None
+    try:
+        cpu_np, t_np, (q_np, ok_np) = best_cpu_wall(lambda: ik_numeric(arm, targets, tol=TOL), 5)
+    finally:
+        ik_kernel.loaded = loaded
+    err_np = np.linalg.norm(arm.end_effector(q_np) - targets, axis=-1)
 
     def run_naive():
         r = np.random.default_rng(0)
@@ -143,16 +259,33 @@ def main():
 
     us_fast = 1e6 * t_fast / N_TARGETS
     us_naive = 1e6 * t_naive / N_TARGETS
+    us_cpu = 1e6 * cpu_fast / N_TARGETS
+    rtb = rtb_comparison(arm, targets, us_cpu, us_fast)
     rows = [
-        ("rapp.ik_numeric (batched NR + DLS)", us_fast, ok.mean(), err.max(), err[ok].max()),
-        ("naive loop (NR + np.linalg.pinv)", us_naive, okn.mean(), errn.max(),
-         errn[okn].max()),
+        ("rapp.ik_numeric" + (" (compiled)" if compiled else " (numpy)"), us_cpu, us_fast,
+         ok.mean(), err.max()),
+        ("rapp from random starts", 1e6 * cpu_rand / N_TARGETS, 1e6 * t_rand / N_TARGETS,
+         ok_r.mean(), err_r[ok_r].max()),
+        ("rapp, numpy path (no numba)", 1e6 * cpu_np / N_TARGETS, 1e6 * t_np / N_TARGETS,
+         ok_np.mean(), err_np.max()),
     ]
-    print(f"3-link arm {arm.link_lengths}, {N_TARGETS} reachable targets, tol {TOL:g} m")
-    print(f"{'method':38s} {'us/target':>10s} {'success':>8s} {'max err':>10s} {'max err ok':>11s}")
-    for name, us, succ, emax, eok in rows:
-        print(f"{name:38s} {us:10.2f} {succ:8.4f} {emax:10.2e} {eok:11.2e}")
-    print(f"speed-up: {us_naive / us_fast:.1f}x")
+    if rtb is not None:
+        for name, v in rtb["variants"].items():
+            rows.append((f"rtb ik_GN ({name}), {rtb['targets_sampled']} targets",
+                         v["cpu_us_per_target"], v["wall_us_per_target"], v["success_rate"],
+                         v["max_error_ok_m"]))
+    rows.append(("naive loop (NR + np.linalg.pinv)", float("nan"), us_naive, okn.mean(),
+                 errn[okn].max()))
+    print(f"3-link arm {arm.link_lengths}, {N_TARGETS} reachable targets, tol {TOL:g} m, "
+          f"load {os.getloadavg() if hasattr(os, 'getloadavg') else '?'}")
+    print(f"{'method':42s} {'CPU us':>8s} {'wall us':>9s} {'success':>8s} {'max err ok':>11s}")
+    for name, cpu, wall, succ, eok in rows:
+        print(f"{name:42s} {cpu:8.3f} {wall:9.3f} {succ:8.4f} {eok:11.2e}")
+    print(f"speed-up over the naive loop: {us_naive / us_fast:.1f}x")
+    if rtb is not None:
+        print(f"rtb ik_GN ({rtb['fastest_variant']}) over rapp per target: "
+              f"{rtb['ratio_cpu_rtb_over_rapp']:.0f}x CPU, {rtb['ratio_wall_rtb_over_rapp']:.0f}x wall "
+              "(goal 150x CPU)")
 
     result = {
         "benchmark": "ik_numeric vs per-target Newton-Raphson with pinv",
@@ -164,9 +297,20 @@ def main():
         "naive": {"us_per_target": us_naive, "success_rate": float(okn.mean()),
                   "max_error_m": float(errn.max()), "max_error_ok_m": float(errn[okn].max())},
         "speedup": us_naive / us_fast,
+        "compiled": compiled,
+        "batched_cpu_us_per_target": us_cpu,
+        "random_starts": {"us_per_target": 1e6 * t_rand / N_TARGETS,
+                          "cpu_us_per_target": 1e6 * cpu_rand / N_TARGETS,
+                          "success_rate": float(ok_r.mean()),
+                          "max_error_ok_m": float(err_r[ok_r].max())},
+        "numpy_path": {"us_per_target": 1e6 * t_np / N_TARGETS,
+                       "cpu_us_per_target": 1e6 * cpu_np / N_TARGETS,
+                       "success_rate": float(ok_np.mean()), "max_error_m": float(err_np.max()),
+                       "same_success_set": bool(np.array_equal(ok, ok_np))},
         "machine": {
             "python": platform.python_version(),
             "numpy": np.__version__,
+            "numpy_file": np.__file__,
             "platform": platform.platform(),
             "processor": platform.processor() or platform.machine(),
             "cpus": os.cpu_count(),
@@ -174,6 +318,12 @@ def main():
         },
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
     }
+    if rtb is not None:
+        rtb["goal_met"] = bool(rtb["ratio_cpu_rtb_over_rapp"] >= 150 and ok.all()
+                               and err.max() <= 1e-9)
+        result["rtb_ik_GN"] = rtb
+    elif OUT.exists() and "rtb_ik_GN" in json.loads(OUT.read_text()):
+        print("(the recorded rtb_ik_GN section is dropped: it was timed against another run)")
     result["analytic_2link"] = analytic_2link()
     OUT.write_text(json.dumps(result, indent=2) + "\n")
     print(f"wrote {OUT}")

@@ -431,6 +431,8 @@ def _project(q: np.ndarray, limited: np.ndarray, lo: np.ndarray, hi: np.ndarray)
     measured is exactly the one returned (no re-evaluation after a final wrap).
     """
     wrapped = (q + np.pi) % TWO_PI - np.pi
+    # Just below -pi the sum rounds up to 2 pi and the result to +pi.
+    wrapped[wrapped >= np.pi] = -np.pi
     if not limited.any():
         return wrapped
     lim = limited[:, None]

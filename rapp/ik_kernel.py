@@ -52,32 +52,47 @@ LAMBDA_MAX = 1e-2
 LOAD_FROM = 2048
 
 
-def _closed_form(lengths, tx, ty, q):
+def _arm_constants(lengths):
+    """What :func:`_closed_form` needs of the (scaled) arm, computed once per batch:
+    ``L1, L2``, the tail length ``L_t``, ``1 / L_t`` (0 without a tail) and ``1 / (2 L1 L2)``."""
+    n = lengths.size
+    out = np.zeros(5)
+    out[0] = lengths[0]
+    if n > 1:
+        out[1] = lengths[1]
+        for j in range(2, n):
+            out[2] += lengths[j]
+        out[3] = 1.0 / out[2] if out[2] > 0.0 else 0.0
+        out[4] = 0.5 / (lengths[0] * lengths[1])
+    return out
+
+
+def _closed_form(arm, tx, ty, q):
     """The start of :func:`rapp.ik.closed_form_start` for one target, into ``q``; False
-    where it does not exist (``q`` untouched).
+    where it does not exist (``q`` untouched). ``arm`` from :func:`_arm_constants`.
 
     The same geometry with the directions carried as unit vectors, so that only the
     three joint angles need an ``atan2`` (no ``acos``, ``cos`` or ``sin``).
     """
-    n = lengths.size
+    n = q.size
     if n == 1:
         q[0] = math.atan2(ty, tx)
         return True
-    l1 = lengths[0]
-    l2 = lengths[1]
-    lt = 0.0
-    for j in range(2, n):
-        lt += lengths[j]
+    l1, l2, lt, inv_lt, inv_two = arm[0], arm[1], arm[2], arm[3], arm[4]
     r = math.sqrt(tx * tx + ty * ty)
     a = max(abs(l1 - l2), abs(r - lt))
     b = min(l1 + l2, r + lt)
     if not a <= b:
         return False
     d = 0.5 * (a + b)
-    den = 2.0 * r * lt
-    ca = min(1.0, max(-1.0, (r * r + lt * lt - d * d) / den)) if den > 0.0 else 1.0
-    sa = math.sqrt(1.0 - ca * ca)
-    ux, uy = (tx / r, ty / r) if r > 0.0 else (1.0, 0.0)
+    if r > 0.0:
+        inv_r = 1.0 / r
+        ux = tx * inv_r
+        uy = ty * inv_r
+        ca = min(1.0, max(-1.0, (r * r + lt * lt - d * d) * (0.5 * inv_r * inv_lt)))
+    else:
+        ux, uy, ca = 1.0, 0.0, 1.0
+    sa = math.sqrt((1.0 - ca) * (1.0 + ca))
     # The tail's direction: the target's turned by alpha.
     ex = ux * ca - uy * sa
     ey = uy * ca + ux * sa
@@ -86,10 +101,9 @@ def _closed_form(lengths, tx, ty, q):
     rw = math.sqrt(wx * wx + wy * wy)
     r_out = l1 + l2
     r_in = abs(l1 - l2)
-    two = 2.0 * l1 * l2
-    one_minus = max(0.0, (r_out - rw) * (r_out + rw)) / two
-    one_plus = max(0.0, (rw - r_in) * (rw + r_in)) / two
-    c2 = min(1.0, max(-1.0, (rw * rw - l1 * l1 - l2 * l2) / two))
+    one_minus = max(0.0, (r_out - rw) * (r_out + rw)) * inv_two
+    one_plus = max(0.0, (rw - r_in) * (rw + r_in)) * inv_two
+    c2 = min(1.0, max(-1.0, (rw * rw - l1 * l1 - l2 * l2) * inv_two))
     s2 = math.sqrt(one_minus * one_plus)
     # The wrist seen from link 1's frame is k; link 1 points along w turned back by k.
     kx = l1 + l2 * c2
@@ -100,9 +114,9 @@ def _closed_form(lengths, tx, ty, q):
     q[1] = math.atan2(s2, c2)
     if n > 2:
         norm = math.sqrt(cx * cx + cy * cy)
-        c1, s1 = (cx / norm, cy / norm) if norm > 0.0 else (1.0, 0.0)
-        vx = wx - l1 * c1
-        vy = wy - l1 * s1
+        inv = l1 / norm if norm > 0.0 else 0.0
+        vx = wx - (cx * inv if norm > 0.0 else l1)
+        vy = wy - cy * inv
         q[2] = math.atan2(ey * vx - ex * vy, ex * vx + ey * vy)
         for j in range(3, n):
             q[j] = 0.0
@@ -116,6 +130,8 @@ def _project(q, limited, lo, hi):
             q[j] = min(max(q[j], lo[j]), hi[j])
         elif not -math.pi <= q[j] < math.pi:
             q[j] = (q[j] + math.pi) % (2.0 * math.pi) - math.pi
+            if q[j] >= math.pi:  # just below -pi: the sum rounded up to 2 pi
+                q[j] = -math.pi
 
 
 def _dls(jx, jy, ex, ey, dq):
@@ -236,6 +252,7 @@ def _solve(true_lengths, limited, lo, hi, rows, q, closed, hopeless, stop_tol, t
     for j in range(n):
         scale += true_lengths[j]
     lengths = true_lengths / scale
+    arm = _arm_constants(lengths)
     eps = 2.220446049250313e-16
     # The closed-form start needs no iteration where its error meets the iteration's own stop.
     done = min(stop_tol * scale, tol - 64.0 * eps * scale)
@@ -245,8 +262,10 @@ def _solve(true_lengths, limited, lo, hi, rows, q, closed, hopeless, stop_tol, t
         y = rows[i, 1]
         tx = x / scale
         ty = y / scale
-        far = math.hypot(x, y) > scale * (1.0 + 1e-12) or not (
-            math.isfinite(tx) and math.isfinite(ty))
+        # numpy's test (hypot), taken only where the cheap one cannot tell.
+        far = not tx * tx + ty * ty < 1.0 and (
+            math.hypot(x, y) > scale * (1.0 + 1e-12)
+            or not (math.isfinite(tx) and math.isfinite(ty)))
         hopeless[i] = far
         err = math.inf
         if far:
@@ -256,7 +275,7 @@ def _solve(true_lengths, limited, lo, hi, rows, q, closed, hopeless, stop_tol, t
                     qi[j] = 0.0
             _project(qi, limited, lo, hi)
         elif closed[i]:
-            if not _closed_form(lengths, tx, ty, qi):
+            if not _closed_form(arm, tx, ty, qi):
                 status[i] = NO_START
                 continue
             _project(qi, limited, lo, hi)
@@ -300,11 +319,11 @@ def solver():
     g = globals()
     # Every function is replaced before the first call compiles them: _solve then finds
     # the compiled helpers.
-    for name in ("_closed_form", "_project", "_dls", "_newton", "_tip_error", "_solve"):
+    for name in ("_arm_constants", "_closed_form", "_project", "_dls", "_newton", "_tip_error", "_solve"):
         try:
-            g[name] = numba.njit(cache=True, nogil=True)(g[name])
+            g[name] = numba.njit(cache=True, nogil=True, error_model="numpy")(g[name])
         except RuntimeError:  # no writable cache directory: compile on every run
-            g[name] = numba.njit(nogil=True)(g[name])
+            g[name] = numba.njit(nogil=True, error_model="numpy")(g[name])
     return g["_solve"]
 
 
