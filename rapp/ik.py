@@ -6,7 +6,9 @@ The tools, from exact to general:
   cosines: every solution (0, 1 or 2 of them), joint limits applied.
 * :func:`ik_numeric` -- Newton-Raphson on ``f(q) = target`` for an N-link
   arm over a whole batch of targets at once, with damped least squares (DLS)
-  near singular configurations, seeded random restarts and joint limits.
+  near singular configurations, seeded random restarts and joint limits,
+  from the exact start of :func:`closed_form_start` where there is one; on
+  large batches compiled per target (:mod:`rapp.ik_kernel`).
 * :func:`ik` -- the contract: every distinct solution for ONE target (for
   three or more links a seeded sample of the self-motion manifold, and the
   exact collinear arm on a boundary circle).
@@ -648,10 +650,15 @@ def ik_numeric(
 
     Every target is solved at the same time: each iteration is a handful of
     numpy calls over the whole batch (no loop over targets), and only the
-    targets not yet converged are carried to the next iteration. The
-    iteration runs on the arm scaled to total length 1, so neither a huge nor
-    a tiny arm overflows or underflows, and no floating-point warning is
-    raised for any finite input.
+    targets not yet converged are carried to the next iteration. With numba,
+    a batch of at least ``rapp.ik_kernel.LOAD_FROM`` targets (any batch once
+    numba is imported) is instead solved target by target by compiled loops
+    that do the same (:mod:`rapp.ik_kernel`): the same starts, steps,
+    restarts and checks, equal up to the last bits of ``cos`` and ``sin``, so
+    the same targets are solved (on a joint limit a restart may decide
+    otherwise, never reporting a wrong ``ok``). The iteration runs on the arm
+    scaled to total length 1, so neither a huge nor a tiny arm overflows or
+    underflows, and no floating-point warning is raised for any finite input.
 
     Parameters
     ----------
@@ -659,10 +666,14 @@ def ik_numeric(
     targets : array_like, shape (..., 2)
         Finite points.
     q0 : array_like, shape (..., n) or (n,), optional
-        Starting configurations. By default a uniformly bent arm turned to
-        face each target (a good first guess that costs one interpolation),
-        and next to a boundary circle the analytic near-boundary
-        configuration, where Newton-Raphson from elsewhere creeps.
+        Starting configurations. By default :func:`closed_form_start`: the
+        first two links by the law of cosines and the rest held straight, a
+        solution up to round-off wherever it exists (so that Newton-Raphson
+        has nothing left to do). Where it does not (next to the inner circle
+        when a later link is the longest), a uniformly bent arm turned to
+        face the target, and next to a boundary circle the analytic
+        near-boundary configuration, where Newton-Raphson from elsewhere
+        creeps.
     tol : float
         Position tolerance (in length units) for success.
     max_iter : int
