@@ -596,13 +596,13 @@ def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
         sub_rows = rows if idx is None else rows[idx]
         sub = q if idx is None else np.ascontiguousarray(q[idx])
         far = np.empty(sub.shape[0], dtype=bool)
-        status = kernel(arm.lengths, limited, lo, hi, sub_rows, sub, starts_closed, far,
+        status = kernel.solve(arm.lengths, limited, lo, hi, sub_rows, sub, starts_closed, far,
                         stop_tol, tol, max_iter, max_step)
         lost = np.flatnonzero(status == ik_kernel.NO_START)
         if lost.size:
             lengths, t, _, _ = _scaled(arm, sub_rows[lost], tol)
             fix = np.ascontiguousarray(_initial_guess(lengths, t).T)
-            status[lost] = kernel(arm.lengths, limited, lo, hi, sub_rows[lost], fix,
+            status[lost] = kernel.solve(arm.lengths, limited, lo, hi, sub_rows[lost], fix,
                                   np.zeros(lost.size, dtype=bool), np.empty(lost.size, bool),
                                   stop_tol, tol, max_iter, max_step)
             sub[lost] = fix

@@ -7,12 +7,14 @@ compiled by numba: the closed-form start of :func:`rapp.ik.closed_form_start` (e
 most targets, so Newton-Raphson usually has nothing left to do), then the damped
 least-squares iteration of :func:`rapp.ik.dls_step` with joint clamping, the step cap and
 the wrap, operation by operation as the numpy version does it, and finally the tip error
-against the target, evaluated as :meth:`rapp.Arm.end_effector` evaluates it.
+against the target: after Newton-Raphson evaluated as :meth:`rapp.Arm.end_effector`
+evaluates it, for a closed-form start summed from the link directions the start computed
+(its angles are their correctly rounded ``atan2``), which saves the ``cos`` and ``sin``.
 
-That last check decides ``ok``. Compiled ``cos``/``sin`` may differ from numpy's in the
-last bit, so a tip error within a few rounding errors of ``tol`` is reported as
-*undecided* (status 2) and the caller re-evaluates those few with numpy: ``ok`` is then
-exactly the caller's own check. :func:`solver` compiles the loops on first use (cached on
+That last check decides ``ok``. Either evaluation may differ from numpy's in the last bits
+(compiled ``cos``/``sin``; the directions), so a tip error within 64 rounding errors of the
+reach of ``tol`` is reported as *undecided* and the caller re-evaluates those few with
+numpy: ``ok`` is then exactly the caller's own check. :func:`solver` compiles the loops on first use (cached on
 disk, ``cache=True``) and returns None when numba cannot be imported; ``ik_numeric`` then
 runs its numpy iteration, which gives the same successes. Importing this module does not
 import numba.
@@ -23,8 +25,8 @@ Examples
 >>> rows = np.array([[1.2, 0.7], [5.0, 0.0]])
 >>> q, hopeless = np.zeros((2, 3)), np.zeros(2, bool)
 >>> free = np.zeros(3, bool), np.full(3, -np.pi), np.full(3, np.pi)
->>> s is None or s(np.array([1.0, 0.8, 0.5]), *free, rows, q, np.ones(2, bool), hopeless,
-...                1e-12, 1e-10, 30, 1.0).tolist() == [OK, NOT_OK]
+>>> s is None or s.solve(np.array([1.0, 0.8, 0.5]), *free, rows, q, np.ones(2, bool), hopeless,
+...                      1e-12, 1e-10, 30, 1.0).tolist() == [OK, NOT_OK]
 True
 >>> s is None or hopeless.tolist() == [False, True]
 True
@@ -35,11 +37,16 @@ from __future__ import annotations
 import functools
 import math
 import sys
+from collections import namedtuple
 
 import numpy as np
 
-__all__ = ["solver", "loaded", "LOAD_FROM", "SIGMA_FLOOR", "LAMBDA_MAX", "NOT_OK", "OK", "UNSURE",
+__all__ = ["Kernels", "solver", "loaded", "LOAD_FROM", "SIGMA_FLOOR", "LAMBDA_MAX", "NOT_OK", "OK", "UNSURE",
            "NO_START"]
+
+#: The compiled functions (see :func:`solver`): ``solve`` is :func:`_solve`, ``start_errors``
+#: :func:`_start_errors`.
+Kernels = namedtuple("Kernels", "solve start_errors")
 
 #: The damping constants of the iteration (on the arm scaled to total length 1), shared
 #: with the numpy version.
@@ -67,7 +74,7 @@ def _arm_constants(lengths):
     return out
 
 
-def _closed_form(arm, tx, ty, q):
+def _closed_form(arm, tx, ty, q, dirs):
     """The start of :func:`rapp.ik.closed_form_start` for one target, into ``q``; False
     where it does not exist (``q`` untouched). ``arm`` from :func:`_arm_constants`.
 
@@ -77,6 +84,8 @@ def _closed_form(arm, tx, ty, q):
     n = q.size
     if n == 1:
         q[0] = math.atan2(ty, tx)
+        r = math.sqrt(tx * tx + ty * ty)
+        dirs[0], dirs[1] = (tx / r, ty / r) if r > 0.0 else (1.0, 0.0)
         return True
     l1, l2, lt, inv_lt, inv_two = arm[0], arm[1], arm[2], arm[3], arm[4]
     r = math.sqrt(tx * tx + ty * ty)
@@ -112,14 +121,21 @@ def _closed_form(arm, tx, ty, q):
     cy = wy * kx - wx * ky
     q[0] = math.atan2(cy, cx)
     q[1] = math.atan2(s2, c2)
+    norm = math.sqrt(cx * cx + cy * cy)
+    c1, s1 = (cx / norm, cy / norm) if norm > 0.0 else (1.0, 0.0)
+    vx = wx - l1 * c1
+    vy = wy - l1 * s1
     if n > 2:
-        norm = math.sqrt(cx * cx + cy * cy)
-        inv = l1 / norm if norm > 0.0 else 0.0
-        vx = wx - (cx * inv if norm > 0.0 else l1)
-        vy = wy - cy * inv
         q[2] = math.atan2(ey * vx - ex * vy, ex * vx + ey * vy)
         for j in range(3, n):
             q[j] = 0.0
+    # The links' directions, for the tip check: link 2 along v, normalized.
+    nv = math.sqrt(vx * vx + vy * vy)
+    dirs[0] = c1
+    dirs[1] = s1
+    dirs[2], dirs[3] = (vx / nv, vy / nv) if nv > 0.0 else (c1, s1)
+    dirs[4] = ex
+    dirs[5] = ey
     return True
 
 
@@ -232,6 +248,37 @@ def _tip_error(lengths, q, x, y):
 NOT_OK, OK, UNSURE, NO_START = 0, 1, 2, 3
 
 
+def _start_error(arm, dirs, x, y):
+    """Tip error of a closed-form start from the link directions ``dirs`` it computed
+    (``arm`` from :func:`_arm_constants` of the true lengths): no ``cos`` or ``sin``.
+
+    Each joint angle of the start is the correctly rounded ``atan2`` of the directions
+    used here, so this differs from numpy's evaluation of the returned angles by a few
+    rounding errors of the reach (``tests/test_ik_kernel.py`` bounds it by 16 of them;
+    at most 3.4 were seen).
+    """
+    px = arm[0] * dirs[0] + arm[1] * dirs[2] + arm[2] * dirs[4] - x
+    py = arm[0] * dirs[1] + arm[1] * dirs[3] + arm[2] * dirs[5] - y
+    return math.sqrt(px * px + py * py)
+
+
+def _start_errors(true_lengths, rows, q):
+    """The closed-form start of every target (m, 2) into ``q`` (m, n) and its tip error as
+    :func:`_solve` evaluates it (NaN where there is no start); for the tests."""
+    m, n = q.shape
+    scale = 0.0
+    for j in range(n):
+        scale += true_lengths[j]
+    arm = _arm_constants(true_lengths / scale)
+    big = _arm_constants(true_lengths)
+    dirs = np.zeros(6)
+    out = np.full(m, np.nan)
+    for i in range(m):
+        if _closed_form(arm, rows[i, 0] / scale, rows[i, 1] / scale, q[i], dirs):
+            out[i] = _start_error(big, dirs, rows[i, 0], rows[i, 1])
+    return out
+
+
 def _solve(true_lengths, limited, lo, hi, rows, q, closed, hopeless, stop_tol, tol, max_iter,
            max_step):
     """One attempt of ``rapp.ik_numeric`` for every row of ``q`` (m, n), in place.
@@ -253,6 +300,8 @@ def _solve(true_lengths, limited, lo, hi, rows, q, closed, hopeless, stop_tol, t
         scale += true_lengths[j]
     lengths = true_lengths / scale
     arm = _arm_constants(lengths)
+    big = _arm_constants(true_lengths)
+    dirs = np.zeros(6)
     eps = 2.220446049250313e-16
     # The closed-form start needs no iteration where its error meets the iteration's own stop.
     done = min(stop_tol * scale, tol - 64.0 * eps * scale)
@@ -275,12 +324,15 @@ def _solve(true_lengths, limited, lo, hi, rows, q, closed, hopeless, stop_tol, t
                     qi[j] = 0.0
             _project(qi, limited, lo, hi)
         elif closed[i]:
-            if not _closed_form(arm, tx, ty, qi):
+            if not _closed_form(arm, tx, ty, qi, dirs):
                 status[i] = NO_START
                 continue
+            clipped = False
+            for j in range(n):
+                clipped = clipped or (limited[j] and not lo[j] <= qi[j] <= hi[j])
             _project(qi, limited, lo, hi)
             # Usually exact: then no Newton-Raphson (whose first look would stop it anyway).
-            err = _tip_error(true_lengths, qi, x, y)
+            err = _tip_error(true_lengths, qi, x, y) if clipped else _start_error(big, dirs, x, y)
         else:
             _project(qi, limited, lo, hi)
         if not far and not err <= done:
@@ -306,7 +358,7 @@ def _solve(true_lengths, limited, lo, hi, rows, q, closed, hopeless, stop_tol, t
 
 @functools.cache
 def solver():
-    """:func:`_solve` compiled by numba (cached on disk), or None without numba.
+    """The compiled :class:`Kernels` (numba, cached on disk), or None without numba.
 
     The first call imports numba and loads the compiled code from its cache (or compiles
     it once, some seconds).
@@ -319,12 +371,13 @@ def solver():
     g = globals()
     # Every function is replaced before the first call compiles them: _solve then finds
     # the compiled helpers.
-    for name in ("_arm_constants", "_closed_form", "_project", "_dls", "_newton", "_tip_error", "_solve"):
+    for name in ("_arm_constants", "_closed_form", "_project", "_dls", "_newton", "_tip_error",
+                 "_start_error", "_start_errors", "_solve"):
         try:
             g[name] = numba.njit(cache=True, nogil=True, error_model="numpy")(g[name])
         except RuntimeError:  # no writable cache directory: compile on every run
             g[name] = numba.njit(nogil=True, error_model="numpy")(g[name])
-    return g["_solve"]
+    return Kernels(g["_solve"], g["_start_errors"])
 
 
 def loaded(targets: int):

@@ -150,3 +150,22 @@ def test_closed_form_start_is_exact_where_it_exists(n, seed, hole):
     q_c, ok_c = solve(scaled, targets.T, True, tol=1e-12, restarts=0)
     same = exists & ok_c
     assert np.abs(np.angle(np.exp(1j * (q_c[same] - q.T[same])))).max(initial=0.0) <= 1e-9
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 6), st.integers(0, 2**31 - 1), st.booleans(), st.floats(-3.0, 3.0))
+def test_start_error_is_numpys_within_a_few_rounding_errors(n, seed, hole, exponent):
+    # The compiled check of a closed-form start sums the link directions instead of calling
+    # cos and sin; ok stays exact because this differs from numpy's evaluation by far less
+    # than the 64 rounding errors the solver leaves undecided.
+    rng = np.random.default_rng(seed)
+    arm = Arm(random_arm(rng, n, hole).lengths * 10.0**exponent)
+    targets = np.concatenate([arm.end_effector(rng.uniform(-np.pi, np.pi, (200, n))),
+                              rim_and_far_targets(arm, rng)])
+    q = np.zeros((len(targets), n))
+    err = ik_kernel.solver().start_errors(arm.lengths, targets, q)
+    have = ~np.isnan(err)
+    assert have.any()
+    eps = np.finfo(float).eps
+    bound = 16 * eps * (arm.lengths.sum() + np.abs(targets[have]).sum(axis=1))
+    assert np.all(np.abs(err[have] - tip_error(arm, q[have], targets[have])) <= bound)
