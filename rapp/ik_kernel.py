@@ -70,7 +70,7 @@ _ATAN_Q = (2.485846490142306297962e1, 1.650270098316988542046e2, 4.3288106049129
 def _atan2(y, x):
     """``atan2(y, x)`` within 2 ulp of libm's (4 tested), in a third of its time.
 
-    The ratio of the smaller to the larger of ``|x|, |y|`` (in [0, 1]) is taken to
+    The ratio ``t`` of the smaller to the larger of ``|x|, |y|`` (in [0, 1]) is taken to
     [-0.66, 0.66] by ``atan t = pi/4 + atan((t - 1) / (t + 1))`` above 0.66, where the
     rational approximation holds; then the octant and the signs put the angle back. Zeros,
     infinities and NaN go to libm. The closed-form start calls it three times per target
@@ -84,9 +84,9 @@ def _atan2(y, x):
     lo = ax if swap else ay
     if not (hi > 0.0 and hi < math.inf):
         return math.atan2(y, x)
-    t = lo / hi
-    big = t > 0.66
-    r = (t - 1.0) / (t + 1.0) if big else t
+    big = lo > 0.66 * hi
+    # (t - 1) / (t + 1) with t = lo / hi, in one division
+    r = (lo - hi) / (lo + hi) if big else lo / hi
     z = r * r
     p = (((_ATAN_P[0] * z + _ATAN_P[1]) * z + _ATAN_P[2]) * z + _ATAN_P[3]) * z + _ATAN_P[4]
     q = ((((z + _ATAN_Q[0]) * z + _ATAN_Q[1]) * z + _ATAN_Q[2]) * z + _ATAN_Q[3]) * z + _ATAN_Q[4]
@@ -163,7 +163,8 @@ def _closed_form(arm, tx, ty, q, dirs):
     q[0] = _atan2(cy, cx)
     q[1] = _atan2(s2, c2)
     norm = math.sqrt(cx * cx + cy * cy)
-    c1, s1 = (cx / norm, cy / norm) if norm > 0.0 else (1.0, 0.0)
+    inv = 1.0 / norm if norm > 0.0 else 0.0
+    c1, s1 = (cx * inv, cy * inv) if norm > 0.0 else (1.0, 0.0)
     vx = wx - l1 * c1
     vy = wy - l1 * s1
     if n > 2:
@@ -172,9 +173,10 @@ def _closed_form(arm, tx, ty, q, dirs):
             q[j] = 0.0
     # The links' directions, for the tip check: link 2 along v, normalized.
     nv = math.sqrt(vx * vx + vy * vy)
+    inv = 1.0 / nv if nv > 0.0 else 0.0
     dirs[0] = c1
     dirs[1] = s1
-    dirs[2], dirs[3] = (vx / nv, vy / nv) if nv > 0.0 else (c1, s1)
+    dirs[2], dirs[3] = (vx * inv, vy * inv) if nv > 0.0 else (c1, s1)
     dirs[4] = ex
     dirs[5] = ey
     return True
