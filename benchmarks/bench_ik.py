@@ -229,6 +229,72 @@ def analytic_2link() -> dict:
 OUT = Path(__file__).resolve().parent.parent / "rapp" / "recorded" / "ik.json"
 
 
+def measure(fn, arm, targets, repeat):
+    """Best CPU and wall time per target (us) of ``fn() -> (q, ok)``, its success rate and
+    tip errors."""
+    cpu, wall, (q, ok) = best_cpu_wall(fn, repeat)
+    err = np.linalg.norm(arm.end_effector(q) - targets, axis=-1)
+    return {"cpu_us_per_target": 1e6 * cpu / len(targets),
+            "us_per_target": 1e6 * wall / len(targets), "ok": ok, "err": err,
+            "success_rate": float(ok.mean()), "max_error_m": float(err.max()),
+            "max_error_ok_m": float(err[ok].max(initial=0.0))}
+
+
+def rapp_runs(arm, targets) -> dict:
+    """``ik_numeric`` on the batch: by default (compiled where numba is), from a random
+    start per target (the iteration itself, the start ik_GN gets) and by the numpy path."""
+    ik_numeric(arm, targets[:100])  # warm-up
+    runs = {"default": measure(lambda: ik_numeric(arm, targets, tol=TOL), arm, targets, 7)}
+    starts = np.random.default_rng(1).uniform(-np.pi, np.pi, targets.shape[:1] + (arm.n,))
+    runs["random_starts"] = measure(lambda: ik_numeric(arm, targets, starts, tol=TOL),
+                                    arm, targets, 5)
+    loaded = ik_kernel.loaded
+    ik_kernel.loaded = lambda m: None   # the numpy path, as without numba
+    try:
+        runs["numpy_path"] = measure(lambda: ik_numeric(arm, targets, tol=TOL), arm, targets, 5)
+    finally:
+        ik_kernel.loaded = loaded
+    runs["numpy_path"]["same_success_set"] = bool(np.array_equal(runs["default"]["ok"],
+                                                                 runs["numpy_path"]["ok"]))
+    return runs
+
+
+def naive_run(arm, targets) -> dict:
+    def run_naive():
+        r = np.random.default_rng(0)
+        res = [naive_ik(arm, tt, r) for tt in targets]
+        return np.array([x[0] for x in res]), np.array([x[1] for x in res])
+
+    return measure(run_naive, arm, targets, 1)
+
+
+def print_table(arm, runs, naive, rtb, compiled):
+    rows = [("rapp.ik_numeric" + (" (compiled)" if compiled else " (numpy)"), runs["default"]),
+            ("rapp from random starts", runs["random_starts"]),
+            ("rapp, numpy path (no numba)", runs["numpy_path"])]
+    if rtb is not None:
+        rows += [(f"rtb ik_GN ({name}), {rtb['targets_sampled']} targets", v)
+                 for name, v in rtb["variants"].items()]
+    rows.append(("naive loop (NR + np.linalg.pinv)", naive))
+    print(f"3-link arm {arm.link_lengths}, {N_TARGETS} reachable targets, tol {TOL:g} m, "
+          f"load {os.getloadavg() if hasattr(os, 'getloadavg') else '?'}")
+    print(f"{'method':42s} {'CPU us':>8s} {'wall us':>9s} {'success':>8s} {'max err ok':>11s}")
+    for name, v in rows:
+        wall = v.get("us_per_target", v.get("wall_us_per_target"))
+        print(f"{name:42s} {v['cpu_us_per_target']:8.3f} {wall:9.3f} {v['success_rate']:8.4f} "
+              f"{v['max_error_ok_m']:11.2e}")
+    print(f"speed-up over the naive loop: {naive['us_per_target'] / runs['default']['us_per_target']:.1f}x")
+    if rtb is not None:
+        print(f"rtb ik_GN (its fastest variant) over rapp per target: "
+              f"{rtb['ratio_cpu_rtb_over_rapp']:.0f}x CPU, {rtb['ratio_wall_rtb_over_rapp']:.0f}x wall; "
+              f"Robot.ik_GN {rtb['ratio_cpu_rtb_robot_over_rapp']:.0f}x CPU (goal 150x CPU); "
+              f"over rapp from random starts {rtb['ratio_cpu_rtb_over_rapp_random_starts']:.0f}x CPU")
+
+
+def summary(run: dict) -> dict:
+    return {k: v for k, v in run.items() if k not in ("ok", "err")}
+
+
 def main():
     if "--only-2link" in sys.argv[1:]:
         result = json.loads(OUT.read_text())
@@ -239,86 +305,33 @@ def main():
     arm = Arm([1.0, 0.8, 0.5])
     rng = np.random.default_rng(2024)
     targets = arm.end_effector(rng.uniform(-np.pi, np.pi, (N_TARGETS, arm.n)))
-
-    ik_numeric(arm, targets[:100])  # warm-up
     compiled = ik_kernel.loaded(len(targets)) is not None
-    cpu_fast, t_fast, (q, ok) = best_cpu_wall(lambda: ik_numeric(arm, targets, tol=TOL), repeat=7)
-    err = np.linalg.norm(arm.end_effector(q) - targets, axis=-1)
-    # The iteration itself: a random start per target, as ik_GN gets.
-    starts = np.random.default_rng(1).uniform(-np.pi, np.pi, targets.shape[:1] + (arm.n,))
-    cpu_rand, t_rand, (q_r, ok_r) = best_cpu_wall(
-        lambda: ik_numeric(arm, targets, starts, tol=TOL), repeat=5)
-    err_r = np.linalg.norm(arm.end_effector(q_r) - targets, axis=-1)
-    # The numpy path, as without numba.
-    loaded = ik_kernel.loaded
-    ik_kernel.loaded = lambda m: None
-    try:
-        cpu_np, t_np, (q_np, ok_np) = best_cpu_wall(lambda: ik_numeric(arm, targets, tol=TOL), 5)
-    finally:
-        ik_kernel.loaded = loaded
-    err_np = np.linalg.norm(arm.end_effector(q_np) - targets, axis=-1)
-
-    def run_naive():
-        r = np.random.default_rng(0)
-        return [naive_ik(arm, tt, r) for tt in targets]
-
-    t_naive, res = best_of(run_naive, repeat=1)
-    qn = np.array([r[0] for r in res])
-    okn = np.array([r[1] for r in res])
-    errn = np.linalg.norm(arm.end_effector(qn) - targets, axis=-1)
-
-    us_fast = 1e6 * t_fast / N_TARGETS
-    us_naive = 1e6 * t_naive / N_TARGETS
-    us_cpu = 1e6 * cpu_fast / N_TARGETS
-    rtb = rtb_comparison(arm, targets, us_cpu, us_fast)
-    rows = [
-        ("rapp.ik_numeric" + (" (compiled)" if compiled else " (numpy)"), us_cpu, us_fast,
-         ok.mean(), err.max()),
-        ("rapp from random starts", 1e6 * cpu_rand / N_TARGETS, 1e6 * t_rand / N_TARGETS,
-         ok_r.mean(), err_r[ok_r].max()),
-        ("rapp, numpy path (no numba)", 1e6 * cpu_np / N_TARGETS, 1e6 * t_np / N_TARGETS,
-         ok_np.mean(), err_np.max()),
-    ]
+    runs = rapp_runs(arm, targets)
+    naive = naive_run(arm, targets)
+    fast = runs["default"]
+    rtb = rtb_comparison(arm, targets, fast["cpu_us_per_target"], fast["us_per_target"])
     if rtb is not None:
-        for name, v in rtb["variants"].items():
-            rows.append((f"rtb ik_GN ({name}), {rtb['targets_sampled']} targets",
-                         v["cpu_us_per_target"], v["wall_us_per_target"], v["success_rate"],
-                         v["max_error_ok_m"]))
-    rows.append(("naive loop (NR + np.linalg.pinv)", float("nan"), us_naive, okn.mean(),
-                 errn[okn].max()))
-    print(f"3-link arm {arm.link_lengths}, {N_TARGETS} reachable targets, tol {TOL:g} m, "
-          f"load {os.getloadavg() if hasattr(os, 'getloadavg') else '?'}")
-    print(f"{'method':42s} {'CPU us':>8s} {'wall us':>9s} {'success':>8s} {'max err ok':>11s}")
-    for name, cpu, wall, succ, eok in rows:
-        print(f"{name:42s} {cpu:8.3f} {wall:9.3f} {succ:8.4f} {eok:11.2e}")
-    print(f"speed-up over the naive loop: {us_naive / us_fast:.1f}x")
-    if rtb is not None:
-        print(f"rtb ik_GN (its fastest variant) over rapp per target: "
-              f"{rtb['ratio_cpu_rtb_over_rapp']:.0f}x CPU, {rtb['ratio_wall_rtb_over_rapp']:.0f}x wall; "
-              f"Robot.ik_GN {rtb['ratio_cpu_rtb_robot_over_rapp']:.0f}x CPU "
-              f"(goal 150x CPU); over rapp from random starts "
-              f"{rtb['variants'][rtb['fastest_variant']]['cpu_us_per_target'] / (1e6 * cpu_rand / N_TARGETS):.0f}x CPU")
-
+        rtb["goal_met"] = bool(rtb["ratio_cpu_rtb_over_rapp"] >= 150 and fast["ok"].all()
+                               and fast["max_error_m"] <= 1e-9)
+        # The iteration alone: rapp from a random start per target, as ik_GN starts.
+        rtb["ratio_cpu_rtb_over_rapp_random_starts"] = (
+            rtb["variants"][rtb["fastest_variant"]]["cpu_us_per_target"]
+            / runs["random_starts"]["cpu_us_per_target"])
+    print_table(arm, runs, naive, rtb, compiled)
     result = {
         "benchmark": "ik_numeric vs per-target Newton-Raphson with pinv",
         "arm": list(arm.link_lengths),
         "targets": N_TARGETS,
         "tol_m": TOL,
-        "batched": {"us_per_target": us_fast, "success_rate": float(ok.mean()),
-                    "max_error_m": float(err.max()), "max_error_ok_m": float(err[ok].max())},
-        "naive": {"us_per_target": us_naive, "success_rate": float(okn.mean()),
-                  "max_error_m": float(errn.max()), "max_error_ok_m": float(errn[okn].max())},
-        "speedup": us_naive / us_fast,
+        "batched": {k: fast[k] for k in ("us_per_target", "success_rate", "max_error_m",
+                                         "max_error_ok_m")},
+        "naive": {k: naive[k] for k in ("us_per_target", "success_rate", "max_error_m",
+                                        "max_error_ok_m")},
+        "speedup": naive["us_per_target"] / fast["us_per_target"],
         "compiled": compiled,
-        "batched_cpu_us_per_target": us_cpu,
-        "random_starts": {"us_per_target": 1e6 * t_rand / N_TARGETS,
-                          "cpu_us_per_target": 1e6 * cpu_rand / N_TARGETS,
-                          "success_rate": float(ok_r.mean()),
-                          "max_error_ok_m": float(err_r[ok_r].max())},
-        "numpy_path": {"us_per_target": 1e6 * t_np / N_TARGETS,
-                       "cpu_us_per_target": 1e6 * cpu_np / N_TARGETS,
-                       "success_rate": float(ok_np.mean()), "max_error_m": float(err_np.max()),
-                       "same_success_set": bool(np.array_equal(ok, ok_np))},
+        "batched_cpu_us_per_target": fast["cpu_us_per_target"],
+        "random_starts": summary(runs["random_starts"]),
+        "numpy_path": summary(runs["numpy_path"]),
         "machine": {
             "python": platform.python_version(),
             "numpy": np.__version__,
@@ -331,15 +344,7 @@ def main():
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
     }
     if rtb is not None:
-        rtb["goal_met"] = bool(rtb["ratio_cpu_rtb_over_rapp"] >= 150 and ok.all()
-                               and err.max() <= 1e-9)
-        # The iteration alone: rapp from a random start per target, as ik_GN starts.
-        rtb["ratio_cpu_rtb_over_rapp_random_starts"] = (
-            rtb["variants"][rtb["fastest_variant"]]["cpu_us_per_target"]
-            / result["random_starts"]["cpu_us_per_target"])
         result["rtb_ik_GN"] = rtb
-    elif OUT.exists() and "rtb_ik_GN" in json.loads(OUT.read_text()):
-        print("(the recorded rtb_ik_GN section is dropped: it was timed against another run)")
     result["analytic_2link"] = analytic_2link()
     OUT.write_text(json.dumps(result, indent=2) + "\n")
     print(f"wrote {OUT}")
