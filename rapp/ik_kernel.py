@@ -6,10 +6,11 @@ answer) is most of its time. The loops here do the same work per target on scala
 compiled by numba: the closed-form start of :func:`rapp.ik.closed_form_start` (exact for
 most targets, so Newton-Raphson usually has nothing left to do), then the damped
 least-squares iteration of :func:`rapp.ik.dls_step` with joint clamping, the step cap and
-the wrap, operation by operation as the numpy version does it, and finally the tip error
+the wrap, as the numpy version does it (the rotation inside the step by half-angle
+formulas rather than ``atan2``, ``cos`` and ``sin``), and finally the tip error
 against the target: after Newton-Raphson evaluated as :meth:`rapp.Arm.end_effector`
 evaluates it, for a closed-form start summed from the link directions the start computed
-(its angles are their correctly rounded ``atan2``), which saves the ``cos`` and ``sin``.
+(its angles are their ``atan2``, within 2 ulp), which saves the ``cos`` and ``sin``.
 
 That last check decides ``ok``. Either evaluation may differ from numpy's in the last bits
 (compiled ``cos``/``sin``; the directions), so a tip error within 64 rounding errors of the
@@ -194,7 +195,13 @@ def _project(q, limited, lo, hi):
 
 
 def _dls(jx, jy, ex, ey, dq):
-    """:func:`rapp.ik.dls_step` for one column, into ``dq``."""
+    """:func:`rapp.ik.dls_step` for one column, into ``dq``.
+
+    The same step; only the rotation ``(cos t, sin t)`` that diagonalises ``J J^T`` comes
+    from half-angle formulas instead of ``atan2``, ``cos`` and ``sin`` of
+    ``t = atan2(2 b, a - c) / 2`` (the larger of the two square roots taken, the other
+    from ``sin t cos t = b / h``, so that neither cancels).
+    """
     n = jx.size
     a = 0.0
     b = 0.0
@@ -203,9 +210,16 @@ def _dls(jx, jy, ex, ey, dq):
         a += jx[j] * jx[j]
         b += jx[j] * jy[j]
         c += jy[j] * jy[j]
-    t = 0.5 * math.atan2(2.0 * b, a - c)
-    ct = math.cos(t)
-    st = math.sin(t)
+    d = a - c
+    h = math.sqrt(d * d + 4.0 * b * b)
+    if not h > 0.0:
+        ct, st = 1.0, 0.0
+    elif d >= 0.0:
+        ct = math.sqrt((h + d) / (2.0 * h))
+        st = b / (h * ct)
+    else:
+        st = math.copysign(math.sqrt((h - d) / (2.0 * h)), b)
+        ct = b / (h * st)
     sig2_min = 0.0
     sig2_big = 0.0
     for j in range(n):
@@ -295,8 +309,8 @@ def _start_error(arm, dirs, x, y):
     """Tip error of a closed-form start from the link directions ``dirs`` it computed
     (``arm`` from :func:`_arm_constants` of the true lengths): no ``cos`` or ``sin``.
 
-    Each joint angle of the start is the correctly rounded ``atan2`` of the directions
-    used here, so this differs from numpy's evaluation of the returned angles by a few
+    Each joint angle of the start is the ``atan2`` of the directions used here (within
+    2 ulp, :func:`_atan2`), so this differs from numpy's evaluation of the returned angles by a few
     rounding errors of the reach (``tests/test_ik_kernel.py`` bounds it by 16 of them;
     at most 3.4 were seen).
     """
