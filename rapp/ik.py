@@ -590,21 +590,23 @@ def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
     closed = ~np.isfinite(q).all(axis=1) if caller_starts else np.ones(m, dtype=bool)
     q = np.zeros((m, n)) if q is None else q
     hopeless = np.zeros(m, dtype=bool)
-    stop_tol = None
+    with np.errstate(over="ignore"):
+        stop_tol = min(float(np.float64(tol) / float(arm.lengths.sum())), 1e-12)
 
     def attempt(idx, starts_closed):
         sub_rows = rows if idx is None else rows[idx]
         sub = q if idx is None else np.ascontiguousarray(q[idx])
         far = np.empty(sub.shape[0], dtype=bool)
         status = kernel.solve(arm.lengths, limited, lo, hi, sub_rows, sub, starts_closed, far,
-                        stop_tol, tol, max_iter, max_step)
+                              stop_tol, tol, max_iter, max_step)
         lost = np.flatnonzero(status == ik_kernel.NO_START)
         if lost.size:
             lengths, t, _, _ = _scaled(arm, sub_rows[lost], tol)
             fix = np.ascontiguousarray(_initial_guess(lengths, t).T)
             status[lost] = kernel.solve(arm.lengths, limited, lo, hi, sub_rows[lost], fix,
-                                  np.zeros(lost.size, dtype=bool), np.empty(lost.size, bool),
-                                  stop_tol, tol, max_iter, max_step)
+                                        np.zeros(lost.size, dtype=bool),
+                                        np.empty(lost.size, bool), stop_tol, tol, max_iter,
+                                        max_step)
             sub[lost] = fix
         unsure = np.flatnonzero(status == ik_kernel.UNSURE)
         if unsure.size:
@@ -618,8 +620,6 @@ def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
             hopeless[:] = far
         return status == ik_kernel.OK
 
-    with np.errstate(over="ignore"):
-        stop_tol = min(float(np.float64(tol) / float(arm.lengths.sum())), 1e-12)
     ok = attempt(None, closed)
     todo = np.flatnonzero(~ok & ~hopeless)
     rng = np.random.default_rng(seed)
