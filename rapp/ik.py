@@ -6,7 +6,9 @@ The tools, from exact to general:
   cosines: every solution (0, 1 or 2 of them), joint limits applied.
 * :func:`ik_numeric` -- Newton-Raphson on ``f(q) = target`` for an N-link
   arm over a whole batch of targets at once, with damped least squares (DLS)
-  near singular configurations, seeded random restarts and joint limits.
+  near singular configurations, seeded random restarts and joint limits,
+  from the exact start of :func:`closed_form_start` where there is one; on
+  large batches compiled per target (:mod:`rapp.ik_kernel`).
 * :func:`ik` -- the contract: every distinct solution for ONE target (for
   three or more links a seeded sample of the self-motion manifold, and the
   exact collinear arm on a boundary circle).
@@ -34,12 +36,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from rapp import ik_kernel
 from rapp.arm import Arm, wrap_angle
 from rapp.collision import clearance, collides
 from rapp.errors import NoIKSolution, NoPathFound
 
 __all__ = ["ik", "ik_2link", "ik_numeric", "jacobian", "free_ik_solutions", "fk_and_jacobian",
-           "dls_step"]
+           "dls_step", "closed_form_start"]
 
 TWO_PI = 2.0 * np.pi
 
@@ -309,7 +312,78 @@ def _boundary_start(lengths: np.ndarray, targets: np.ndarray, outer: bool,
     return q
 
 
+def _tail_distances(lengths: np.ndarray, r: np.ndarray):
+    """Least and greatest wrist distance from the base reachable both by the first
+    two links and by the rest held straight from a target at distance ``r``."""
+    l1, l2, lt = float(lengths[0]), float(lengths[1]), float(lengths[2:].sum())
+    return np.maximum(abs(l1 - l2), np.abs(r - lt)), np.minimum(l1 + l2, r + lt)
+
+
+def closed_form_start(lengths: np.ndarray, targets: np.ndarray):
+    """An exact start (n, m) for most targets (2, m): two links by the law of
+    cosines, the links beyond the second held straight as one rigid link.
+
+    That rigid tail of length ``L_t`` points from the wrist to the target at
+    the angle ``alpha`` off the base-target line that puts the wrist at the
+    distance ``d`` from the base: the middle of the distances both reachable
+    by the first two links (``|L1 - L2| <= d <= L1 + L2``) and by the tail
+    (``|r - L_t| <= d <= r + L_t``). The first two links then reach the
+    wrist exactly (:func:`ik_2link`, elbow-down), so the tip is on the target
+    up to round-off and Newton-Raphson has nothing left to do. Where the two
+    ranges do not meet (close to the inner circle when a tail link is the
+    longest, or beyond the outer one) there is no such start: ``exists`` is
+    False there and those columns are zero.
+
+    Returns
+    -------
+    q : ndarray, shape (n, m)
+    exists : ndarray of bool, shape (m,)
+
+    Examples
+    --------
+    >>> lengths = np.array([1.0, 0.8, 0.5])
+    >>> q, exists = closed_form_start(lengths, np.array([[1.2, 3.0], [0.7, 0.0]]))
+    >>> exists.tolist()
+    [True, False]
+    >>> bool(np.abs(Arm(lengths).end_effector(q[:, 0]) - [1.2, 0.7]).max() < 1e-15)
+    True
+    """
+    n, m = lengths.size, targets.shape[1]
+    q = np.zeros((n, m))
+    if n == 1:
+        q[0] = np.arctan2(targets[1], targets[0])
+        return q, np.ones(m, dtype=bool)
+    lt = float(lengths[2:].sum())
+    r = np.hypot(targets[0], targets[1])
+    lo_d, hi_d = _tail_distances(lengths, r)
+    exists = lo_d <= hi_d
+    d = 0.5 * (lo_d + hi_d)
+    den = 2.0 * r * lt
+    # The law of cosines in the triangle base-wrist-target; with no tail (or the
+    # target at the base) any alpha does, and 0 is taken.
+    cos_a = np.divide(r * r + lt * lt - d * d, den, out=np.ones_like(r), where=den > 0.0)
+    phi = np.arctan2(targets[1], targets[0]) + np.arccos(np.clip(cos_a, -1.0, 1.0))
+    wrist = targets - lt * np.stack((np.cos(phi), np.sin(phi)))
+    q12 = ik_2link(lengths[:2], wrist[:, exists].T, tol=1e-12)[:, 0, :].T
+    # A wrist a rounding error outside the annulus has no 2-link solution: no start there.
+    found = ~np.isnan(q12[0])
+    exists[exists] = found
+    q[:2, exists] = q12[:, found]
+    if n > 2:
+        q[2, exists] = phi[exists] - q12[0, found] - q12[1, found]
+    return q, exists
+
+
 def _initial_guess(lengths: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """The default start (n, m): :func:`closed_form_start` where it exists, else
+    :func:`_bent_start`."""
+    q, exists = closed_form_start(lengths, targets)
+    if not exists.all():
+        q[:, ~exists] = _bent_start(lengths, targets[:, ~exists])
+    return q
+
+
+def _bent_start(lengths: np.ndarray, targets: np.ndarray) -> np.ndarray:
     """A cheap start (n, m): every joint after the first bent by the same angle
     so that the tip distance matches ``|target|``, then turned to face it.
 
@@ -359,6 +433,8 @@ def _project(q: np.ndarray, limited: np.ndarray, lo: np.ndarray, hi: np.ndarray)
     measured is exactly the one returned (no re-evaluation after a final wrap).
     """
     wrapped = (q + np.pi) % TWO_PI - np.pi
+    # Just below -pi the sum rounds up to 2 pi and the result to +pi.
+    wrapped[wrapped >= np.pi] = -np.pi
     if not limited.any():
         return wrapped
     lim = limited[:, None]
@@ -373,8 +449,8 @@ def _newton(lengths, limited, lo, hi, targets, q, stop_tol, max_iter, max_step):
     (see :func:`ik_numeric`), so the damping constants below are pure numbers.
     Returns the final ``q``.
     """
-    sigma_floor = 1e-3
-    lambda_max = 1e-2
+    sigma_floor = ik_kernel.SIGMA_FLOOR
+    lambda_max = ik_kernel.LAMBDA_MAX
     any_limited = bool(limited.any())
     lim, lo_c, hi_c = limited[:, None], lo[:, None], hi[:, None]
     q = q.copy()
@@ -444,6 +520,121 @@ def _restart_starts(rng, limited, lo, hi, k: int) -> np.ndarray:
     return q
 
 
+def _scaled(arm: Arm, rows: np.ndarray, tol: float):
+    """The arm and targets (2, m) scaled to total length 1, the targets beyond the
+    outer circle (``hopeless``), and the iteration's stopping error.
+
+    Lengths up to MAX_COORDINATE and targets anywhere in the float range then give
+    errors and Jacobian entries of order 1, whose squares cannot overflow.
+    """
+    scale = float(arm.lengths.sum())
+    with np.errstate(over="ignore"):
+        # Overflow to inf is the right answer in all three: a tolerance beyond
+        # any distance, a target beyond any reach.
+        tol_s = float(np.float64(tol) / scale)
+        r = np.hypot(rows[:, 0], rows[:, 1])
+        t = rows.T / scale
+    # Beyond the outer circle no q makes the error 0, and the stretched arm
+    # facing the target is the nearest the tip gets: skip the iterations and
+    # take it (the guess, from the unit-size direction that keeps it finite);
+    # the check at the end says whether it is within tol.
+    hopeless = (r > scale * (1.0 + 1e-12)) | ~np.isfinite(t).all(axis=0)
+    t = np.where(hopeless, rows.T / np.maximum(np.abs(rows).max(axis=1), np.finfo(float).tiny), t)
+    # Stop a little below tol: one Newton step from there lands at round-off.
+    return arm.lengths / scale, t, hopeless, min(tol_s, 1e-12)
+
+
+def _numpy_attempts(arm: Arm, rows, q, tol, budget):
+    """The attempts of :func:`ik_numeric` in numpy, the whole batch per step; ``q``
+    (m, n) the caller's starts or None. Returns ``q`` (m, n) and ``ok`` (m,)."""
+    max_iter, restarts, seed, max_step = budget
+    lengths, t, hopeless, stop_tol = _scaled(arm, rows, tol)
+    lo, hi, limited = arm.lower, arm.upper, arm.limited
+    caller_starts = q is not None
+    q = _project(q.T if caller_starts else _initial_guess(lengths, t), limited, lo, hi)
+    todo = np.flatnonzero(~hopeless)
+    err = np.full(t.shape[1], np.inf)
+    rng = np.random.default_rng(seed)
+    for attempt in range(restarts + 1):
+        if todo.size == 0:
+            break
+        if attempt == 1 and caller_starts:
+            # The caller's starts failed: try the default guess once (next to
+            # a boundary circle, the only start that reliably converges).
+            q[:, todo] = _project(_initial_guess(lengths, t[:, todo]), limited, lo, hi)
+        elif attempt > 0:
+            q[:, todo] = _restart_starts(rng, limited, lo, hi, todo.size)
+        q[:, todo] = _newton(lengths, limited, lo, hi, t[:, todo], q[:, todo], stop_tol,
+                             max_iter, max_step)
+        err[todo] = _tip_error(arm, q[:, todo].T, rows[todo])
+        todo = todo[~(err[todo] <= tol)]
+    # The very check a caller makes, on the very q returned, for every target
+    # (those never iterated included): ok cannot disagree with it.
+    q = q.T
+    return q, (_tip_error(arm, q, rows) <= tol) & arm.within_limits(q)
+
+
+def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
+    """The attempts of :func:`ik_numeric`, each target solved start to check by the
+    compiled :mod:`rapp.ik_kernel`; ``q`` (m, n) the caller's starts or None.
+
+    The same starts, restarts (the same seeded generator, drawn for the same
+    targets as long as the successes agree) and checks as :func:`_numpy_attempts`.
+    Returns ``q`` (m, n) and ``ok`` (m,).
+    """
+    max_iter, restarts, seed, max_step = budget
+    lo, hi, limited = arm.lower, arm.upper, arm.limited
+    m, n = rows.shape[0], arm.n
+    caller_starts = q is not None
+    # The kernel builds the default start itself (numpy only where it has none).
+    closed = ~np.isfinite(q).all(axis=1) if caller_starts else np.ones(m, dtype=bool)
+    q = np.zeros((m, n)) if q is None else q
+    hopeless = np.zeros(m, dtype=bool)
+    with np.errstate(over="ignore"):
+        stop_tol = min(float(np.float64(tol) / float(arm.lengths.sum())), 1e-12)
+
+    def attempt(idx, starts_closed):
+        sub_rows = rows if idx is None else rows[idx]
+        sub = q if idx is None else np.ascontiguousarray(q[idx])
+        far = np.empty(sub.shape[0], dtype=bool)
+        status = kernel.solve(arm.lengths, limited, lo, hi, sub_rows, sub, starts_closed, far,
+                              stop_tol, tol, max_iter, max_step)
+        lost = np.flatnonzero(status == ik_kernel.NO_START)
+        if lost.size:
+            lengths, t, _, _ = _scaled(arm, sub_rows[lost], tol)
+            fix = np.ascontiguousarray(_initial_guess(lengths, t).T)
+            status[lost] = kernel.solve(arm.lengths, limited, lo, hi, sub_rows[lost], fix,
+                                        np.zeros(lost.size, dtype=bool),
+                                        np.empty(lost.size, bool), stop_tol, tol, max_iter,
+                                        max_step)
+            sub[lost] = fix
+        unsure = np.flatnonzero(status == ik_kernel.UNSURE)
+        if unsure.size:
+            # Within rounding of tol: the caller's own check decides.
+            status[unsure] = ((_tip_error(arm, sub[unsure], sub_rows[unsure]) <= tol)
+                              & arm.within_limits(sub[unsure]))
+        if idx is not None:
+            q[idx] = sub
+            hopeless[idx] = far
+        else:
+            hopeless[:] = far
+        return status == ik_kernel.OK
+
+    ok = attempt(None, closed)
+    todo = np.flatnonzero(~ok & ~hopeless)
+    rng = np.random.default_rng(seed)
+    for number in range(1, restarts + 1):
+        if todo.size == 0:
+            break
+        q[todo] = 0.0
+        if not (number == 1 and caller_starts):
+            q[todo] = _restart_starts(rng, limited, lo, hi, todo.size).T
+        # After the caller's starts, the default start once (closed form in the kernel).
+        ok[todo] = attempt(todo, np.full(todo.size, number == 1 and caller_starts))
+        todo = todo[~ok[todo]]
+    return q, ok
+
+
 def ik_numeric(
     arm: Arm,
     targets,
@@ -459,10 +650,15 @@ def ik_numeric(
 
     Every target is solved at the same time: each iteration is a handful of
     numpy calls over the whole batch (no loop over targets), and only the
-    targets not yet converged are carried to the next iteration. The
-    iteration runs on the arm scaled to total length 1, so neither a huge nor
-    a tiny arm overflows or underflows, and no floating-point warning is
-    raised for any finite input.
+    targets not yet converged are carried to the next iteration. With numba,
+    a batch of at least ``rapp.ik_kernel.LOAD_FROM`` targets (any batch once
+    numba is imported) is instead solved target by target by compiled loops
+    that do the same (:mod:`rapp.ik_kernel`): the same starts, steps,
+    restarts and checks, equal up to the last bits of ``cos`` and ``sin``, so
+    the same targets are solved (on a joint limit a restart may decide
+    otherwise, never reporting a wrong ``ok``). The iteration runs on the arm
+    scaled to total length 1, so neither a huge nor a tiny arm overflows or
+    underflows, and no floating-point warning is raised for any finite input.
 
     Parameters
     ----------
@@ -470,10 +666,14 @@ def ik_numeric(
     targets : array_like, shape (..., 2)
         Finite points.
     q0 : array_like, shape (..., n) or (n,), optional
-        Starting configurations. By default a uniformly bent arm turned to
-        face each target (a good first guess that costs one interpolation),
-        and next to a boundary circle the analytic near-boundary
-        configuration, where Newton-Raphson from elsewhere creeps.
+        Starting configurations. By default :func:`closed_form_start`: the
+        first two links by the law of cosines and the rest held straight, a
+        solution up to round-off wherever it exists (so that Newton-Raphson
+        has nothing left to do). Where it does not (next to the inner circle
+        when a later link is the longest), a uniformly bent arm turned to
+        face the target, and next to a boundary circle the analytic
+        near-boundary configuration, where Newton-Raphson from elsewhere
+        creeps.
     tol : float
         Position tolerance (in length units) for success.
     max_iter : int
@@ -536,62 +736,26 @@ def ik_numeric(
         raise ValueError("targets must be finite points (x, y)")
     batch = targets.shape[:-1]
     n = arm.n
-    rows = targets.reshape(-1, 2)
-    # Iterate on the arm scaled to total length 1: lengths up to MAX_COORDINATE
-    # and targets anywhere in the float range then give errors and Jacobian
-    # entries of order 1, whose squares cannot overflow.
-    scale = float(arm.lengths.sum())
-    lengths = arm.lengths / scale
-    with np.errstate(over="ignore"):
-        # Overflow to inf is the right answer in all three: a tolerance beyond
-        # any distance, a target beyond any reach.
-        tol_s = float(np.float64(tol) / scale)
-        r = np.hypot(rows[:, 0], rows[:, 1])
-        t = rows.T / scale
-    # Beyond the outer circle no q makes the error 0, and the stretched arm
-    # facing the target is the nearest the tip gets: skip the iterations and
-    # take it (the guess below, from the unit-size direction that keeps it
-    # finite); the check at the end says whether it is within tol.
-    hopeless = (r > scale * (1.0 + 1e-12)) | ~np.isfinite(t).all(axis=0)
-    t = np.where(hopeless, rows.T / np.maximum(np.abs(rows).max(axis=1), np.finfo(float).tiny), t)
-    m = t.shape[1]
-    lo, hi, limited = arm.lower, arm.upper, arm.limited
-    if q0 is None:
-        q = _initial_guess(lengths, t)
-    else:
+    rows = np.ascontiguousarray(targets.reshape(-1, 2))
+    q = None
+    if q0 is not None:
         q0 = np.asarray(q0, dtype=float)
         if q0.shape[-1] != n:
             raise ValueError(f"q0 must have shape (..., {n}), got {q0.shape}")
-        q = np.broadcast_to(q0, batch + (n,)).reshape(-1, n).T.copy()
-        # A non-finite start is no start: use the default guess there.
-        bad = ~np.isfinite(q).all(axis=0)
-        if bad.any():
-            q[:, bad] = _initial_guess(lengths, t[:, bad])
-    q = _project(q, limited, lo, hi)
-    # Stop a little below tol: one Newton step from there lands at round-off.
-    stop_tol = min(tol_s, 1e-12)
-    todo = np.flatnonzero(~hopeless)
-    err = np.full(m, np.inf)
-    rng = np.random.default_rng(seed)
-    for attempt in range(restarts + 1):
-        if todo.size == 0:
-            break
-        if attempt == 1 and q0 is not None:
-            # The caller's starts failed: try the default guess once (next to
-            # a boundary circle, the only start that reliably converges).
-            q[:, todo] = _project(_initial_guess(lengths, t[:, todo]), limited, lo, hi)
-        elif attempt > 0:
-            q[:, todo] = _restart_starts(rng, limited, lo, hi, todo.size)
-        q[:, todo] = _newton(lengths, limited, lo, hi, t[:, todo], q[:, todo], stop_tol,
-                             max_iter, max_step)
-        err[todo] = _tip_error(arm, q[:, todo].T, rows[todo])
-        todo = todo[~(err[todo] <= tol)]
-    # The very check a caller makes, on the very q returned, for every target
-    # (those never iterated included): ok cannot disagree with it.
-    err = _tip_error(arm, q.T, rows)
-    q = q.T.reshape(batch + (n,))
-    ok = (err <= tol).reshape(batch) & arm.within_limits(q)
-    return q, ok
+        q = np.broadcast_to(q0, batch + (n,)).reshape(-1, n).copy()
+    budget = (max_iter, restarts, seed, max_step)
+    kernel = ik_kernel.loaded(rows.shape[0])
+    if kernel is None:
+        if q is not None:
+            # A non-finite start is no start: use the default guess there.
+            bad = ~np.isfinite(q).all(axis=1)
+            if bad.any():
+                lengths, t, _, _ = _scaled(arm, rows[bad], tol)
+                q[bad] = _initial_guess(lengths, t).T
+        q, ok = _numpy_attempts(arm, rows, q, tol, budget)
+    else:
+        q, ok = _compiled_attempts(kernel, arm, rows, q, tol, budget)
+    return q.reshape(batch + (n,)), ok.reshape(batch)
 
 
 # --------------------------------------------------------------------------- contract
