@@ -17,6 +17,7 @@ joint's axis, so the work per obstacle is per cell of the shorter prefix grid.
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,8 +26,8 @@ from rapp.arm import Arm, wrap_angle
 from rapp.collision import check_obstacle, motion_bounds
 from rapp.obstacles import Circle, Polygon
 
-__all__ = ["JointGrid", "occupancy", "grid_q", "certified_free", "cell_extent", "check_grid",
-           "prefix_grid", "MAX_GRID_CELLS"]
+__all__ = ["JointGrid", "occupancy", "occupancy_numpy", "grid_q", "certified_free", "cell_extent",
+           "check_grid", "prefix_grid", "MAX_GRID_CELLS", "COMPILE_FROM"]
 
 #: Most cells (the product of the cells per joint) a :class:`JointGrid` accepts.
 #: At this size :func:`occupancy` and :func:`certified_free` return 50 MB bool
@@ -203,14 +204,34 @@ def prefix_grid(grid, i):
 
     Returns ``P`` of shape ``cells[:i] + (2,)`` and ``phi`` of shape ``cells[:i]``
     (the absolute angle of link ``i-1``, 0 for the base).
+
+    The cosine and sine of each absolute angle come from those of the previous one and
+    of the axis by the addition formulas: outer products of short vectors, no
+    trigonometry on the grid (which would cost more than the rest of a 3-link
+    :func:`occupancy`). They agree with ``cos(phi)``, ``sin(phi)`` to a few units in
+    the last place.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> grid = JointGrid(Arm([1.0, 0.5, 0.5]), 4)
+    >>> P, phi = prefix_grid(grid, 2)
+    >>> P.shape, phi.shape
+    ((4, 4, 2), (4, 4))
+    >>> q = grid.angles(np.stack(np.meshgrid(*[range(4)] * 3, indexing="ij"), axis=-1))
+    >>> bool(np.allclose(P, grid.arm.joint_positions(q)[:, :, 0, 2], atol=1e-15))
+    True
     """
     P = np.zeros((2,))
     phi = np.zeros(())
-    axes = grid.axes
+    c, s = np.ones(()), np.zeros(())
     for k in range(i):
-        phi = phi[..., None] + axes[k]
+        ax = grid.axes[k]
+        ca, sa = np.cos(ax), np.sin(ax)
+        phi = phi[..., None] + ax
+        c, s = c[..., None] * ca - s[..., None] * sa, s[..., None] * ca + c[..., None] * sa
         L = grid.arm.link_lengths[k]
-        P = P[..., None, :] + L * np.stack((np.cos(phi), np.sin(phi)), axis=-1)
+        P = P[..., None, :] + L * np.stack((c, s), axis=-1)
     return P, phi
 
 
@@ -422,6 +443,14 @@ def _paint(intervals, ax, wraps, step, chunk=2048):
     return out
 
 
+#: Grids of at least this many cells use the compiled kernel even when numba is not imported
+#: yet (:func:`occupancy`); smaller ones use numpy unless numba is already loaded. Importing
+#: numba costs a few tenths of a second, more than numpy spends on such a grid; it is the
+#: threshold from which :func:`rapp.astar` compiles its search too, so a grid planned on
+#: pays the import once.
+COMPILE_FROM = 1 << 16
+
+
 def occupancy(arm, obstacles, grid) -> np.ndarray:
     """Collision of every grid configuration: a bool array of ``grid.shape`` (True = collides).
 
@@ -430,8 +459,15 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     the directions in which it touches an obstacle form one interval, in
     closed form (:func:`_circle_hits`, :func:`_polygon_hits`); shifted
     by the previous angle it is an interval of joint ``i``'s angle, painted
-    onto that axis (:func:`_paint`) and broadcast over the later joints. The
-    work is per prefix cell and obstacle, plus a few passes over the grid.
+    onto that axis. The work is per prefix cell and obstacle, plus one write of
+    the grid.
+
+    The intervals are computed and painted by compiled loops
+    (:mod:`rapp.cspace_kernel`), one prefix cell at a time, skipping the cells
+    where an earlier link already collides; without numba (or on a grid of
+    fewer than :data:`COMPILE_FROM` cells before numba is loaded) by
+    :func:`occupancy_numpy`. The two agree cell for cell except where a link
+    touches an obstacle to within about ``1e-15`` (the last bit of ``atan2``).
 
     Parameters
     ----------
@@ -453,14 +489,70 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     """
     check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
-    shape = grid.shape
-    n = arm.n
-    occ = np.zeros(shape, dtype=bool)
+    compiled = None
+    if obstacles and (math.prod(grid.shape) >= COMPILE_FROM or "numba" in sys.modules):
+        from rapp import cspace_kernel
+        compiled = cspace_kernel.kernels()
+    if compiled is None:
+        return occupancy_numpy(arm, obstacles, grid)
+    return _occupancy_compiled(compiled, [obstacles] * arm.n, grid)
+
+
+def occupancy_numpy(arm, obstacles, grid) -> np.ndarray:
+    """:func:`occupancy` by numpy alone: the fallback without numba, and the kernel's oracle.
+
+    For each link, every prefix cell's interval of every obstacle is computed into
+    arrays, painted onto the link's axis by a difference array and a cumulative sum
+    (:func:`_paint`) and ORed, broadcast, into the grid. The arguments are those of
+    :func:`occupancy`.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> arm = Arm([1.0, 0.8, 0.5])
+    >>> grid, obs = JointGrid(arm, 12), [Circle((1.2, 0.5), 0.3)]
+    >>> bool((occupancy_numpy(arm, obs, grid) == occupancy(arm, obs, grid)).all())
+    True
+    """
+    check_grid(arm, grid)
+    obstacles = [check_obstacle(ob) for ob in obstacles]
+    occ = np.zeros(grid.shape, dtype=bool)
     if not obstacles:
         return occ
-    for i in range(n):
+    for i in range(arm.n):
         occ |= _link_hits(arm, obstacles, grid, i)
     return occ
+
+
+_NO_INTERVALS = np.zeros((0, 0))
+
+
+def _occupancy_compiled(k, per_link, grid) -> np.ndarray:
+    """Occupancy by the compiled kernel ``k``, link ``i`` against the obstacles ``per_link[i]``.
+
+    Level ``i`` writes the grid of joints ``0..i`` once; the next level reads it as its
+    rows' "already collides" flags. Only the last level has the size of the grid.
+    """
+    from rapp import cspace_kernel
+    arm, axes, steps = grid.arm, grid.axes, grid.step
+    blocked = np.zeros(1, dtype=bool)
+    for i in range(arm.n):
+        P, phi = prefix_grid(grid, i)
+        P = np.ascontiguousarray(P.reshape(-1, 2))
+        phi = phi.reshape(-1)
+        L = float(arm.link_lengths[i])
+        circles, polys = cspace_kernel.pack(per_link[i])
+        # The tolerance of _polygon_hits: 1e-12 of the scene's scale, one per polygon.
+        scale = max(1.0, L, float(np.abs(P).max(initial=0.0)))
+        tol = 1e-12 * np.maximum(scale, polys.extent)
+        ax = axes[i]
+        periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
+        out = np.empty((P.shape[0], ax.size), dtype=bool)
+        k.level(cspace_kernel.COMPUTE_AND_PAINT, blocked, P, phi, L, circles, polys.v, polys.e,
+                polys.ee, polys.norm, polys.offsets, polys.centre, polys.radius, tol, ax,
+                float(steps[i]), periods, out, _NO_INTERVALS, _NO_INTERVALS)
+        blocked = out.reshape(-1)
+    return blocked.reshape(grid.shape)
 
 
 def _link_hits(arm, obstacles, grid, i) -> np.ndarray:

@@ -1,0 +1,282 @@
+"""The compiled occupancy kernel: hit intervals computed and painted in one pass per prefix cell.
+
+:func:`rapp.cspace.occupancy` works link by link on prefix grids: on the grid of joints
+``0..i-1`` (one *row* per prefix cell) link ``i`` touches each obstacle for one interval
+of its own joint angle, and the intervals are painted onto joint ``i``'s axis. The numpy
+version (:func:`rapp.cspace.occupancy_numpy`) computes every interval of a link into arrays,
+paints them into a difference array, sums it up and ORs the result, broadcast, into the
+grid. The loops here do the same arithmetic, operation by operation, one row at a time:
+
+* a row whose prefix already collides (an earlier link hits there) is filled with True
+  and no interval is computed for it;
+* otherwise the row is cleared and each obstacle's interval, computed in closed form
+  (the disc formula of :func:`_circle_interval`, the candidate extreme points of
+  :func:`_polygon_interval`), is cut into cell ranges and set directly.
+
+Level ``i`` writes the array of shape ``cells[:i + 1]`` once, and level ``i + 1`` reads it as
+its rows' "already collides" flags, so the last level writes the result once and the
+only temporaries are the shorter levels (``M**2`` bytes for a 3-link ``M**3`` grid).
+
+The trigonometry (``atan2``, ``atan``) is the C library's here and may differ from
+numpy's vectorized versions in the last bit, so an interval's end can move by about
+``1e-16`` rad: a cell can differ between the two versions only if its angle lies that
+close to an end, i.e. where the link touches an obstacle to within about ``1e-15``.
+The prefix grids (base points, absolute angles, with their cosines and sines) are
+computed by numpy for both, in :func:`rapp.cspace.prefix_grid`.
+
+:func:`kernels` compiles the loops on first use (cached on disk, ``cache=True``) and
+returns None when numba cannot be imported; :mod:`rapp.cspace` then uses its numpy
+version. Importing this module does not import numba.
+
+Examples
+--------
+>>> from rapp import Circle, Polygon
+>>> circles, polys = pack([Circle((1.0, 0.0), 0.5), Polygon.rectangle((0, 1), 1, 1)])
+>>> circles.tolist(), polys.offsets.tolist()
+([[1.0, 0.0, 0.5]], [0, 4])
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections import namedtuple
+
+import numpy as np
+
+from rapp.obstacles import Circle, Polygon
+
+__all__ = ["pack", "kernels", "Kernels", "Polygons", "COMPUTE_AND_PAINT", "COMPUTE", "PAINT_GIVEN"]
+
+#: The compiled functions (see :func:`kernels`): ``level`` is :func:`_level`.
+Kernels = namedtuple("Kernels", "level")
+
+#: Convex polygons as arrays: polygon ``p`` owns rows ``offsets[p]:offsets[p + 1]`` of
+#: ``v`` (vertices, counter-clockwise), ``e`` (edge vectors ``v[j+1] - v[j]``), ``ee``
+#: (their squared lengths) and ``norm`` (their lengths); ``centre``, ``radius`` (a disc
+#: holding the polygon) and ``extent`` (its largest ``|coordinate|``) are one per polygon.
+Polygons = namedtuple("Polygons", "v e ee norm offsets centre radius extent")
+
+
+def pack(obstacles) -> tuple:
+    """Obstacles as the kernel's arrays: ``circles`` ``(c, 3)`` (centre, radius) and :data:`Polygons`.
+
+    The derived quantities are computed by numpy exactly as
+    :func:`rapp.cspace.occupancy_numpy` computes them, so both versions start from the same
+    numbers. ``obstacles`` must already be checked (Circle or Polygon).
+
+    Examples
+    --------
+    >>> from rapp import Polygon
+    >>> _, p = pack([Polygon.rectangle((0, 0), 2, 1)])
+    >>> p.ee.tolist(), p.centre.tolist(), p.extent.tolist()
+    ([4.0, 1.0, 4.0, 1.0], [[1.0, 0.5]], [2.0])
+    """
+    circles = [(ob.center[0], ob.center[1], ob.radius) for ob in obstacles if isinstance(ob, Circle)]
+    polys = [ob for ob in obstacles if isinstance(ob, Polygon)]
+    vs, es, ees, cs, rads, ext, off = [], [], [], [], [], [], [0]
+    for ob in polys:
+        v = ob.array
+        e = np.roll(v, -1, axis=0) - v
+        c = v.mean(axis=0)
+        vs.append(v)
+        es.append(e)
+        ees.append(np.einsum("ij,ij->i", e, e))
+        cs.append(c)
+        rads.append(np.sqrt(((v - c) ** 2).sum(axis=1).max()))
+        ext.append(float(np.abs(v).max()))
+        off.append(off[-1] + len(v))
+    ee = np.concatenate(ees) if polys else np.zeros(0)
+    return np.array(circles, dtype=float).reshape(-1, 3), Polygons(
+        np.concatenate(vs) if polys else np.zeros((0, 2)),
+        np.concatenate(es) if polys else np.zeros((0, 2)),
+        ee, np.sqrt(ee), np.array(off, dtype=np.int64),
+        np.array(cs, dtype=float).reshape(-1, 2), np.array(rads, dtype=float),
+        np.array(ext, dtype=float))
+
+
+# ---------------------------------------------------------------- the loops, compiled by kernels()
+
+def _mod(a, b):
+    """``numpy.mod(a, b)``: Python's float remainder, which numpy's follows step by step
+    (``fmod``, then ``+ b`` when the signs differ, ``+0.0`` for a zero)."""
+    return a % b
+
+
+def _circle_interval(px, py, L, cx, cy, r):
+    """``rapp.cspace``'s ``_circle_hits`` for one row: ``(start, width)``, ``width < 0`` if none."""
+    vx = cx - px
+    vy = cy - py
+    d2 = vx * vx + vy * vy
+    d = math.sqrt(d2)
+    if L < d - r:
+        return 0.0, -1.0
+    if d2 <= r * r:
+        h = 2.0 * math.pi
+    else:
+        t = math.sqrt(max((d - r) * (d + r), 0.0))
+        if L >= t:
+            h = math.atan2(r, t)
+        else:
+            # d > r here, so d + L - r > 0: no guard against a zero denominator is needed.
+            h = 2.0 * math.atan(math.sqrt(
+                max(L + r - d, 0.0) * max(d + r - L, 0.0) / ((d + L + r) * (d + L - r))))
+    return math.atan2(vy, vx) - min(h, math.pi), 2.0 * h
+
+
+def _polygon_interval(px, py, L, v, e, ee, norm, s0, s1, tol):
+    """``rapp.cspace``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``.
+
+    When the base point is in the polygon every direction hits (``width = 2 pi``; the
+    start, which then paints nothing different, is 0). Otherwise the candidates are
+    taken in numpy's order (vertices, then the crossings of the first root, then of the
+    second), the first valid one being the reference direction. They all lie within an
+    arc narrower than ``pi`` (the polygon, to rounding, is beyond a line missing the base
+    point), so the sign of a cross product orders two of them; the two extreme
+    candidates are found that way and only their angles are computed, by numpy's
+    formula, instead of one ``atan2`` per candidate.
+    """
+    for j in range(s0, s1):
+        if not (e[j, 1] * (v[j, 0] - px) - e[j, 0] * (v[j, 1] - py) >= -tol * norm[j]):
+            break
+    else:
+        return 0.0, 2.0 * math.pi
+    seen = False
+    rx = 0.0
+    ry = 0.0
+    lox = 0.0
+    loy = 0.0
+    hix = 0.0
+    hiy = 0.0
+    for stage in range(3):
+        for j in range(s0, s1):
+            wx = v[j, 0] - px
+            wy = v[j, 1] - py
+            w2 = wx * wx + wy * wy
+            if stage == 0:
+                ok = w2 <= (L + tol) ** 2
+                x = wx
+                y = wy
+            else:
+                b = wx * e[j, 0] + wy * e[j, 1]
+                disc = b * b - ee[j] * (w2 - L * L)
+                root = math.sqrt(max(disc, 0.0))
+                s = (-b + (-1.0 if stage == 1 else 1.0) * root) / ee[j]
+                slack = tol / norm[j]
+                ok = disc >= 0 and s >= -slack and s <= 1 + slack
+                s = min(max(s, 0.0), 1.0)
+                x = wx + s * e[j, 0]
+                y = wy + s * e[j, 1]
+            if ok:
+                if not seen:
+                    seen = True
+                    rx = lox = hix = x
+                    ry = loy = hiy = y
+                elif x * loy - y * lox > 0.0:   # clockwise of the lowest so far
+                    lox = x
+                    loy = y
+                elif hix * y - hiy * x > 0.0:   # counter-clockwise of the highest so far
+                    hix = x
+                    hiy = y
+    if not seen:
+        return 0.0, -1.0
+    lo = math.atan2(rx * loy - ry * lox, rx * lox + ry * loy)
+    hi = math.atan2(rx * hiy - ry * hix, rx * hix + ry * hiy)
+    return math.atan2(ry, rx) + lo, hi - lo
+
+
+def _cell_range(a, width, step, m):
+    """Cells ``first..last`` of an axis of ``m`` cells, ``step`` apart from angle 0, whose angle
+    lies in ``[a, a + width]``; by the index arithmetic of ``rapp.cspace``'s ``_paint``."""
+    first = max(math.ceil(a / step), 0)
+    last = min(math.floor((a + width) / step), m - 1)
+    return first, last
+
+
+#: What :func:`_level` does with a row's intervals.
+COMPUTE_AND_PAINT, COMPUTE, PAINT_GIVEN = 0, 1, 2
+
+
+def _level(mode, blocked, P, phi, L, circles, v, e, ee, norm, offsets, centre, radius, tol,
+           ax, step, periods, out, starts, widths):
+    """One link on its prefix grid: row ``r`` of ``out`` (joint ``i``'s axis) for every prefix
+    cell ``r``.
+
+    ``blocked[r]``: an earlier link already collides at prefix cell ``r``, so the row is
+    all True and its intervals are not computed. ``mode`` :data:`COMPUTE_AND_PAINT`
+    computes each obstacle's interval and paints it; :data:`COMPUTE` only stores the
+    intervals (joint angles) in ``starts``, ``widths`` ``(R, k)`` (``out`` untouched);
+    :data:`PAINT_GIVEN` paints the intervals given there (the benchmark's floor). The
+    loops are written out here: a call passing arrays costs reference counts per row,
+    more than rejecting a far obstacle does.
+    """
+    nc = circles.shape[0]
+    nobs = nc + offsets.shape[0] - 1
+    m = ax.shape[0]
+    two_pi = 2.0 * math.pi
+    for r in range(P.shape[0]):
+        if mode != COMPUTE:
+            if blocked[r]:
+                out[r, :] = True
+                continue
+            out[r, :] = False
+        px = P[r, 0]
+        py = P[r, 1]
+        for k in range(nobs):
+            if mode == PAINT_GIVEN:
+                s = starts[r, k]
+                w = widths[r, k]
+            elif k < nc:
+                s, w = _circle_interval(px, py, L, circles[k, 0], circles[k, 1], circles[k, 2])
+                s -= phi[r]
+            else:
+                p = k - nc
+                s = 0.0
+                w = -1.0
+                # Rows farther than L from the polygon's bounding disc cannot touch it.
+                if math.hypot(px - centre[p, 0], py - centre[p, 1]) <= L + radius[p] + 2 * tol[p]:
+                    s, w = _polygon_interval(px, py, L, v, e, ee, norm, offsets[p],
+                                             offsets[p + 1], tol[p])
+                s -= phi[r]
+            if mode == COMPUTE:
+                starts[r, k] = s
+                widths[r, k] = w
+            elif w >= 0.0:
+                if periods > m:
+                    # A limited joint spanning more turns than it has cells: each cell tested.
+                    for j in range(m):
+                        if _mod(ax[j] - s, two_pi) <= w:
+                            out[r, j] = True
+                else:
+                    f = _mod(s - ax[0], two_pi)
+                    for piece in range(-1, periods - 1):
+                        first, last = _cell_range(f + piece * two_pi, w, step, m)
+                        for j in range(first, last + 1):
+                            out[r, j] = True
+
+
+@functools.cache
+def kernels():
+    """The compiled :data:`Kernels` (numba, cached on disk), or None without numba.
+
+    The first call imports numba and loads the compiled code from its on-disk cache
+    (or compiles it once, a few seconds).
+    """
+    try:
+        import numba
+    except ImportError:
+        return None
+
+    def jit(f, **kw):
+        try:
+            return numba.njit(cache=True, nogil=True, **kw)(f)
+        except RuntimeError:  # no writable cache directory: compile on every run
+            return numba.njit(nogil=True, **kw)(f)
+
+    g = globals()
+    # The helpers are compiled first, so that the kernels calling them find compiled functions.
+    # They are inlined: a call passing arrays costs a reference count per array, more than
+    # rejecting a far obstacle does.
+    for name in ("_mod", "_circle_interval", "_polygon_interval", "_cell_range"):
+        g[name] = jit(g[name], inline="always")
+    return Kernels(jit(_level))
