@@ -199,11 +199,12 @@ def check_grid(arm, grid):
         raise ValueError("grid was built for a different arm")
 
 
-def prefix_grid(grid, i):
+def prefix_grid(grid, i, *, trig=False):
     """Base point and absolute angle of link ``i`` on the grid of joints ``0..i-1``.
 
     Returns ``P`` of shape ``cells[:i] + (2,)`` and ``phi`` of shape ``cells[:i]``
-    (the absolute angle of link ``i-1``, 0 for the base).
+    (the absolute angle of link ``i-1``, 0 for the base); with ``trig=True`` also the
+    cosine and sine of ``phi`` (same shape).
 
     The cosine and sine of each absolute angle come from those of the previous one and
     of the axis by the addition formulas: outer products of short vectors, no
@@ -232,7 +233,7 @@ def prefix_grid(grid, i):
         c, s = c[..., None] * ca - s[..., None] * sa, s[..., None] * ca + c[..., None] * sa
         L = grid.arm.link_lengths[k]
         P = P[..., None, :] + L * np.stack((c, s), axis=-1)
-    return P, phi
+    return (P, phi, c, s) if trig else (P, phi)
 
 
 def _circle_hits(P, L, center, r):
@@ -286,10 +287,12 @@ def _circle_hits(P, L, center, r):
     return start, width
 
 
-def _polygon_hits(P, L, poly):
+def _polygon_hits(P, L, poly, reach):
     """Absolute directions from ``P`` in which a link of length ``L`` touches a convex polygon.
 
-    Returns ``(start, width)`` like :func:`_circle_hits`.
+    Returns ``(start, width)`` like :func:`_circle_hits`. ``reach`` bounds ``|P|`` (the
+    length of the links before this one): with ``L`` and the polygon it sets the scale
+    of the tolerance below.
 
     Notes
     -----
@@ -312,7 +315,8 @@ def _polygon_hits(P, L, poly):
     from any one candidate, the others lie within ``(-pi, pi)``, so their
     least and greatest relative angles are the ends.
 
-    A tolerance of ``1e-12`` of the scene's scale is added to "P in K",
+    A tolerance of ``1e-12`` of the scene's scale (the largest of 1, ``L``, ``reach``
+    and the polygon's coordinates) is added to "P in K",
     "vertex within L" and "crossing within the edge": it only ever adds
     directions at which the link passes within that distance of ``K`` (cells
     touching within rounding), and it keeps a vertex at distance exactly
@@ -322,18 +326,18 @@ def _polygon_hits(P, L, poly):
     --------
     >>> from rapp import Polygon
     >>> sq = Polygon.rectangle((1.0, -0.5), 1.0, 1.0)
-    >>> [s], [w] = _polygon_hits(np.array([[0.0, 0.0]]), 5.0, sq)   # sees both near corners
+    >>> [s], [w] = _polygon_hits(np.array([[0.0, 0.0]]), 5.0, sq, 0.0)   # sees both near corners
     >>> round(float(s), 6), round(float(w), 6), round(float(2 * np.arctan(0.5)), 6)
     (-0.463648, 0.927295, 0.927295)
-    >>> float(_polygon_hits(np.array([[0.0, 0.0]]), 0.9, sq)[1][0])  # too short: never
+    >>> float(_polygon_hits(np.array([[0.0, 0.0]]), 0.9, sq, 0.0)[1][0])  # too short: never
     -1.0
-    >>> float(_polygon_hits(np.array([[1.5, 0.0]]), 0.1, sq)[1][0]) >= 2 * np.pi   # inside
+    >>> float(_polygon_hits(np.array([[1.5, 0.0]]), 0.1, sq, 1.5)[1][0]) >= 2 * np.pi   # inside
     True
     """
     v = poly.array
     e = np.roll(v, -1, axis=0) - v
     ee = np.einsum("ij,ij->i", e, e)
-    tol = 1e-12 * max(1.0, L, float(np.abs(v).max()), float(np.abs(P).max(initial=0.0)))
+    tol = 1e-12 * max(1.0, L, float(np.abs(v).max()), reach)
     start = np.zeros(P.shape[0])
     width = np.full(P.shape[0], -1.0)
     # Only rows within L of the polygon's bounding disc can hit it: the rest stay empty.
@@ -524,35 +528,10 @@ def occupancy_numpy(arm, obstacles, grid) -> np.ndarray:
     return occ
 
 
-_NO_INTERVALS = np.zeros((0, 0))
-
-
 def _occupancy_compiled(k, per_link, grid) -> np.ndarray:
-    """Occupancy by the compiled kernel ``k``, link ``i`` against the obstacles ``per_link[i]``.
-
-    Level ``i`` writes the grid of joints ``0..i`` once; the next level reads it as its
-    rows' "already collides" flags. Only the last level has the size of the grid.
-    """
+    """Occupancy by the compiled kernels ``k``, link ``i`` against the obstacles ``per_link[i]``."""
     from rapp import cspace_kernel
-    arm, axes, steps = grid.arm, grid.axes, grid.step
-    blocked = np.zeros(1, dtype=bool)
-    for i in range(arm.n):
-        P, phi = prefix_grid(grid, i)
-        P = np.ascontiguousarray(P.reshape(-1, 2))
-        phi = phi.reshape(-1)
-        L = float(arm.link_lengths[i])
-        circles, polys = cspace_kernel.pack(per_link[i])
-        # The tolerance of _polygon_hits: 1e-12 of the scene's scale, one per polygon.
-        scale = max(1.0, L, float(np.abs(P).max(initial=0.0)))
-        tol = 1e-12 * np.maximum(scale, polys.extent)
-        ax = axes[i]
-        periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
-        out = np.empty((P.shape[0], ax.size), dtype=bool)
-        k.level(cspace_kernel.COMPUTE_AND_PAINT, blocked, P, phi, L, circles, polys.v, polys.e,
-                polys.ee, polys.norm, polys.offsets, polys.centre, polys.radius, tol, ax,
-                float(steps[i]), periods, out, _NO_INTERVALS, _NO_INTERVALS)
-        blocked = out.reshape(-1)
-    return blocked.reshape(grid.shape)
+    return cspace_kernel.run(k, cspace_kernel.levels(grid, per_link)).reshape(grid.shape)
 
 
 def _link_hits(arm, obstacles, grid, i) -> np.ndarray:
@@ -567,7 +546,7 @@ def _link_hits(arm, obstacles, grid, i) -> np.ndarray:
         if isinstance(ob, Circle):
             s, w = _circle_hits(P, L, ob.center, ob.radius)
         else:
-            s, w = _polygon_hits(P, L, ob)
+            s, w = _polygon_hits(P, L, ob, float(np.sum(arm.link_lengths[:i])))
         intervals.append((s - phi_prev, w))   # absolute direction -> joint i's own angle
     hit = _paint(intervals, grid.axes[i], grid.wraps[i], grid.step[i])
     return hit.reshape(grid.shape[: i + 1] + (1,) * (arm.n - i - 1))

@@ -46,7 +46,8 @@ import numpy as np
 
 from rapp.obstacles import Circle, Polygon
 
-__all__ = ["pack", "kernels", "Kernels", "Polygons", "COMPUTE_AND_PAINT", "COMPUTE", "PAINT_GIVEN"]
+__all__ = ["pack", "levels", "run", "kernels", "Kernels", "Polygons", "Level", "COMPUTE_AND_PAINT",
+           "COMPUTE", "PAINT_GIVEN"]
 
 #: The compiled functions (see :func:`kernels`): ``level`` is :func:`_level`.
 Kernels = namedtuple("Kernels", "level")
@@ -93,6 +94,91 @@ def pack(obstacles) -> tuple:
         ee, np.sqrt(ee), np.array(off, dtype=np.int64),
         np.array(cs, dtype=float).reshape(-1, 2), np.array(rads, dtype=float),
         np.array(ext, dtype=float))
+
+
+#: The geometry of one level (link ``i`` on the grid of joints ``0..i-1``), the arguments of
+#: :func:`_level` between ``blocked`` and ``out``: see there.
+Level = namedtuple("Level", "Pp phip cp sp axp cap sap Lp L circles v e ee norm offsets centre "
+                            "radius tol ax step periods")
+
+
+def levels(grid, per_link) -> list:
+    """The :data:`Level` of every link of ``grid.arm``, link ``i`` against ``per_link[i]``.
+
+    Each level's rows are its parent's prefix cells times joint ``i - 1``'s cells;
+    the parent's geometry comes from :func:`rapp.cspace.prefix_grid` (the grid of joints
+    ``0..i-2``, ``M**(i-1)`` cells: the last level's own, ``M**(i)``, is never built).
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, JointGrid
+    >>> lv = levels(JointGrid(Arm([1.0, 0.5]), 8), [[Circle((1.0, 1.0), 0.2)]] * 2)
+    >>> [(x.Pp.shape[0] * x.axp.size, x.ax.size) for x in lv]   # rows x cells per level
+    [(1, 8), (8, 8)]
+    """
+    from rapp.cspace import prefix_grid
+    arm, axes, steps = grid.arm, grid.axes, grid.step
+    # Level 0's parent: one prefix cell at the base, on a one-cell axis at angle 0.
+    parent = (np.zeros((1, 2)), np.zeros(1), np.ones(1), np.zeros(1))
+    axp, Lp = np.zeros(1), 0.0
+    packed, out = {}, []
+    for i in range(arm.n):
+        L = float(arm.link_lengths[i])
+        key = id(per_link[i])
+        if key not in packed:
+            packed[key] = pack(per_link[i])
+        circles, polys = packed[key]
+        # The tolerance of rapp.cspace's _polygon_hits, one per polygon.
+        reach = float(np.sum(arm.link_lengths[:i]))
+        tol = 1e-12 * np.maximum(max(1.0, L, reach), polys.extent)
+        ax = axes[i]
+        periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
+        out.append(Level(*parent, axp, np.cos(axp), np.sin(axp), Lp, L, circles, polys.v, polys.e,
+                         polys.ee, polys.norm, polys.offsets, polys.centre, polys.radius, tol,
+                         ax, float(steps[i]), periods))
+        if i + 1 < arm.n:
+            P, phi, c, s = prefix_grid(grid, i, trig=True)
+            parent = (np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
+                      s.reshape(-1))
+            axp, Lp = ax, L
+    return out
+
+
+_NONE, _NO_OUT = np.zeros((0, 0)), np.zeros((0, 0), dtype=bool)
+
+
+def run(k, lv, mode=None, intervals=None):
+    """Run the compiled :data:`Kernels` ``k`` over the levels ``lv`` (:func:`levels`).
+
+    ``mode`` :data:`COMPUTE_AND_PAINT` (the default) returns the occupancy, flat over
+    the last level's rows (reshape it to ``grid.shape``); :data:`COMPUTE` returns each
+    level's intervals ``(starts, widths)``, every row's, as joint angles;
+    :data:`PAINT_GIVEN` paints ``intervals`` (such a list) instead of computing them.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, JointGrid
+    >>> k, grid = kernels(), JointGrid(Arm([1.0, 0.5]), 8)
+    >>> lv = levels(grid, [[Circle((1.0, 1.0), 0.2)]] * 2)
+    >>> k is None or bool((run(k, lv, PAINT_GIVEN, run(k, lv, COMPUTE)) == run(k, lv)).all())
+    True
+    """
+    mode = COMPUTE_AND_PAINT if mode is None else mode
+    blocked = np.zeros(1, dtype=bool)
+    found = []
+    for i, x in enumerate(lv):
+        rows = x.Pp.shape[0] * x.axp.size
+        if mode == COMPUTE:
+            nobs = x.circles.shape[0] + x.offsets.size - 1
+            starts, widths = np.zeros((rows, nobs)), np.zeros((rows, nobs))
+            k.level(mode, blocked, *x, _NO_OUT, starts, widths)
+            found.append((starts, widths))
+            continue
+        out = np.empty((rows, x.ax.size), dtype=bool)
+        starts, widths = intervals[i] if mode == PAINT_GIVEN else (_NONE, _NONE)
+        k.level(mode, blocked, *x, out, starts, widths)
+        blocked = out.reshape(-1)
+    return found if mode == COMPUTE else blocked
 
 
 # ---------------------------------------------------------------- the loops, compiled by kernels()
@@ -197,10 +283,16 @@ def _cell_range(a, width, step, m):
 COMPUTE_AND_PAINT, COMPUTE, PAINT_GIVEN = 0, 1, 2
 
 
-def _level(mode, blocked, P, phi, L, circles, v, e, ee, norm, offsets, centre, radius, tol,
-           ax, step, periods, out, starts, widths):
+def _level(mode, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, norm,
+           offsets, centre, radius, tol, ax, step, periods, out, starts, widths):
     """One link on its prefix grid: row ``r`` of ``out`` (joint ``i``'s axis) for every prefix
-    cell ``r``.
+    cell ``r`` (of the joints before ``i``).
+
+    The prefix cells are those of the parent level (joints ``0..i-2``: base point ``Pp``,
+    absolute angle ``phip`` with its cosine ``cp`` and sine ``sp``) times the cells of
+    joint ``i - 1`` (angles ``axp``, cosines ``cap``, sines ``sap``, link length ``Lp``):
+    each row's base point and angle are computed here by the operations of
+    ``rapp.cspace.prefix_grid``, so no array of the rows' geometry is built.
 
     ``blocked[r]``: an earlier link already collides at prefix cell ``r``, so the row is
     all True and its intervals are not computed. ``mode`` :data:`COMPUTE_AND_PAINT`
@@ -213,22 +305,30 @@ def _level(mode, blocked, P, phi, L, circles, v, e, ee, norm, offsets, centre, r
     nc = circles.shape[0]
     nobs = nc + offsets.shape[0] - 1
     m = ax.shape[0]
+    mp = axp.shape[0]
     two_pi = 2.0 * math.pi
-    for r in range(P.shape[0]):
+    for r in range(Pp.shape[0] * mp):
         if mode != COMPUTE:
             if blocked[r]:
                 out[r, :] = True
                 continue
             out[r, :] = False
-        px = P[r, 0]
-        py = P[r, 1]
+        phi = px = py = 0.0
+        if mode != PAINT_GIVEN:
+            rp = r // mp
+            j = r - rp * mp
+            phi = phip[rp] + axp[j]
+            c = cp[rp] * cap[j] - sp[rp] * sap[j]
+            s_ = sp[rp] * cap[j] + cp[rp] * sap[j]
+            px = Pp[rp, 0] + Lp * c
+            py = Pp[rp, 1] + Lp * s_
         for k in range(nobs):
             if mode == PAINT_GIVEN:
                 s = starts[r, k]
                 w = widths[r, k]
             elif k < nc:
                 s, w = _circle_interval(px, py, L, circles[k, 0], circles[k, 1], circles[k, 2])
-                s -= phi[r]
+                s -= phi
             else:
                 p = k - nc
                 s = 0.0
@@ -237,22 +337,22 @@ def _level(mode, blocked, P, phi, L, circles, v, e, ee, norm, offsets, centre, r
                 if math.hypot(px - centre[p, 0], py - centre[p, 1]) <= L + radius[p] + 2 * tol[p]:
                     s, w = _polygon_interval(px, py, L, v, e, ee, norm, offsets[p],
                                              offsets[p + 1], tol[p])
-                s -= phi[r]
+                s -= phi
             if mode == COMPUTE:
                 starts[r, k] = s
                 widths[r, k] = w
             elif w >= 0.0:
                 if periods > m:
                     # A limited joint spanning more turns than it has cells: each cell tested.
-                    for j in range(m):
-                        if _mod(ax[j] - s, two_pi) <= w:
-                            out[r, j] = True
+                    for jj in range(m):
+                        if _mod(ax[jj] - s, two_pi) <= w:
+                            out[r, jj] = True
                 else:
                     f = _mod(s - ax[0], two_pi)
                     for piece in range(-1, periods - 1):
                         first, last = _cell_range(f + piece * two_pi, w, step, m)
-                        for j in range(first, last + 1):
-                            out[r, j] = True
+                        for jj in range(first, last + 1):
+                            out[r, jj] = True
 
 
 @functools.cache

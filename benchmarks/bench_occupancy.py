@@ -1,0 +1,220 @@
+"""The 3-link 128^3 occupancy against its floor, side by side in one run.
+
+The problem is ``bench_core.py``'s 3-link one: links 1.0, 0.8, 0.5 and five obstacles (four
+discs and a rectangle), on a grid of 128 cells per joint (2,097,152 cells).
+
+What is timed (best of ``K`` rounds, the functions called in turn within every round so that
+the machine's load hits them alike; ``time.perf_counter`` seconds per call):
+
+* ``rapp``: ``rapp.occupancy(arm, obstacles, grid)``, the whole public call (argument checks,
+  the prefix geometry, packing the obstacles, the compiled kernel of
+  ``rapp.cspace_kernel``: every interval computed and painted, the result allocated).
+* ``floor``: the same kernel's painting alone, given the intervals: for every link, every
+  prefix cell and every obstacle, the interval of the link's joint angle in which it
+  touches the obstacle (``start``, ``width``), computed beforehand and outside the timing
+  (``cspace_kernel.run(..., COMPUTE)``). It allocates the levels' arrays (the last one
+  of ``128**3`` bytes), and for every prefix cell either fills its row (an earlier link
+  already collides there) or clears it and cuts each interval into cell ranges and sets
+  them. This is the least any implementation painting one interval per obstacle per
+  prefix cell does: everything ``rapp`` does except computing the intervals (the
+  closed-form geometry with its ``atan2``) and its Python set-up. Its output is checked
+  equal to ``rapp``'s.
+* ``memory``: writing ``128**3`` bytes (``numpy.ones``), for scale only.
+* ``numpy``: ``rapp.cspace.occupancy_numpy``, the numpy version (the fallback without numba),
+  which ``rapp.occupancy`` was before the kernel.
+
+The goal (issue 27): ``rapp / floor <= 2``. The results are checked cell by cell: the compiled
+occupancy against the numpy one and against ``rapp.collides`` on every configuration; cells
+that differ are reported with the largest ``|clearance|`` among them (rounding at a touching
+configuration). The 2-link grids of ``bench_core.py`` (M = 100, 360) are timed the same way,
+compiled against numpy, to show they did not slow down. The first call in a fresh process
+(numba imported, the kernel loaded from its on-disk cache, ``cache=True``) and, with an empty
+cache directory, the compilation are timed in child processes.
+
+Run from the repository root: ``PYTHONPATH=$PWD python benchmarks/bench_occupancy.py``.
+Prints a table and writes ``rapp/recorded/occupancy.json``.
+"""
+
+from __future__ import annotations
+
+import datetime
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+import rapp
+from rapp import cspace, cspace_kernel
+from rapp.collision import check_obstacle
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_core import CIRCLES, LINKS, LINKS3, OBSTACLES3  # noqa: E402  the problems, defined once
+
+HERE = Path(__file__).resolve().parent
+M3 = 128
+K = 21
+
+
+def side_by_side(fns, k=K):
+    """Best-of-``k`` seconds of each function, called in turn within every round."""
+    best, outs = [np.inf] * len(fns), [None] * len(fns)
+    for _ in range(k):
+        for j, fn in enumerate(fns):
+            t0 = time.perf_counter()
+            outs[j] = fn()
+            best[j] = min(best[j], time.perf_counter() - t0)
+    return best, outs
+
+
+def mismatches(arm, obstacles, grid, occ, other):
+    """Cells where ``occ`` differs from ``other`` and from ``rapp.collides``, and the largest
+    ``|clearance|`` over all of them (one slice of axis 0 at a time, for memory)."""
+    axes = grid.axes
+    rest = np.stack(np.meshgrid(*axes[1:], indexing="ij"), axis=-1)
+    vs_other, vs_collides, worst = int((occ != other).sum()), 0, 0.0
+    for i0, a0 in enumerate(axes[0]):
+        q = np.concatenate([np.full(rest.shape[:-1] + (1,), a0), rest], axis=-1)
+        d = occ[i0] != rapp.collides(arm, q, obstacles)
+        vs_collides += int(d.sum())
+        bad = d | (occ[i0] != other[i0])
+        if bad.any():
+            worst = max(worst, float(np.abs(rapp.clearance(arm, q[bad], obstacles)).max()))
+    return {"mismatched_cells_vs_numpy": vs_other, "mismatched_cells_vs_collides": vs_collides,
+            "mismatched_max_abs_clearance": worst}
+
+
+def three_link():
+    arm = rapp.Arm(LINKS3)
+    grid = rapp.JointGrid(arm, M3)
+    k = cspace_kernel.kernels()
+    if k is None:
+        raise SystemExit("numba is not installed: there is no compiled occupancy to time")
+    obstacles = [check_obstacle(ob) for ob in OBSTACLES3]
+    lv = cspace_kernel.levels(grid, [obstacles] * arm.n)
+    intervals = cspace_kernel.run(k, lv, cspace_kernel.COMPUTE)
+    cells = M3 ** 3
+    (t_rapp, t_floor, t_mem, t_numpy), (occ, painted, _, occ_numpy) = side_by_side([
+        lambda: rapp.occupancy(arm, OBSTACLES3, grid),
+        lambda: cspace_kernel.run(k, lv, cspace_kernel.PAINT_GIVEN, intervals),
+        lambda: np.ones(cells, dtype=bool),
+        lambda: cspace.occupancy_numpy(arm, OBSTACLES3, grid),
+    ])
+    res = {
+        "cells": cells, "rapp_s": t_rapp, "floor_s": t_floor, "memory_s": t_mem, "numpy_s": t_numpy,
+        "ratio_rapp_over_floor": t_rapp / t_floor, "ratio_numpy_over_rapp": t_numpy / t_rapp,
+        "intervals": int(sum(w.size for _, w in intervals)),
+        "nonempty_intervals": int(sum((w >= 0).sum() for _, w in intervals)),
+        "floor_equals_rapp": bool((painted.reshape(grid.shape) == occ).all()),
+        "occupied_fraction": float(occ.mean()),
+        "targets": {"ratio_rapp_over_floor_max": 2.0},
+    }
+    res.update(mismatches(arm, OBSTACLES3, grid, occ, occ_numpy))
+    return res
+
+
+def two_link():
+    arm = rapp.Arm(LINKS)
+    obstacles = [rapp.Circle((cx, cy), r) for cx, cy, r in CIRCLES]
+    out = {}
+    for M in (100, 360):
+        grid = rapp.JointGrid(arm, M)
+        lv = cspace_kernel.levels(grid, [obstacles] * arm.n)
+        # rapp.occupancy uses the kernel here because numba is loaded; a fresh process planning
+        # a grid under cspace.COMPILE_FROM cells uses numpy (the same cells).
+        (t_rapp, t_numpy), (occ, occ_numpy) = side_by_side([
+            lambda: cspace_kernel.run(cspace_kernel.kernels(), lv).reshape(grid.shape),
+            lambda: cspace.occupancy_numpy(arm, obstacles, grid)])
+        res = {"cells": M * M, "compiled_s": t_rapp, "numpy_s": t_numpy,
+               "ratio_numpy_over_compiled": t_numpy / t_rapp,
+               "uses_compiled_in_a_fresh_process": M * M >= cspace.COMPILE_FROM}
+        res.update(mismatches(arm, obstacles, grid, occ, occ_numpy))
+        out[f"2link_M{M}"] = res
+    return out
+
+
+FIRST_CALL = """
+import time, sys
+t0 = time.perf_counter()
+import rapp
+sys.path.insert(0, {here!r})
+from bench_core import LINKS3, OBSTACLES3
+arm = rapp.Arm(LINKS3)
+grid = rapp.JointGrid(arm, {m})
+t1 = time.perf_counter()
+rapp.occupancy(arm, OBSTACLES3, grid)
+t2 = time.perf_counter()
+rapp.occupancy(arm, OBSTACLES3, grid)
+t3 = time.perf_counter()
+print(t2 - t1, t3 - t2)
+"""
+
+
+def first_call():
+    """Seconds of the first and the second 128^3 call in a fresh process: with numba's on-disk
+    cache as it is (normally warm), and with an empty cache directory (compilation)."""
+    code = FIRST_CALL.format(here=str(HERE), m=M3)
+    out = {}
+    with tempfile.TemporaryDirectory() as empty:
+        for name, extra in (("cached", {}), ("uncached", {"NUMBA_CACHE_DIR": empty})):
+            env = dict(os.environ, **extra)
+            r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                               text=True, check=True)
+            first, second = map(float, r.stdout.split())
+            out[f"first_call_{name}_s"] = first
+            out[f"second_call_{name}_s"] = second
+    return out
+
+
+def run():
+    load_before = os.getloadavg()[0]
+    results = {"3link_M128": three_link()}
+    results.update(two_link())
+    results["3link_M128"].update(first_call())
+    info = {
+        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "cpu_count": os.cpu_count(),
+        "load_average_1min_before": load_before,
+        "load_average_1min_after": os.getloadavg()[0],
+        "machine": platform.machine(), "platform": platform.platform(),
+        "python": platform.python_version(), "numpy": np.__version__,
+        "scenario": {"links3": LINKS3, "obstacles3": [repr(o) for o in OBSTACLES3],
+                     "links": LINKS, "circles": CIRCLES},
+        "timing": f"best of {K} rounds, time.perf_counter seconds per call, the functions in "
+                  "turn within every round",
+        "floor": "the kernel painting intervals computed beforehand (every link, prefix cell "
+                 "and obstacle), with the allocation; see benchmarks/bench_occupancy.py",
+    }
+    (HERE.parent / "rapp" / "recorded" / "occupancy.json").write_text(
+        json.dumps({"machine": info, "results": results}, indent=2) + "\n")
+
+    r = results["3link_M128"]
+    print(f"3-link {M3}^3 occupancy ({r['cells']:,} cells, {r['nonempty_intervals']:,} of "
+          f"{r['intervals']:,} intervals non-empty)")
+    print(f"  {'rapp.occupancy (compiled)':34s} {r['rapp_s'] * 1e3:9.3f} ms")
+    print(f"  {'floor (paint given intervals)':34s} {r['floor_s'] * 1e3:9.3f} ms")
+    print(f"  {'memory (write 128^3 bytes)':34s} {r['memory_s'] * 1e3:9.3f} ms")
+    print(f"  {'occupancy_numpy':34s} {r['numpy_s'] * 1e3:9.3f} ms")
+    print(f"  rapp / floor = {r['ratio_rapp_over_floor']:.2f} (goal <= 2), "
+          f"numpy / rapp = {r['ratio_numpy_over_rapp']:.1f}, floor output == rapp's: "
+          f"{r['floor_equals_rapp']}")
+    print(f"  first call in a fresh process: {r['first_call_cached_s']:.3f} s with numba's cache, "
+          f"{r['first_call_uncached_s']:.3f} s compiling (second call "
+          f"{r['second_call_cached_s'] * 1e3:.2f} ms)")
+    for key, res in results.items():
+        if key.startswith("2link"):
+            print(f"{key}: compiled {res['compiled_s'] * 1e3:.3f} ms, numpy {res['numpy_s'] * 1e3:.3f}"
+                  f" ms ({res['ratio_numpy_over_compiled']:.1f}x)")
+    for key, res in results.items():
+        print(key, {k: v for k, v in res.items() if "mismatch" in k})
+    print(f"cpu_count={info['cpu_count']} load={load_before:.2f} -> "
+          f"{info['load_average_1min_after']:.2f} python={info['python']} numpy={info['numpy']}")
+
+
+if __name__ == "__main__":
+    run()
