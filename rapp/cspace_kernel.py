@@ -326,17 +326,27 @@ def _level(mode, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e,
             if mode == PAINT_GIVEN:
                 s = starts[r, k]
                 w = widths[r, k]
-            elif k < nc:
-                s, w = _circle_interval(px, py, L, circles[k, 0], circles[k, 1], circles[k, 2])
-                s -= phi
             else:
-                p = k - nc
+                # Most rows are far from any one obstacle: a test without a square root
+                # (with a margin far above rounding) rejects them before the exact one.
                 s = 0.0
                 w = -1.0
-                # Rows farther than L from the polygon's bounding disc cannot touch it.
-                if math.hypot(px - centre[p, 0], py - centre[p, 1]) <= L + radius[p] + 2 * tol[p]:
-                    s, w = _polygon_interval(px, py, L, v, e, ee, norm, offsets[p],
-                                             offsets[p + 1], tol[p])
+                if k < nc:
+                    dx = circles[k, 0] - px
+                    dy = circles[k, 1] - py
+                    reach = L + circles[k, 2]
+                    if dx * dx + dy * dy <= reach * reach * (1.0 + 1e-9):
+                        s, w = _circle_interval(px, py, L, circles[k, 0], circles[k, 1],
+                                                circles[k, 2])
+                else:
+                    p = k - nc
+                    dx = centre[p, 0] - px
+                    dy = centre[p, 1] - py
+                    # Rows farther than L from the polygon's bounding disc cannot touch it.
+                    reach = L + radius[p] + 2 * tol[p]
+                    if dx * dx + dy * dy <= reach * reach * (1.0 + 1e-9):
+                        s, w = _polygon_interval(px, py, L, v, e, ee, norm, offsets[p],
+                                                 offsets[p + 1], tol[p])
                 s -= phi
             if mode == COMPUTE:
                 starts[r, k] = s
