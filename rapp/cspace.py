@@ -226,8 +226,9 @@ def prefix_grid(grid, i, *, trig=False):
     P = np.zeros((2,))
     phi = np.zeros(())
     c, s = np.ones(()), np.zeros(())
+    axes = grid.axes
     for k in range(i):
-        ax = grid.axes[k]
+        ax = axes[k]
         ca, sa = np.cos(ax), np.sin(ax)
         phi = phi[..., None] + ax
         c, s = c[..., None] * ca - s[..., None] * sa, s[..., None] * ca + c[..., None] * sa
@@ -546,7 +547,7 @@ def _link_hits(arm, obstacles, grid, i) -> np.ndarray:
         if isinstance(ob, Circle):
             s, w = _circle_hits(P, L, ob.center, ob.radius)
         else:
-            s, w = _polygon_hits(P, L, ob, float(np.sum(arm.link_lengths[:i])))
+            s, w = _polygon_hits(P, L, ob, math.fsum(arm.link_lengths[:i]))
         intervals.append((s - phi_prev, w))   # absolute direction -> joint i's own angle
     hit = _paint(intervals, grid.axes[i], grid.wraps[i], grid.step[i])
     return hit.reshape(grid.shape[: i + 1] + (1,) * (arm.n - i - 1))

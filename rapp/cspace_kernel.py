@@ -46,11 +46,11 @@ import numpy as np
 
 from rapp.obstacles import Circle, Polygon
 
-__all__ = ["pack", "levels", "run", "kernels", "Kernels", "Polygons", "Level", "COMPUTE_AND_PAINT",
-           "COMPUTE", "PAINT_GIVEN"]
+__all__ = ["pack", "levels", "run", "paint", "intervals", "one_per_cell", "kernels", "Kernels", "Polygons", "Level",
+           "BATCH", "NONE", "TANGENT", "TIP", "IN_DISC", "POLYGON", "IN_POLYGON"]
 
-#: The compiled functions (see :func:`kernels`): ``level`` is :func:`_level`.
-Kernels = namedtuple("Kernels", "level")
+#: The compiled functions (see :func:`kernels`): :func:`_collect`, :func:`_paint`, :func:`_rows`.
+Kernels = namedtuple("Kernels", "collect paint rows")
 
 #: Convex polygons as arrays: polygon ``p`` owns rows ``offsets[p]:offsets[p + 1]`` of
 #: ``v`` (vertices, counter-clockwise), ``e`` (edge vectors ``v[j+1] - v[j]``), ``ee``
@@ -64,7 +64,9 @@ def pack(obstacles) -> tuple:
 
     The derived quantities are computed by numpy exactly as
     :func:`rapp.cspace.occupancy_numpy` computes them, so both versions start from the same
-    numbers. ``obstacles`` must already be checked (Circle or Polygon).
+    numbers. ``obstacles`` must already be checked (Circle or Polygon). The arrays are
+    cached for the last few obstacle lists (by the identity of their obstacles, which are
+    immutable), so a grid recomputed for the same scene does not pack it again.
 
     Examples
     --------
@@ -73,6 +75,14 @@ def pack(obstacles) -> tuple:
     >>> p.ee.tolist(), p.centre.tolist(), p.extent.tolist()
     ([4.0, 1.0, 4.0, 1.0], [[1.0, 0.5]], [2.0])
     """
+    if not isinstance(obstacles, (list, tuple)):
+        obstacles = tuple(obstacles)
+    # The cache holds the obstacles themselves, so while an entry lives no other object can
+    # take one of its ids: equal ids are the same obstacles.
+    key = tuple(map(id, obstacles))
+    hit = _PACKED.get(key)
+    if hit is not None:
+        return hit[1]
     circles = [(ob.center[0], ob.center[1], ob.radius) for ob in obstacles if isinstance(ob, Circle)]
     polys = [ob for ob in obstacles if isinstance(ob, Polygon)]
     vs, es, ees, cs, rads, ext, off = [], [], [], [], [], [], [0]
@@ -88,16 +98,26 @@ def pack(obstacles) -> tuple:
         ext.append(float(np.abs(v).max()))
         off.append(off[-1] + len(v))
     ee = np.concatenate(ees) if polys else np.zeros(0)
-    return np.array(circles, dtype=float).reshape(-1, 3), Polygons(
+    out = np.array(circles, dtype=float).reshape(-1, 3), Polygons(
         np.concatenate(vs) if polys else np.zeros((0, 2)),
         np.concatenate(es) if polys else np.zeros((0, 2)),
         ee, np.sqrt(ee), np.array(off, dtype=np.int64),
         np.array(cs, dtype=float).reshape(-1, 2), np.array(rads, dtype=float),
         np.array(ext, dtype=float))
+    if len(_PACKED) >= 64:
+        _PACKED.clear()
+    _PACKED[key] = (tuple(obstacles), out)
+    return out
 
 
-#: The geometry of one level (link ``i`` on the grid of joints ``0..i-1``), the arguments of
-#: :func:`_level` between ``blocked`` and ``out``: see there.
+_PACKED: dict = {}
+
+
+#: The geometry of one level (link ``i`` on the grid of joints ``0..i-1``): the rows (the
+#: parent level's prefix cells ``Pp``, ``phip``, ``cp``, ``sp`` times joint ``i - 1``'s cells
+#: ``axp``, ``cap``, ``sap``, link ``Lp``), the link ``L`` and its obstacles (:func:`pack`,
+#: with the polygons' tolerances ``tol``), and joint ``i``'s axis ``ax`` (``step``, and the
+#: number of ``2 pi`` pieces an interval is cut into, ``periods``).
 Level = namedtuple("Level", "Pp phip cp sp axp cap sap Lp L circles v e ee norm offsets centre "
                             "radius tol ax step periods")
 
@@ -129,7 +149,7 @@ def levels(grid, per_link) -> list:
             packed[key] = pack(per_link[i])
         circles, polys = packed[key]
         # The tolerance of rapp.cspace's _polygon_hits, one per polygon.
-        reach = float(np.sum(arm.link_lengths[:i]))
+        reach = math.fsum(arm.link_lengths[:i])
         tol = 1e-12 * np.maximum(max(1.0, L, reach), polys.extent)
         ax = axes[i]
         periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
@@ -144,41 +164,116 @@ def levels(grid, per_link) -> list:
     return out
 
 
-_NONE, _NO_OUT = np.zeros((0, 0)), np.zeros((0, 0), dtype=bool)
+#: Kinds of a collected interval (row 2 of the buffer of :func:`_collect`).
+NONE, TANGENT, TIP, IN_DISC, POLYGON, IN_POLYGON = 0, 1, 2, 3, 4, 5
+
+#: Intervals collected per batch: the buffer is ``9 x BATCH`` floats (1.2 MB).
+BATCH = 1 << 14
 
 
-def run(k, lv, mode=None, intervals=None):
-    """Run the compiled :data:`Kernels` ``k`` over the levels ``lv`` (:func:`levels`).
+def intervals(buf, n):
+    """The intervals collected in ``buf[:, :n]`` (:func:`_collect`): ``rows, starts, widths``.
 
-    ``mode`` :data:`COMPUTE_AND_PAINT` (the default) returns the occupancy, flat over
-    the last level's rows (reshape it to ``grid.shape``); :data:`COMPUTE` returns each
-    level's intervals ``(starts, widths)``, every row's, as joint angles;
-    :data:`PAINT_GIVEN` paints ``intervals`` (such a list) instead of computing them.
+    Their angles are computed here in bulk by numpy, by the formulas of
+    ``rapp.cspace``'s ``_circle_hits`` and ``_polygon_hits``, so that both versions take
+    them from the same (vectorized) ``arctan2`` and ``arctan``.
+    """
+    b = buf[:, :n]
+    kind = b[2]
+    a = np.arctan2(b[3], b[4])
+    lo = np.arctan2(b[5], b[6])
+    h = lo.copy()
+    tip = kind == TIP
+    h[tip] = 2.0 * np.arctan(b[5, tip])
+    h[kind == IN_DISC] = 2 * np.pi
+    start = a - np.minimum(h, np.pi)
+    width = 2.0 * h
+    poly = kind == POLYGON
+    start[poly] = a[poly] + lo[poly]
+    width[poly] = np.arctan2(b[7, poly], b[8, poly]) - lo[poly]
+    inside = kind == IN_POLYGON
+    start[inside] = 0.0
+    width[inside] = 2 * np.pi
+    start -= b[1]
+    return b[0].astype(np.int64), start, width
+
+
+def run(k, lv, *, keep=False):
+    """The occupancy by the compiled :data:`Kernels` ``k`` over the levels ``lv`` (:func:`levels`),
+    flat over the last level's rows (reshape it to ``grid.shape``).
+
+    Per level: :func:`_collect` clears or fills every row and gathers the arguments of
+    each interval's angles, :func:`intervals` computes them, :func:`_paint` paints them
+    (in batches of :data:`BATCH` intervals). With ``keep=True`` it returns also, per
+    level, the intervals it painted ``(rows, starts, widths)`` (for :func:`paint`).
 
     Examples
     --------
     >>> from rapp import Arm, Circle, JointGrid
     >>> k, grid = kernels(), JointGrid(Arm([1.0, 0.5]), 8)
     >>> lv = levels(grid, [[Circle((1.0, 1.0), 0.2)]] * 2)
-    >>> k is None or bool((run(k, lv, PAINT_GIVEN, run(k, lv, COMPUTE)) == run(k, lv)).all())
+    >>> k is None or bool((paint(k, lv, run(k, lv, keep=True)[1]) == run(k, lv)).all())
     True
     """
-    mode = COMPUTE_AND_PAINT if mode is None else mode
     blocked = np.zeros(1, dtype=bool)
-    found = []
-    for i, x in enumerate(lv):
+    kept = []
+    buf = np.empty((9, BATCH))
+    for x in lv:
         rows = x.Pp.shape[0] * x.axp.size
-        if mode == COMPUTE:
-            nobs = x.circles.shape[0] + x.offsets.size - 1
-            starts, widths = np.zeros((rows, nobs)), np.zeros((rows, nobs))
-            k.level(mode, blocked, *x, _NO_OUT, starts, widths)
-            found.append((starts, widths))
-            continue
         out = np.empty((rows, x.ax.size), dtype=bool)
-        starts, widths = intervals[i] if mode == PAINT_GIVEN else (_NONE, _NONE)
-        k.level(mode, blocked, *x, out, starts, widths)
+        r, parts = 0, []
+        while r < rows:
+            r, n = k.collect(r, blocked, *x[:18], out, buf)
+            found = intervals(buf, n)
+            k.paint(blocked, *found, x.ax, x.step, x.periods, out)
+            if keep:
+                parts.append(found)
+        if keep:
+            kept.append(tuple(np.concatenate(p) for p in zip(*parts)))
         blocked = out.reshape(-1)
-    return found if mode == COMPUTE else blocked
+    return (blocked, kept) if keep else blocked
+
+
+def paint(k, lv, given):
+    """The painting of :func:`run` alone, given the intervals of every level as
+    ``(rows, starts, widths)`` (those of ``run(k, lv, keep=True)[1]``, or one per prefix cell
+    and obstacle, ``width < 0`` where it does not hit): every row cleared, or filled where
+    an earlier level collides, and the intervals of the other rows painted. (The floor of
+    ``benchmarks/bench_occupancy.py``.)"""
+    blocked = np.zeros(1, dtype=bool)
+    for x, found in zip(lv, given):
+        out = np.empty((x.Pp.shape[0] * x.axp.size, x.ax.size), dtype=bool)
+        k.rows(blocked, out)
+        k.paint(blocked, *found, x.ax, x.step, x.periods, out)
+        blocked = out.reshape(-1)
+    return blocked
+
+
+def one_per_cell(lv, kept) -> list:
+    """The painted intervals ``kept`` of every level (``run(k, lv, keep=True)[1]``) as one per
+    prefix cell and obstacle, in the order of the rows, ``width = -1`` where there is none
+    (the link misses the obstacle, or the row was full and nothing was computed): the
+    benchmark floor's input, which :func:`paint` accepts as well.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, JointGrid
+    >>> k, grid = kernels(), JointGrid(Arm([1.0, 0.5]), 8)
+    >>> lv = levels(grid, [[Circle((1.0, 1.0), 0.2)]] * 2)
+    >>> occ, kept = run(k, lv, keep=True) if k else (None, None)
+    >>> k is None or bool((paint(k, lv, one_per_cell(lv, kept)) == occ).all())
+    True
+    """
+    out = []
+    for x, (rows, starts, widths) in zip(lv, kept):
+        nobs = x.circles.shape[0] + x.offsets.size - 1
+        total = x.Pp.shape[0] * x.axp.size * nobs
+        # The rows come in order: an interval's slot is its rank among its row's.
+        slot = rows * nobs + (np.arange(rows.size) - np.searchsorted(rows, rows))
+        s, w = np.zeros(total), np.full(total, -1.0)
+        s[slot], w[slot] = starts, widths
+        out.append((np.repeat(np.arange(total // nobs), nobs), s, w))
+    return out
 
 
 # ---------------------------------------------------------------- the loops, compiled by kernels()
@@ -189,44 +284,44 @@ def _mod(a, b):
     return a % b
 
 
-def _circle_interval(px, py, L, cx, cy, r):
-    """``rapp.cspace``'s ``_circle_hits`` for one row: ``(start, width)``, ``width < 0`` if none."""
+def _circle_args(px, py, L, cx, cy, r):
+    """``rapp.cspace``'s ``_circle_hits`` for one row, up to its trigonometry:
+    ``kind, ay, ax, by, bx``, the interval being ``atan2(ay, ax) -+ h`` with
+    ``h = atan2(by, bx)`` (TANGENT), ``2 atan(by)`` (TIP) or ``2 pi`` (IN_DISC)."""
     vx = cx - px
     vy = cy - py
     d2 = vx * vx + vy * vy
     d = math.sqrt(d2)
     if L < d - r:
-        return 0.0, -1.0
+        return NONE, 0.0, 1.0, 0.0, 1.0
     if d2 <= r * r:
-        h = 2.0 * math.pi
-    else:
-        t = math.sqrt(max((d - r) * (d + r), 0.0))
-        if L >= t:
-            h = math.atan2(r, t)
-        else:
-            # d > r here, so d + L - r > 0: no guard against a zero denominator is needed.
-            h = 2.0 * math.atan(math.sqrt(
-                max(L + r - d, 0.0) * max(d + r - L, 0.0) / ((d + L + r) * (d + L - r))))
-    return math.atan2(vy, vx) - min(h, math.pi), 2.0 * h
+        return IN_DISC, vy, vx, 0.0, 1.0
+    t = math.sqrt(max((d - r) * (d + r), 0.0))
+    if L >= t:
+        return TANGENT, vy, vx, r, t
+    # d > r here, so d + L - r > 0: no guard against a zero denominator is needed.
+    z = math.sqrt(max(L + r - d, 0.0) * max(d + r - L, 0.0) / ((d + L + r) * (d + L - r)))
+    return TIP, vy, vx, z, 1.0
 
 
-def _polygon_interval(px, py, L, v, e, ee, norm, s0, s1, tol):
-    """``rapp.cspace``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``.
+def _polygon_args(px, py, L, v, e, ee, norm, s0, s1, tol):
+    """``rapp.cspace``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``, up to its
+    trigonometry: ``kind, ay, ax, by, bx, cy, cx``, the interval running from
+    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``.
 
-    When the base point is in the polygon every direction hits (``width = 2 pi``; the
-    start, which then paints nothing different, is 0). Otherwise the candidates are
-    taken in numpy's order (vertices, then the crossings of the first root, then of the
-    second), the first valid one being the reference direction. They all lie within an
-    arc narrower than ``pi`` (the polygon, to rounding, is beyond a line missing the base
-    point), so the sign of a cross product orders two of them; the two extreme
-    candidates are found that way and only their angles are computed, by numpy's
-    formula, instead of one ``atan2`` per candidate.
+    When the base point is in the polygon every direction hits (IN_POLYGON). Otherwise
+    the candidates are taken in numpy's order (vertices, then the crossings of the first
+    root, then of the second), the first valid one being the reference direction
+    ``(ax, ay)``. They all lie within an arc narrower than ``pi`` (the polygon, to
+    rounding, is beyond a line missing the base point), so the sign of a cross product
+    orders two of them: the two extreme candidates are found that way, and only their
+    angles are computed, by numpy's formula, instead of one per candidate.
     """
     for j in range(s0, s1):
         if not (e[j, 1] * (v[j, 0] - px) - e[j, 0] * (v[j, 1] - py) >= -tol * norm[j]):
             break
     else:
-        return 0.0, 2.0 * math.pi
+        return IN_POLYGON, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
     seen = False
     rx = 0.0
     ry = 0.0
@@ -265,10 +360,79 @@ def _polygon_interval(px, py, L, v, e, ee, norm, s0, s1, tol):
                     hix = x
                     hiy = y
     if not seen:
-        return 0.0, -1.0
-    lo = math.atan2(rx * loy - ry * lox, rx * lox + ry * loy)
-    hi = math.atan2(rx * hiy - ry * hix, rx * hix + ry * hiy)
-    return math.atan2(ry, rx) + lo, hi - lo
+        return NONE, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
+    return (POLYGON, ry, rx, rx * loy - ry * lox, rx * lox + ry * loy,
+            rx * hiy - ry * hix, rx * hix + ry * hiy)
+
+
+def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, norm,
+             offsets, centre, radius, tol, out, buf):
+    """Rows ``r0, r0 + 1, ...`` of one level (see :data:`Level`): each row of ``out`` filled
+    (an earlier link already collides at that prefix cell, ``blocked[r]``) or cleared,
+    and the arguments of each of its intervals appended to ``buf`` (rows: prefix cell,
+    its absolute angle, kind, then those of :func:`_circle_args` / :func:`_polygon_args`).
+
+    Stops before a row whose intervals might not fit; returns ``(next row, count)``.
+    Each row's base point and angle are computed here by the operations of
+    ``rapp.cspace.prefix_grid``, so no array of the rows' geometry is built. The loops
+    are written out here: a call passing arrays costs reference counts per row, more than
+    rejecting a far obstacle does.
+    """
+    nc = circles.shape[0]
+    nobs = nc + offsets.shape[0] - 1
+    mp = axp.shape[0]
+    cap_n = buf.shape[1]
+    n = 0
+    for r in range(r0, Pp.shape[0] * mp):
+        if n + nobs > cap_n:
+            return r, n
+        if blocked[r]:
+            out[r, :] = True
+            continue
+        out[r, :] = False
+        rp = r // mp
+        j = r - rp * mp
+        phi = phip[rp] + axp[j]
+        c = cp[rp] * cap[j] - sp[rp] * sap[j]
+        s = sp[rp] * cap[j] + cp[rp] * sap[j]
+        px = Pp[rp, 0] + Lp * c
+        py = Pp[rp, 1] + Lp * s
+        for k in range(nobs):
+            # Most rows are far from any one obstacle: a test without a square root (with
+            # a margin far above rounding) rejects them before the exact one.
+            if k < nc:
+                dx = circles[k, 0] - px
+                dy = circles[k, 1] - py
+                reach = L + circles[k, 2]
+                if dx * dx + dy * dy > reach * reach * (1.0 + 1e-9):
+                    continue
+                kind, ay, ax, by, bx = _circle_args(px, py, L, circles[k, 0], circles[k, 1],
+                                                    circles[k, 2])
+                cy = 0.0
+                cx = 1.0
+            else:
+                p = k - nc
+                dx = centre[p, 0] - px
+                dy = centre[p, 1] - py
+                # Rows farther than L from the polygon's bounding disc cannot touch it.
+                reach = L + radius[p] + 2 * tol[p]
+                if dx * dx + dy * dy > reach * reach * (1.0 + 1e-9):
+                    continue
+                kind, ay, ax, by, bx, cy, cx = _polygon_args(
+                    px, py, L, v, e, ee, norm, offsets[p], offsets[p + 1], tol[p])
+            if kind == NONE:
+                continue
+            buf[0, n] = r
+            buf[1, n] = phi
+            buf[2, n] = kind
+            buf[3, n] = ay
+            buf[4, n] = ax
+            buf[5, n] = by
+            buf[6, n] = bx
+            buf[7, n] = cy
+            buf[8, n] = cx
+            n += 1
+    return Pp.shape[0] * mp, n
 
 
 def _cell_range(a, width, step, m):
@@ -279,90 +443,36 @@ def _cell_range(a, width, step, m):
     return first, last
 
 
-#: What :func:`_level` does with a row's intervals.
-COMPUTE_AND_PAINT, COMPUTE, PAINT_GIVEN = 0, 1, 2
-
-
-def _level(mode, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, norm,
-           offsets, centre, radius, tol, ax, step, periods, out, starts, widths):
-    """One link on its prefix grid: row ``r`` of ``out`` (joint ``i``'s axis) for every prefix
-    cell ``r`` (of the joints before ``i``).
-
-    The prefix cells are those of the parent level (joints ``0..i-2``: base point ``Pp``,
-    absolute angle ``phip`` with its cosine ``cp`` and sine ``sp``) times the cells of
-    joint ``i - 1`` (angles ``axp``, cosines ``cap``, sines ``sap``, link length ``Lp``):
-    each row's base point and angle are computed here by the operations of
-    ``rapp.cspace.prefix_grid``, so no array of the rows' geometry is built.
-
-    ``blocked[r]``: an earlier link already collides at prefix cell ``r``, so the row is
-    all True and its intervals are not computed. ``mode`` :data:`COMPUTE_AND_PAINT`
-    computes each obstacle's interval and paints it; :data:`COMPUTE` only stores the
-    intervals (joint angles) in ``starts``, ``widths`` ``(R, k)`` (``out`` untouched);
-    :data:`PAINT_GIVEN` paints the intervals given there (the benchmark's floor). The
-    loops are written out here: a call passing arrays costs reference counts per row,
-    more than rejecting a far obstacle does.
-    """
-    nc = circles.shape[0]
-    nobs = nc + offsets.shape[0] - 1
+def _paint(blocked, rows, starts, widths, ax, step, periods, out):
+    """Set the cells of row ``rows[i]`` of ``out`` (one joint axis, angles ``ax``) whose angle
+    lies in ``[starts[i], starts[i] + widths[i]]`` mod ``2 pi``, by the index arithmetic of
+    ``rapp.cspace``'s ``_paint``; skipped where ``widths[i] < 0`` (no hit) or the row is
+    ``blocked`` (already full)."""
     m = ax.shape[0]
-    mp = axp.shape[0]
     two_pi = 2.0 * math.pi
-    for r in range(Pp.shape[0] * mp):
-        if mode != COMPUTE:
-            if blocked[r]:
-                out[r, :] = True
-                continue
-            out[r, :] = False
-        phi = px = py = 0.0
-        if mode != PAINT_GIVEN:
-            rp = r // mp
-            j = r - rp * mp
-            phi = phip[rp] + axp[j]
-            c = cp[rp] * cap[j] - sp[rp] * sap[j]
-            s_ = sp[rp] * cap[j] + cp[rp] * sap[j]
-            px = Pp[rp, 0] + Lp * c
-            py = Pp[rp, 1] + Lp * s_
-        for k in range(nobs):
-            if mode == PAINT_GIVEN:
-                s = starts[r, k]
-                w = widths[r, k]
-            else:
-                # Most rows are far from any one obstacle: a test without a square root
-                # (with a margin far above rounding) rejects them before the exact one.
-                s = 0.0
-                w = -1.0
-                if k < nc:
-                    dx = circles[k, 0] - px
-                    dy = circles[k, 1] - py
-                    reach = L + circles[k, 2]
-                    if dx * dx + dy * dy <= reach * reach * (1.0 + 1e-9):
-                        s, w = _circle_interval(px, py, L, circles[k, 0], circles[k, 1],
-                                                circles[k, 2])
-                else:
-                    p = k - nc
-                    dx = centre[p, 0] - px
-                    dy = centre[p, 1] - py
-                    # Rows farther than L from the polygon's bounding disc cannot touch it.
-                    reach = L + radius[p] + 2 * tol[p]
-                    if dx * dx + dy * dy <= reach * reach * (1.0 + 1e-9):
-                        s, w = _polygon_interval(px, py, L, v, e, ee, norm, offsets[p],
-                                                 offsets[p + 1], tol[p])
-                s -= phi
-            if mode == COMPUTE:
-                starts[r, k] = s
-                widths[r, k] = w
-            elif w >= 0.0:
-                if periods > m:
-                    # A limited joint spanning more turns than it has cells: each cell tested.
-                    for jj in range(m):
-                        if _mod(ax[jj] - s, two_pi) <= w:
-                            out[r, jj] = True
-                else:
-                    f = _mod(s - ax[0], two_pi)
-                    for piece in range(-1, periods - 1):
-                        first, last = _cell_range(f + piece * two_pi, w, step, m)
-                        for jj in range(first, last + 1):
-                            out[r, jj] = True
+    for i in range(rows.shape[0]):
+        r = rows[i]
+        s = starts[i]
+        w = widths[i]
+        if w < 0.0 or blocked[r]:
+            continue
+        if periods > m:
+            # A limited joint spanning more turns than it has cells: each cell tested.
+            for jj in range(m):
+                if _mod(ax[jj] - s, two_pi) <= w:
+                    out[r, jj] = True
+        else:
+            f = _mod(s - ax[0], two_pi)
+            for piece in range(-1, periods - 1):
+                first, last = _cell_range(f + piece * two_pi, w, step, m)
+                for jj in range(first, last + 1):
+                    out[r, jj] = True
+
+
+def _rows(blocked, out):
+    """Each row of ``out`` filled where ``blocked``, else cleared."""
+    for r in range(out.shape[0]):
+        out[r, :] = blocked[r]
 
 
 @functools.cache
@@ -387,6 +497,6 @@ def kernels():
     # The helpers are compiled first, so that the kernels calling them find compiled functions.
     # They are inlined: a call passing arrays costs a reference count per array, more than
     # rejecting a far obstacle does.
-    for name in ("_mod", "_circle_interval", "_polygon_interval", "_cell_range"):
+    for name in ("_mod", "_circle_args", "_polygon_args", "_cell_range"):
         g[name] = jit(g[name], inline="always")
-    return Kernels(jit(_level))
+    return Kernels(jit(_collect), jit(_paint), jit(_rows))

@@ -69,11 +69,21 @@ def test_painting_the_kernels_own_intervals_gives_the_same_grid(scene):
     grid, obstacles = scene
     k = cspace_kernel.kernels()
     lv = cspace_kernel.levels(grid, [obstacles] * grid.n)
-    found = cspace_kernel.run(k, lv, cspace_kernel.COMPUTE)
-    assert [s.shape for s, _ in found] == [(x.Pp.shape[0] * x.axp.size, len(obstacles))
-                                           for x in lv]
-    assert np.array_equal(cspace_kernel.run(k, lv, cspace_kernel.PAINT_GIVEN, found),
-                          cspace_kernel.run(k, lv))
+    occ, kept = cspace_kernel.run(k, lv, keep=True)
+    for x, (rows, starts, widths) in zip(lv, kept):
+        assert rows.shape == starts.shape == widths.shape
+        assert np.all(np.diff(rows) >= 0) and np.all(widths >= 0)
+        assert np.all(np.bincount(rows, minlength=1) <= len(obstacles))
+    assert np.array_equal(cspace_kernel.paint(k, lv, kept), occ)
+    assert np.array_equal(cspace_kernel.paint(k, lv, cspace_kernel.one_per_cell(lv, kept)), occ)
+
+
+def test_batches_of_intervals_paint_the_same_grid(monkeypatch):
+    arm = Arm(LINKS3)
+    grid = JointGrid(arm, (24, 20, 16))
+    whole = compiled(arm, OBSTACLES3, grid)
+    monkeypatch.setattr(cspace_kernel, "BATCH", 7)   # more than one batch per row block
+    assert np.array_equal(compiled(arm, OBSTACLES3, grid), whole)
 
 
 def test_the_3link_benchmark_grid_matches_numpy_and_collides():
