@@ -494,10 +494,7 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     """
     check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
-    compiled = None
-    if obstacles and (math.prod(grid.shape) >= COMPILE_FROM or "numba" in sys.modules):
-        from rapp import cspace_kernel
-        compiled = cspace_kernel.kernels()
+    compiled = _compiled_for(grid) if obstacles else None
     if compiled is None:
         return occupancy_numpy(arm, obstacles, grid)
     return _occupancy_compiled(compiled, [obstacles] * arm.n, grid)
@@ -527,6 +524,14 @@ def occupancy_numpy(arm, obstacles, grid) -> np.ndarray:
     for i in range(arm.n):
         occ |= _link_hits(arm, obstacles, grid, i)
     return occ
+
+
+def _compiled_for(grid):
+    """The compiled kernels for ``grid`` (see :data:`COMPILE_FROM`), or None: use numpy."""
+    if math.prod(grid.shape) >= COMPILE_FROM or "numba" in sys.modules:
+        from rapp import cspace_kernel
+        return cspace_kernel.kernels()
+    return None
 
 
 def _occupancy_compiled(k, per_link, grid) -> np.ndarray:
@@ -609,7 +614,8 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
 
     "Clearance of link ``j`` above ``r``" is "link ``j`` does not touch the obstacles grown by
     ``r``" (:func:`_inflated`), so this is :func:`occupancy` of grown obstacles, one growth per
-    link, painted as intervals on the prefix grids: no distance is computed on the grid.
+    link, painted as intervals on the prefix grids: no distance is computed on the grid
+    (by the compiled kernel where :func:`occupancy` uses it).
 
     Examples
     --------
@@ -630,9 +636,14 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
     out = np.ones(grid.shape, bool)
     if not obstacles:
         return out
+    grown = [[piece for ob in obstacles for piece in _inflated(ob, float(need[j]))]
+             for j in range(n)]
+    compiled = _compiled_for(grid)
+    if compiled is not None:
+        # The occupancy of link j against the obstacles grown for it, every link at once.
+        return ~_occupancy_compiled(compiled, grown, grid)
     for j in range(n):
-        grown = [piece for ob in obstacles for piece in _inflated(ob, float(need[j]))]
-        out &= ~_link_hits(arm, grown, grid, j)
+        out &= ~_link_hits(arm, grown[j], grid, j)
     return out
 
 

@@ -139,3 +139,24 @@ def test_pack_keeps_the_polygons_geometry():
     assert np.allclose(polys.norm ** 2, polys.ee)
     assert np.allclose(polys.e[:4].sum(axis=0), 0) and np.allclose(polys.e[4:].sum(axis=0), 0)
     assert np.allclose(polys.radius, [np.hypot(1.0, 0.5), np.hypot(2 / 3, 1 / 3)])
+
+
+@settings(max_examples=100, deadline=None)
+@given(interval_scenes())
+def test_compiled_certified_free_equals_numpy(scene):
+    # certified_free paints each link against the obstacles grown for it: the same kernel.
+    grid, obstacles = scene
+    arm = grid.arm
+    fast = cspace.certified_free(arm, obstacles, grid)     # numba is loaded: compiled
+    monkey = cspace_kernel.kernels
+    try:
+        cspace_kernel.kernels = lambda: None
+        slow = cspace.certified_free(arm, obstacles, grid)
+    finally:
+        cspace_kernel.kernels = monkey
+    diff = fast != slow
+    if diff.any():   # only where a link's clearance is the certificate's margin, to rounding
+        from rapp.collision import link_clearances, motion_bounds
+        need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)
+        c = link_clearances(arm, grid_q(grid)[diff], obstacles) - need
+        assert np.all(np.abs(c).min(axis=-1) <= TOUCHING)
