@@ -217,13 +217,19 @@ def run(k, lv, *, keep=False):
     """
     blocked = np.zeros(1, dtype=bool)
     kept = []
-    buf = np.empty((9, BATCH))
+    # The buffer holds a batch (at least one row's intervals), or every interval of the
+    # largest level if fewer.
+    nobs = max([x.circles.shape[0] + x.offsets.size - 1 for x in lv] + [1])
+    most = max([x.Pp.shape[0] * x.axp.size for x in lv] + [1]) * nobs
+    buf = np.empty((9, max(min(BATCH, most), nobs)))
     for x in lv:
         rows = x.Pp.shape[0] * x.axp.size
         out = np.empty((rows, x.ax.size), dtype=bool)
         r, parts = 0, []
         while r < rows:
             r, n = k.collect(r, blocked, *x[:18], out, buf)
+            if n == 0 and not keep:
+                continue
             found = intervals(buf, n)
             k.paint(blocked, *found, x.ax, x.step, x.periods, out)
             if keep:
@@ -310,59 +316,86 @@ def _polygon_args(px, py, L, v, e, ee, norm, s0, s1, tol):
     ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``.
 
     When the base point is in the polygon every direction hits (IN_POLYGON). Otherwise
-    the candidates are taken in numpy's order (vertices, then the crossings of the first
-    root, then of the second), the first valid one being the reference direction
-    ``(ax, ay)``. They all lie within an arc narrower than ``pi`` (the polygon, to
-    rounding, is beyond a line missing the base point), so the sign of a cross product
-    orders two of them: the two extreme candidates are found that way, and only their
-    angles are computed, by numpy's formula, instead of one per candidate.
+    the candidates are numpy's (vertices within reach, each edge's crossings with the
+    circle of radius ``L``: its "first" and "second root"), computed by the same
+    operations, one pass over the edges; the reference direction ``(ax, ay)`` is the
+    first valid one in numpy's order (vertices, then first roots, then second roots).
+    They all lie within an arc narrower than ``pi`` (the polygon, to rounding, is beyond
+    a line missing the base point), so the sign of a cross product orders two of them:
+    the two extreme candidates are found that way, and only their angles are computed
+    (by numpy, from these arguments), instead of one per candidate.
     """
     for j in range(s0, s1):
         if not (e[j, 1] * (v[j, 0] - px) - e[j, 0] * (v[j, 1] - py) >= -tol * norm[j]):
             break
     else:
         return IN_POLYGON, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
-    seen = False
-    rx = 0.0
-    ry = 0.0
-    lox = 0.0
-    loy = 0.0
-    hix = 0.0
-    hiy = 0.0
-    for stage in range(3):
-        for j in range(s0, s1):
-            wx = v[j, 0] - px
-            wy = v[j, 1] - py
-            w2 = wx * wx + wy * wy
-            if stage == 0:
-                ok = w2 <= (L + tol) ** 2
-                x = wx
-                y = wy
-            else:
-                b = wx * e[j, 0] + wy * e[j, 1]
-                disc = b * b - ee[j] * (w2 - L * L)
-                root = math.sqrt(max(disc, 0.0))
-                s = (-b + (-1.0 if stage == 1 else 1.0) * root) / ee[j]
-                slack = tol / norm[j]
-                ok = disc >= 0 and s >= -slack and s <= 1 + slack
-                s = min(max(s, 0.0), 1.0)
-                x = wx + s * e[j, 0]
-                y = wy + s * e[j, 1]
-            if ok:
-                if not seen:
-                    seen = True
-                    rx = lox = hix = x
-                    ry = loy = hiy = y
-                elif x * loy - y * lox > 0.0:   # clockwise of the lowest so far
-                    lox = x
-                    loy = y
-                elif hix * y - hiy * x > 0.0:   # counter-clockwise of the highest so far
-                    hix = x
-                    hiy = y
-    if not seen:
+    # Candidates: vertices within reach, then each edge's crossings with the circle of
+    # radius L (numpy's "first root" and "second root"). Each is compared with the extremes
+    # so far; the reference direction is the first valid one in numpy's order.
+    n_seen = 0
+    lox = loy = hix = hiy = 0.0
+    refx = refy = r1x = r1y = r2x = r2y = 0.0
+    ref_kind = 3   # 0: a vertex, 1: a first root, 2: a second root, 3: none yet
+    for j in range(s0, s1):
+        wx = v[j, 0] - px
+        wy = v[j, 1] - py
+        if wx * wx + wy * wy <= (L + tol) ** 2:
+            if ref_kind == 3:
+                ref_kind = 0
+                refx = wx
+                refy = wy
+            n_seen, lox, loy, hix, hiy = _extremes(n_seen, wx, wy, lox, loy, hix, hiy)
+    for j in range(s0, s1):
+        wx = v[j, 0] - px
+        wy = v[j, 1] - py
+        w2 = wx * wx + wy * wy
+        b = wx * e[j, 0] + wy * e[j, 1]
+        disc = b * b - ee[j] * (w2 - L * L)
+        if not disc >= 0:
+            continue
+        root = math.sqrt(disc)
+        slack = tol / norm[j]
+        for stage in range(1, 3):
+            s = (-b + (-1.0 if stage == 1 else 1.0) * root) / ee[j]
+            if not (s >= -slack and s <= 1 + slack):
+                continue
+            s = min(max(s, 0.0), 1.0)
+            x = wx + s * e[j, 0]
+            y = wy + s * e[j, 1]
+            if stage == 1 and ref_kind > 1:
+                ref_kind = 1
+                r1x = x
+                r1y = y
+            elif stage == 2 and ref_kind > 2:
+                ref_kind = 2
+                r2x = x
+                r2y = y
+            n_seen, lox, loy, hix, hiy = _extremes(n_seen, x, y, lox, loy, hix, hiy)
+    if n_seen == 0:
         return NONE, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
+    if ref_kind == 1:
+        refx = r1x
+        refy = r1y
+    elif ref_kind == 2:
+        refx = r2x
+        refy = r2y
+    rx = refx
+    ry = refy
     return (POLYGON, ry, rx, rx * loy - ry * lox, rx * lox + ry * loy,
             rx * hiy - ry * hix, rx * hix + ry * hiy)
+
+
+def _extremes(n_seen, x, y, lox, loy, hix, hiy):
+    """The most clockwise and counter-clockwise of the directions seen so far and ``(x, y)``
+    (all within an arc narrower than ``pi``): ``n_seen + 1, lox, loy, hix, hiy``."""
+    if n_seen == 0:
+        return 1, x, y, x, y
+    if x * loy - y * lox > 0.0:      # clockwise of the lowest so far
+        return n_seen + 1, x, y, hix, hiy
+    if hix * y - hiy * x > 0.0:      # counter-clockwise of the highest so far
+        return n_seen + 1, lox, loy, x, y
+    return n_seen + 1, lox, loy, hix, hiy
 
 
 def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, norm,
@@ -497,6 +530,6 @@ def kernels():
     # The helpers are compiled first, so that the kernels calling them find compiled functions.
     # They are inlined: a call passing arrays costs a reference count per array, more than
     # rejecting a far obstacle does.
-    for name in ("_mod", "_circle_args", "_polygon_args", "_cell_range"):
+    for name in ("_mod", "_circle_args", "_extremes", "_polygon_args", "_cell_range"):
         g[name] = jit(g[name], inline="always")
     return Kernels(jit(_collect), jit(_paint), jit(_rows))

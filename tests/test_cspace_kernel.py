@@ -82,8 +82,9 @@ def test_batches_of_intervals_paint_the_same_grid(monkeypatch):
     arm = Arm(LINKS3)
     grid = JointGrid(arm, (24, 20, 16))
     whole = compiled(arm, OBSTACLES3, grid)
-    monkeypatch.setattr(cspace_kernel, "BATCH", 7)   # more than one batch per row block
-    assert np.array_equal(compiled(arm, OBSTACLES3, grid), whole)
+    for batch in (7, 2):   # several batches per level; fewer than one row's obstacles
+        monkeypatch.setattr(cspace_kernel, "BATCH", batch)
+        assert np.array_equal(compiled(arm, OBSTACLES3, grid), whole)
 
 
 def test_the_3link_benchmark_grid_matches_numpy_and_collides():
