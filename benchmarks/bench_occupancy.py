@@ -3,8 +3,9 @@
 The problem is ``bench_core.py``'s 3-link one: links 1.0, 0.8, 0.5 and five obstacles (four
 discs and a rectangle), on a grid of 128 cells per joint (2,097,152 cells).
 
-What is timed (best of ``K`` rounds, the functions called in turn within every round so that
-the machine's load hits them alike; ``time.perf_counter`` seconds per call):
+What is timed (``time.perf_counter`` seconds per call, the best of 5 rounds of 7 calls in a row
+of each function, the functions in turn within every round so that the machine's load hits
+them alike):
 
 * ``rapp``: ``rapp.occupancy(arm, obstacles, grid)``, the whole public call (argument checks,
   the prefix geometry, packing the obstacles, the compiled kernel of
@@ -59,17 +60,21 @@ from bench_core import CIRCLES, LINKS, LINKS3, OBSTACLES3  # noqa: E402  the pro
 
 HERE = Path(__file__).resolve().parent
 M3 = 128
-K = 21
+K = 7
+ROUNDS = 5
 
 
-def side_by_side(fns, k=K):
-    """Best-of-``k`` seconds of each function, called in turn within every round."""
+def side_by_side(fns, k=K, rounds=ROUNDS):
+    """Best seconds per call of each function: ``rounds`` rounds, in each of which every
+    function in turn is called ``k`` times in a row (so that the machine's load hits them
+    alike, and each is timed in its steady state, not in the wake of another's memory)."""
     best, outs = [np.inf] * len(fns), [None] * len(fns)
-    for _ in range(k):
+    for _ in range(rounds):
         for j, fn in enumerate(fns):
-            t0 = time.perf_counter()
-            outs[j] = fn()
-            best[j] = min(best[j], time.perf_counter() - t0)
+            for _ in range(k):
+                t0 = time.perf_counter()
+                outs[j] = fn()
+                best[j] = min(best[j], time.perf_counter() - t0)
     return best, outs
 
 
@@ -193,8 +198,8 @@ def run():
         "python": platform.python_version(), "numpy": np.__version__,
         "scenario": {"links3": LINKS3, "obstacles3": [repr(o) for o in OBSTACLES3],
                      "links": LINKS, "circles": CIRCLES},
-        "timing": f"best of {K} rounds, time.perf_counter seconds per call, the functions in "
-                  "turn within every round",
+        "timing": f"time.perf_counter seconds per call, best of {ROUNDS} rounds of {K} calls in a "
+                  "row of each function, the functions in turn within every round",
         "floor": "the kernel painting intervals computed beforehand (every link, prefix cell "
                  "and obstacle), with the allocation; see benchmarks/bench_occupancy.py",
     }
@@ -218,8 +223,8 @@ def run():
           f"{r['second_call_cached_s'] * 1e3:.2f} ms)")
     for key, res in results.items():
         if key.startswith("2link"):
-            print(f"{key}: compiled {res['compiled_s'] * 1e3:.3f} ms, numpy {res['numpy_s'] * 1e3:.3f}"
-                  f" ms ({res['ratio_numpy_over_compiled']:.1f}x)")
+            print(f"{key}: compiled {res['compiled_s'] * 1e3:.3f} ms, "
+                  f"numpy {res['numpy_s'] * 1e3:.3f} ms ({res['ratio_numpy_over_compiled']:.1f}x)")
     for key, res in results.items():
         print(key, {k: v for k, v in res.items() if "mismatch" in k})
     print(f"cpu_count={info['cpu_count']} load={load_before:.2f} -> "

@@ -288,12 +288,10 @@ def _circle_hits(P, L, center, r):
     return start, width
 
 
-def _polygon_hits(P, L, poly, reach):
+def _polygon_hits(P, L, poly):
     """Absolute directions from ``P`` in which a link of length ``L`` touches a convex polygon.
 
-    Returns ``(start, width)`` like :func:`_circle_hits`. ``reach`` bounds ``|P|`` (the
-    length of the links before this one): with ``L`` and the polygon it sets the scale
-    of the tolerance below.
+    Returns ``(start, width)`` like :func:`_circle_hits`.
 
     Notes
     -----
@@ -316,8 +314,7 @@ def _polygon_hits(P, L, poly, reach):
     from any one candidate, the others lie within ``(-pi, pi)``, so their
     least and greatest relative angles are the ends.
 
-    A tolerance of ``1e-12`` of the scene's scale (the largest of 1, ``L``, ``reach``
-    and the polygon's coordinates) is added to "P in K",
+    A tolerance of ``1e-12`` of the scene's scale is added to "P in K",
     "vertex within L" and "crossing within the edge": it only ever adds
     directions at which the link passes within that distance of ``K`` (cells
     touching within rounding), and it keeps a vertex at distance exactly
@@ -327,18 +324,18 @@ def _polygon_hits(P, L, poly, reach):
     --------
     >>> from rapp import Polygon
     >>> sq = Polygon.rectangle((1.0, -0.5), 1.0, 1.0)
-    >>> [s], [w] = _polygon_hits(np.array([[0.0, 0.0]]), 5.0, sq, 0.0)   # sees both near corners
+    >>> [s], [w] = _polygon_hits(np.array([[0.0, 0.0]]), 5.0, sq)   # sees both near corners
     >>> round(float(s), 6), round(float(w), 6), round(float(2 * np.arctan(0.5)), 6)
     (-0.463648, 0.927295, 0.927295)
-    >>> float(_polygon_hits(np.array([[0.0, 0.0]]), 0.9, sq, 0.0)[1][0])  # too short: never
+    >>> float(_polygon_hits(np.array([[0.0, 0.0]]), 0.9, sq)[1][0])  # too short: never
     -1.0
-    >>> float(_polygon_hits(np.array([[1.5, 0.0]]), 0.1, sq, 1.5)[1][0]) >= 2 * np.pi   # inside
+    >>> float(_polygon_hits(np.array([[1.5, 0.0]]), 0.1, sq)[1][0]) >= 2 * np.pi   # inside
     True
     """
     v = poly.array
     e = np.roll(v, -1, axis=0) - v
     ee = np.einsum("ij,ij->i", e, e)
-    tol = 1e-12 * max(1.0, L, float(np.abs(v).max()), reach)
+    tol = 1e-12 * max(1.0, L, float(np.abs(v).max()), float(np.abs(P).max(initial=0.0)))
     start = np.zeros(P.shape[0])
     width = np.full(P.shape[0], -1.0)
     # Only rows within L of the polygon's bounding disc can hit it: the rest stay empty.
@@ -552,7 +549,7 @@ def _link_hits(arm, obstacles, grid, i) -> np.ndarray:
         if isinstance(ob, Circle):
             s, w = _circle_hits(P, L, ob.center, ob.radius)
         else:
-            s, w = _polygon_hits(P, L, ob, math.fsum(arm.link_lengths[:i]))
+            s, w = _polygon_hits(P, L, ob)
         intervals.append((s - phi_prev, w))   # absolute direction -> joint i's own angle
     hit = _paint(intervals, grid.axes[i], grid.wraps[i], grid.step[i])
     return hit.reshape(grid.shape[: i + 1] + (1,) * (arm.n - i - 1))

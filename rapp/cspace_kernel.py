@@ -46,8 +46,9 @@ import numpy as np
 
 from rapp.obstacles import Circle, Polygon
 
-__all__ = ["pack", "levels", "run", "paint", "intervals", "one_per_cell", "kernels", "Kernels", "Polygons", "Level",
-           "BATCH", "NONE", "TANGENT", "TIP", "IN_DISC", "POLYGON", "IN_POLYGON"]
+__all__ = ["pack", "levels", "run", "paint", "intervals", "one_per_cell", "kernels", "Kernels",
+           "Polygons", "Level", "BATCH", "NONE", "TANGENT", "TIP", "IN_DISC", "POLYGON",
+           "IN_POLYGON"]
 
 #: The compiled functions (see :func:`kernels`): :func:`_collect`, :func:`_paint`, :func:`_rows`.
 Kernels = namedtuple("Kernels", "collect paint rows")
@@ -60,7 +61,7 @@ Polygons = namedtuple("Polygons", "v e ee norm offsets centre radius extent")
 
 
 def pack(obstacles) -> tuple:
-    """Obstacles as the kernel's arrays: ``circles`` ``(c, 3)`` (centre, radius) and :data:`Polygons`.
+    """Obstacles as the kernel's arrays: ``circles`` ``(c, 3)`` (centre, radius), :data:`Polygons`.
 
     The derived quantities are computed by numpy exactly as
     :func:`rapp.cspace.occupancy_numpy` computes them, so both versions start from the same
@@ -83,7 +84,8 @@ def pack(obstacles) -> tuple:
     hit = _PACKED.get(key)
     if hit is not None:
         return hit[1]
-    circles = [(ob.center[0], ob.center[1], ob.radius) for ob in obstacles if isinstance(ob, Circle)]
+    circles = [(ob.center[0], ob.center[1], ob.radius)
+               for ob in obstacles if isinstance(ob, Circle)]
     polys = [ob for ob in obstacles if isinstance(ob, Polygon)]
     vs, es, ees, cs, rads, ext, off = [], [], [], [], [], [], [0]
     for ob in polys:
@@ -116,10 +118,11 @@ _PACKED: dict = {}
 #: The geometry of one level (link ``i`` on the grid of joints ``0..i-1``): the rows (the
 #: parent level's prefix cells ``Pp``, ``phip``, ``cp``, ``sp`` times joint ``i - 1``'s cells
 #: ``axp``, ``cap``, ``sap``, link ``Lp``), the link ``L`` and its obstacles (:func:`pack`,
-#: with the polygons' tolerances ``tol``), and joint ``i``'s axis ``ax`` (``step``, and the
+#: with ``vext``, each polygon's largest ``|coordinate|``, for its tolerance), and joint
+#: ``i``'s axis ``ax`` (``step``, and the
 #: number of ``2 pi`` pieces an interval is cut into, ``periods``).
 Level = namedtuple("Level", "Pp phip cp sp axp cap sap Lp L circles v e ee norm offsets centre "
-                            "radius tol ax step periods")
+                            "radius vext ax step periods")
 
 
 def levels(grid, per_link) -> list:
@@ -148,14 +151,11 @@ def levels(grid, per_link) -> list:
         if key not in packed:
             packed[key] = pack(per_link[i])
         circles, polys = packed[key]
-        # The tolerance of rapp.cspace's _polygon_hits, one per polygon.
-        reach = math.fsum(arm.link_lengths[:i])
-        tol = 1e-12 * np.maximum(max(1.0, L, reach), polys.extent)
         ax = axes[i]
         periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
         out.append(Level(*parent, axp, np.cos(axp), np.sin(axp), Lp, L, circles, polys.v, polys.e,
-                         polys.ee, polys.norm, polys.offsets, polys.centre, polys.radius, tol,
-                         ax, float(steps[i]), periods))
+                         polys.ee, polys.norm, polys.offsets, polys.centre, polys.radius,
+                         polys.extent, ax, float(steps[i]), periods))
         if i + 1 < arm.n:
             P, phi, c, s = prefix_grid(grid, i, trig=True)
             parent = (np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
@@ -399,7 +399,7 @@ def _extremes(n_seen, x, y, lox, loy, hix, hiy):
 
 
 def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, norm,
-             offsets, centre, radius, tol, out, buf):
+             offsets, centre, radius, vext, out, buf):
     """Rows ``r0, r0 + 1, ...`` of one level (see :data:`Level`): each row of ``out`` filled
     (an earlier link already collides at that prefix cell, ``blocked[r]``) or cleared,
     and the arguments of each of its intervals appended to ``buf`` (rows: prefix cell,
@@ -416,6 +416,18 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e,
     mp = axp.shape[0]
     cap_n = buf.shape[1]
     n = 0
+    # The tolerance of _polygon_hits: 1e-12 of the largest of 1, L, the polygon's coordinates
+    # and the base points' (of every row of the level, as numpy takes them).
+    pmax = 0.0
+    if offsets.shape[0] > 1:
+        for r in range(Pp.shape[0] * mp):
+            rp = r // mp
+            j = r - rp * mp
+            pmax = max(pmax, abs(Pp[rp, 0] + Lp * (cp[rp] * cap[j] - sp[rp] * sap[j])),
+                       abs(Pp[rp, 1] + Lp * (sp[rp] * cap[j] + cp[rp] * sap[j])))
+    tol = np.empty(offsets.shape[0] - 1)
+    for p in range(tol.shape[0]):
+        tol[p] = 1e-12 * max(1.0, L, vext[p], pmax)
     for r in range(r0, Pp.shape[0] * mp):
         if n + nobs > cap_n:
             return r, n
