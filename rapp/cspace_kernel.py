@@ -428,6 +428,19 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e,
     tol = np.empty(offsets.shape[0] - 1)
     for p in range(tol.shape[0]):
         tol[p] = 1e-12 * max(1.0, L, vext[p], pmax)
+    # Each obstacle's centre and reach: rows whose base point is farther away are rejected.
+    ox = np.empty(nobs)
+    oy = np.empty(nobs)
+    rho = np.empty(nobs)
+    for k in range(nobs):
+        if k < nc:
+            ox[k] = circles[k, 0]
+            oy[k] = circles[k, 1]
+            rho[k] = L + circles[k, 2]
+        else:
+            ox[k] = centre[k - nc, 0]
+            oy[k] = centre[k - nc, 1]
+            rho[k] = L + radius[k - nc] + 2 * tol[k - nc]
     for r in range(r0, Pp.shape[0] * mp):
         if n + nobs > cap_n:
             return r, n
@@ -444,25 +457,19 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e,
         py = Pp[rp, 1] + Lp * s
         for k in range(nobs):
             # Most rows are far from any one obstacle: a test without a square root (with
-            # a margin far above rounding) rejects them before the exact one.
+            # a margin far above rounding) rejects them before the exact one. (A polygon's
+            # reach is its bounding disc's: rows farther than L from it cannot touch it.)
+            dx = ox[k] - px
+            dy = oy[k] - py
+            if dx * dx + dy * dy > rho[k] * rho[k] * (1.0 + 1e-9):
+                continue
             if k < nc:
-                dx = circles[k, 0] - px
-                dy = circles[k, 1] - py
-                reach = L + circles[k, 2]
-                if dx * dx + dy * dy > reach * reach * (1.0 + 1e-9):
-                    continue
                 kind, ay, ax, by, bx = _circle_args(px, py, L, circles[k, 0], circles[k, 1],
                                                     circles[k, 2])
                 cy = 0.0
                 cx = 1.0
             else:
                 p = k - nc
-                dx = centre[p, 0] - px
-                dy = centre[p, 1] - py
-                # Rows farther than L from the polygon's bounding disc cannot touch it.
-                reach = L + radius[p] + 2 * tol[p]
-                if dx * dx + dy * dy > reach * reach * (1.0 + 1e-9):
-                    continue
                 kind, ay, ax, by, bx, cy, cx = _polygon_args(
                     px, py, L, v, e, ee, norm, offsets[p], offsets[p + 1], tol[p])
             if kind == NONE:
