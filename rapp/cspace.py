@@ -12,6 +12,9 @@ computed on the grid of those joints and broadcast over the others; and on the
 grid of joints ``0..i-1`` the angles of joint ``i`` at which the link touches a
 disc or a convex polygon form one interval in closed form, painted onto the
 joint's axis, so the work per obstacle is per cell of the shorter prefix grid.
+The intervals are computed and painted by compiled loops (:mod:`rapp.cspace_kernel`,
+numba) once numba is loaded or the grid is large, and by numpy otherwise
+(:func:`occupancy_numpy`, also the fallback without numba); both give the same cells.
 """
 
 from __future__ import annotations

@@ -44,6 +44,7 @@ from collections import namedtuple
 
 import numpy as np
 
+from rapp.collision_kernel import by_identity
 from rapp.obstacles import Circle, Polygon
 
 __all__ = ["pack", "levels", "run", "paint", "intervals", "one_per_cell", "kernels", "Kernels",
@@ -76,14 +77,11 @@ def pack(obstacles) -> tuple:
     >>> p.ee.tolist(), p.centre.tolist(), p.extent.tolist()
     ([4.0, 1.0, 4.0, 1.0], [[1.0, 0.5]], [2.0])
     """
-    if not isinstance(obstacles, (list, tuple)):
-        obstacles = tuple(obstacles)
-    # The cache holds the obstacles themselves, so while an entry lives no other object can
-    # take one of its ids: equal ids are the same obstacles.
-    key = tuple(map(id, obstacles))
-    hit = _PACKED.get(key)
-    if hit is not None:
-        return hit[1]
+    return by_identity(_PACKED, obstacles, _pack)
+
+
+def _pack(obstacles) -> tuple:
+    """:func:`pack`, uncached."""
     circles = [(ob.center[0], ob.center[1], ob.radius)
                for ob in obstacles if isinstance(ob, Circle)]
     polys = [ob for ob in obstacles if isinstance(ob, Polygon)]
@@ -106,9 +104,6 @@ def pack(obstacles) -> tuple:
         ee, np.sqrt(ee), np.array(off, dtype=np.int64),
         np.array(cs, dtype=float).reshape(-1, 2), np.array(rads, dtype=float),
         np.array(ext, dtype=float))
-    if len(_PACKED) >= 64:
-        _PACKED.clear()
-    _PACKED[key] = (tuple(obstacles), out)
     return out
 
 
