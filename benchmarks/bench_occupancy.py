@@ -132,22 +132,19 @@ def three_link():
 
 
 def two_link():
-    arm = rapp.Arm(LINKS)
-    obstacles = [rapp.Circle((cx, cy), r) for cx, cy, r in CIRCLES]
-    out = {}
-    for M in (100, 360):
-        grid = rapp.JointGrid(arm, M)
-        lv = cspace_kernel.levels(grid, [obstacles] * arm.n)
+    """The 2-link grids of bench_core.py, compiled against numpy."""
+    arm, discs, out = rapp.Arm(LINKS), [rapp.Circle((x, y), r) for x, y, r in CIRCLES], {}
+    for grid in (rapp.JointGrid(arm, 100), rapp.JointGrid(arm, 360)):
         # rapp.occupancy uses the kernel here because numba is loaded; a fresh process planning
         # a grid under cspace.COMPILE_FROM cells uses numpy (the same cells).
         (t_rapp, t_numpy), (occ, occ_numpy) = side_by_side([
-            lambda: cspace_kernel.run(cspace_kernel.kernels(), lv).reshape(grid.shape),
-            lambda: cspace.occupancy_numpy(arm, obstacles, grid)])
-        res = {"cells": M * M, "compiled_s": t_rapp, "numpy_s": t_numpy,
+            lambda: rapp.occupancy(arm, discs, grid),
+            lambda: cspace.occupancy_numpy(arm, discs, grid)])
+        res = {"cells": occ.size, "compiled_s": t_rapp, "numpy_s": t_numpy,
                "ratio_numpy_over_compiled": t_numpy / t_rapp,
-               "uses_compiled_in_a_fresh_process": M * M >= cspace.COMPILE_FROM}
-        res.update(mismatches(arm, obstacles, grid, occ, occ_numpy))
-        out[f"2link_M{M}"] = res
+               "uses_compiled_in_a_fresh_process": occ.size >= cspace.COMPILE_FROM}
+        res.update(mismatches(arm, discs, grid, occ, occ_numpy))
+        out[f"2link_M{grid.shape[0]}"] = res
     return out
 
 
