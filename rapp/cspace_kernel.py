@@ -1,28 +1,32 @@
-"""The compiled occupancy kernel: hit intervals computed and painted in one pass per prefix cell.
+"""The compiled occupancy kernel: hit intervals computed and painted per prefix cell.
 
 :func:`rapp.cspace.occupancy` works link by link on prefix grids: on the grid of joints
 ``0..i-1`` (one *row* per prefix cell) link ``i`` touches each obstacle for one interval
 of its own joint angle, and the intervals are painted onto joint ``i``'s axis. The numpy
 version (:func:`rapp.cspace.occupancy_numpy`) computes every interval of a link into arrays,
 paints them into a difference array, sums it up and ORs the result, broadcast, into the
-grid. The loops here do the same arithmetic, operation by operation, one row at a time:
+grid. Here each level (link) takes three steps, :func:`run`:
 
-* a row whose prefix already collides (an earlier link hits there) is filled with True
-  and no interval is computed for it;
-* otherwise the row is cleared and each obstacle's interval, computed in closed form
-  (the disc formula of :func:`_circle_interval`, the candidate extreme points of
-  :func:`_polygon_interval`), is cut into cell ranges and set directly.
+* :func:`_collect`, compiled, one row at a time: a row whose prefix already collides (an
+  earlier link hits there) is filled with True and nothing is computed for it; any other
+  row is cleared, its base point and angle are computed (by the operations of
+  :func:`rapp.cspace.prefix_grid`), far obstacles are rejected, and for each obstacle in
+  reach the closed form of ``rapp.cspace``'s ``_circle_hits`` or ``_polygon_hits`` is
+  evaluated, operation by operation, up to its trigonometry (:func:`_circle_args`,
+  :func:`_polygon_args`); the arguments are appended to a buffer;
+* :func:`intervals`, numpy: every angle of the batch by one vectorized ``arctan2`` (the
+  same numpy function the numpy version calls, so the two agree to the bit);
+* :func:`_paint`, compiled: each interval cut into cell ranges and set in its row.
 
 Level ``i`` writes the array of shape ``cells[:i + 1]`` once, and level ``i + 1`` reads it as
 its rows' "already collides" flags, so the last level writes the result once and the
-only temporaries are the shorter levels (``M**2`` bytes for a 3-link ``M**3`` grid).
+only other arrays are the shorter levels (``M**2`` bytes for a 3-link ``M**3`` grid), the
+parent level's geometry and the buffer (at most :data:`BATCH` intervals).
 
-The trigonometry (``atan2``, ``atan``) is the C library's here and may differ from
-numpy's vectorized versions in the last bit, so an interval's end can move by about
-``1e-16`` rad: a cell can differ between the two versions only if its angle lies that
-close to an end, i.e. where the link touches an obstacle to within about ``1e-15``.
-The prefix grids (base points, absolute angles, with their cosines and sines) are
-computed by numpy for both, in :func:`rapp.cspace.prefix_grid`.
+The grids agree cell for cell with the numpy version's (tested on random scenes); a
+difference could only come from the one step done differently, the choice of a polygon's
+extreme candidates by cross products instead of angles, which decides differently only
+between directions equal to rounding, i.e. at a configuration touching an obstacle.
 
 :func:`kernels` compiles the loops on first use (cached on disk, ``cache=True``) and
 returns None when numba cannot be imported; :mod:`rapp.cspace` then uses its numpy
@@ -527,7 +531,10 @@ def kernels():
     """The compiled :data:`Kernels` (numba, cached on disk), or None without numba.
 
     The first call imports numba and loads the compiled code from its on-disk cache
-    (or compiles it once, a few seconds).
+    (``cache=True``, beside this file): about half a second in a fresh process, of which
+    the import of numba is most, and a few tens of milliseconds once another kernel has
+    loaded numba. Without a cache (a new install, or this file changed) it compiles
+    them, some seconds (``benchmarks/bench_occupancy.py`` records both).
     """
     try:
         import numba
