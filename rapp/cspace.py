@@ -471,8 +471,9 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     (:mod:`rapp.cspace_kernel`), one prefix cell at a time, skipping the cells
     where an earlier link already collides; without numba (or on a grid of
     fewer than :data:`COMPILE_FROM` cells before numba is loaded) by
-    :func:`occupancy_numpy`. The two agree cell for cell except where a link
-    touches an obstacle to within about ``1e-15`` (the last bit of ``atan2``).
+    :func:`occupancy_numpy`. The two agree cell for cell (the kernel takes its angles
+    from the same numpy ``arctan2``; :mod:`rapp.cspace_kernel` names the one step
+    that could round differently, at a configuration touching an obstacle).
 
     Parameters
     ----------
