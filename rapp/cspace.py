@@ -634,15 +634,16 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
     obstacles = [check_obstacle(ob) for ob in obstacles]
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
-    out = np.ones(grid.shape, bool)
     if not obstacles:
-        return out
+        return np.ones(grid.shape, bool)
     grown = [[piece for ob in obstacles for piece in _inflated(ob, float(need[j]))]
              for j in range(n)]
     compiled = _compiled_for(grid)
     if compiled is not None:
         # The occupancy of link j against the obstacles grown for it, every link at once.
-        return ~_occupancy_compiled(compiled, grown, grid)
+        hit = _occupancy_compiled(compiled, grown, grid)
+        return np.logical_not(hit, out=hit)
+    out = np.ones(grid.shape, bool)
     for j in range(n):
         out &= ~_link_hits(arm, grown[j], grid, j)
     return out
