@@ -181,18 +181,13 @@ def intervals(buf, n):
     kind = b[2]
     a = np.arctan2(b[3], b[4])
     lo = np.arctan2(b[5], b[6])
-    h = lo.copy()
-    tip = kind == TIP
-    h[tip] = 2.0 * np.arctan(b[5, tip])
+    # Discs: half-width h; the arguments of the kinds that do not use a value are (0, 1).
+    h = np.where(kind == TIP, 2.0 * np.arctan(b[5]), lo)
     h[kind == IN_DISC] = 2 * np.pi
-    start = a - np.minimum(h, np.pi)
-    width = 2.0 * h
-    poly = kind == POLYGON
-    start[poly] = a[poly] + lo[poly]
-    width[poly] = np.arctan2(b[7, poly], b[8, poly]) - lo[poly]
-    inside = kind == IN_POLYGON
-    start[inside] = 0.0
-    width[inside] = 2 * np.pi
+    polygon = kind >= POLYGON
+    start = np.where(polygon, a + lo, a - np.minimum(h, np.pi))
+    width = np.where(polygon, np.arctan2(b[7], b[8]) - lo, 2.0 * h)
+    width[kind == IN_POLYGON] = 2 * np.pi
     start -= b[1]
     return b[0].astype(np.int64), start, width
 
