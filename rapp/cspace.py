@@ -30,7 +30,7 @@ from rapp.collision import check_obstacle, motion_bounds
 from rapp.obstacles import Circle, Polygon
 
 __all__ = ["JointGrid", "occupancy", "occupancy_numpy", "grid_q", "certified_free", "cell_extent",
-           "check_grid", "prefix_grid", "MAX_GRID_CELLS", "COMPILE_FROM"]
+           "check_grid", "prefix_grid", "prefix_step", "MAX_GRID_CELLS", "COMPILE_FROM"]
 
 #: Most cells (the product of the cells per joint) a :class:`JointGrid` accepts.
 #: At this size :func:`occupancy` and :func:`certified_free` return 50 MB bool
@@ -226,18 +226,29 @@ def prefix_grid(grid, i, *, trig=False):
     >>> bool(np.allclose(P, grid.arm.joint_positions(q)[:, :, 0, 2], atol=1e-15))
     True
     """
-    P = np.zeros((2,))
-    phi = np.zeros(())
-    c, s = np.ones(()), np.zeros(())
+    P, phi, c, s = np.zeros((2,)), np.zeros(()), np.ones(()), np.zeros(())
     axes = grid.axes
     for k in range(i):
-        ax = axes[k]
-        ca, sa = np.cos(ax), np.sin(ax)
-        phi = phi[..., None] + ax
-        c, s = c[..., None] * ca - s[..., None] * sa, s[..., None] * ca + c[..., None] * sa
-        L = grid.arm.link_lengths[k]
-        P = P[..., None, :] + L * np.stack((c, s), axis=-1)
+        P, phi, c, s = prefix_step(P, phi, c, s, axes[k], np.cos(axes[k]), np.sin(axes[k]),
+                                   grid.arm.link_lengths[k])
     return (P, phi, c, s) if trig else (P, phi)
+
+
+def prefix_step(P, phi, c, s, ax, ca, sa, L):
+    """:func:`prefix_grid` (``trig=True``) one joint further: the next joint's angles ``ax``
+    (cosines ``ca``, sines ``sa``) and the link ``L`` before it, as a new last axis.
+
+    Examples
+    --------
+    >>> P, phi, c, s = prefix_step(np.zeros(2), np.zeros(()), np.ones(()), np.zeros(()),
+    ...                            np.array([0.0, np.pi / 2]), np.array([1.0, 0.0]),
+    ...                            np.array([0.0, 1.0]), 2.0)
+    >>> P.tolist(), phi.tolist()
+    ([[2.0, 0.0], [0.0, 2.0]], [0.0, 1.5707963267948966])
+    """
+    phi = phi[..., None] + ax
+    c, s = c[..., None] * ca - s[..., None] * sa, s[..., None] * ca + c[..., None] * sa
+    return P[..., None, :] + L * np.stack((c, s), axis=-1), phi, c, s
 
 
 def _circle_hits(P, L, center, r):

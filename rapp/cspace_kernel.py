@@ -128,8 +128,9 @@ def levels(grid, per_link) -> list:
     """The :data:`Level` of every link of ``grid.arm``, link ``i`` against ``per_link[i]``.
 
     Each level's rows are its parent's prefix cells times joint ``i - 1``'s cells;
-    the parent's geometry comes from :func:`rapp.cspace.prefix_grid` (the grid of joints
-    ``0..i-2``, ``M**(i-1)`` cells: the last level's own, ``M**(i)``, is never built).
+    the parent's geometry is built as :func:`rapp.cspace.prefix_grid` builds it
+    (:func:`rapp.cspace.prefix_step`), on the grid of joints ``0..i-2``: ``M**(i-1)``
+    cells, the last level's own ``M**i`` are never built.
 
     Examples
     --------
@@ -138,28 +139,31 @@ def levels(grid, per_link) -> list:
     >>> [(x.Pp.shape[0] * x.axp.size, x.ax.size) for x in lv]   # rows x cells per level
     [(1, 8), (8, 8)]
     """
-    from rapp.cspace import prefix_grid
+    from rapp.cspace import prefix_step
     arm, axes, steps = grid.arm, grid.axes, grid.step
-    # Level 0's parent: one prefix cell at the base, on a one-cell axis at angle 0.
-    parent = (np.zeros((1, 2)), np.zeros(1), np.ones(1), np.zeros(1))
-    axp, Lp = np.zeros(1), 0.0
+    trig = [(np.cos(ax), np.sin(ax)) for ax in axes]
+    # The prefix grid of joints 0..i-2 (level i's parent), starting from the base alone.
+    base = pre = (np.zeros(2), np.zeros(()), np.ones(()), np.zeros(()))
     packed, out = {}, []
     for i in range(arm.n):
-        L = float(arm.link_lengths[i])
+        if i == 0:
+            # Level 0's parent: the base, on a one-cell axis at angle 0 with no link.
+            parent, axp, cap, sap, Lp = base, np.zeros(1), np.ones(1), np.zeros(1), 0.0
+        else:
+            if i >= 2:
+                pre = prefix_step(*pre, axes[i - 2], *trig[i - 2], arm.link_lengths[i - 2])
+            parent, axp, (cap, sap), Lp = pre, axes[i - 1], trig[i - 1], arm.link_lengths[i - 1]
         key = id(per_link[i])
         if key not in packed:
             packed[key] = pack(per_link[i])
         circles, polys = packed[key]
         ax = axes[i]
         periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
-        out.append(Level(*parent, axp, np.cos(axp), np.sin(axp), Lp, L, circles, polys.v, polys.e,
-                         polys.ee, polys.norm, polys.offsets, polys.centre, polys.radius,
-                         polys.extent, ax, float(steps[i]), periods))
-        if i + 1 < arm.n:
-            P, phi, c, s = prefix_grid(grid, i, trig=True)
-            parent = (np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
-                      s.reshape(-1))
-            axp, Lp = ax, L
+        P, phi, c, s = parent
+        out.append(Level(np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
+                         s.reshape(-1), axp, cap, sap, float(Lp), float(arm.link_lengths[i]),
+                         circles, polys.v, polys.e, polys.ee, polys.norm, polys.offsets,
+                         polys.centre, polys.radius, polys.extent, ax, float(steps[i]), periods))
     return out
 
 
