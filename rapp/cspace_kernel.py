@@ -308,10 +308,11 @@ def _circle_args(px, py, L, cx, cy, r):
     return TIP, vy, vx, z, 1.0
 
 
-def _polygon_args(px, py, L, v, e, ee, norm, s0, s1, tol):
+def _polygon_args(px, py, L, v, e, ee, norm, slack, s0, s1, tol):
     """``rapp.cspace``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``, up to its
     trigonometry: ``kind, ay, ax, by, bx, cy, cx``, the interval running from
-    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``.
+    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``. ``slack`` is
+    numpy's ``tol / sqrt(ee)`` per edge.
 
     When the base point is in the polygon every direction hits (IN_POLYGON). Otherwise
     the candidates are numpy's (vertices within reach, each edge's crossings with the
@@ -323,63 +324,52 @@ def _polygon_args(px, py, L, v, e, ee, norm, s0, s1, tol):
     the two extreme candidates are found that way, and only their angles are computed
     (by numpy, from these arguments), instead of one per candidate.
     """
-    for j in range(s0, s1):
-        if not (e[j, 1] * (v[j, 0] - px) - e[j, 0] * (v[j, 1] - py) >= -tol * norm[j]):
-            break
-    else:
-        return IN_POLYGON, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
-    # Candidates: vertices within reach, then each edge's crossings with the circle of
-    # radius L (numpy's "first root" and "second root"). Each is compared with the extremes
-    # so far; the reference direction is the first valid one in numpy's order.
+    inside = True
     n_seen = 0
     lox = loy = hix = hiy = 0.0
-    refx = refy = r1x = r1y = r2x = r2y = 0.0
-    ref_kind = 3   # 0: a vertex, 1: a first root, 2: a second root, 3: none yet
+    # The first vertex, first root and second root found; which of them came first in
+    # numpy's order (0: a vertex, 1: a first root, 2: a second root, 3: none yet).
+    vx = vy = r1x = r1y = r2x = r2y = 0.0
+    first = 3
+    reach2 = (L + tol) ** 2
     for j in range(s0, s1):
         wx = v[j, 0] - px
         wy = v[j, 1] - py
-        if wx * wx + wy * wy <= (L + tol) ** 2:
-            if ref_kind == 3:
-                ref_kind = 0
-                refx = wx
-                refy = wy
-            n_seen, lox, loy, hix, hiy = _extremes(n_seen, wx, wy, lox, loy, hix, hiy)
-    for j in range(s0, s1):
-        wx = v[j, 0] - px
-        wy = v[j, 1] - py
+        if not (e[j, 1] * wx - e[j, 0] * wy >= -tol * norm[j]):
+            inside = False
         w2 = wx * wx + wy * wy
+        if w2 <= reach2:
+            if first > 0:
+                first = 0
+                vx = wx
+                vy = wy
+            n_seen, lox, loy, hix, hiy = _extremes(n_seen, wx, wy, lox, loy, hix, hiy)
         b = wx * e[j, 0] + wy * e[j, 1]
         disc = b * b - ee[j] * (w2 - L * L)
         if not disc >= 0:
             continue
         root = math.sqrt(disc)
-        slack = tol / norm[j]
         for stage in range(1, 3):
             s = (-b + (-1.0 if stage == 1 else 1.0) * root) / ee[j]
-            if not (s >= -slack and s <= 1 + slack):
+            if not (s >= -slack[j] and s <= 1 + slack[j]):
                 continue
             s = min(max(s, 0.0), 1.0)
             x = wx + s * e[j, 0]
             y = wy + s * e[j, 1]
-            if stage == 1 and ref_kind > 1:
-                ref_kind = 1
+            if stage == 1 and first > 1:
+                first = 1
                 r1x = x
                 r1y = y
-            elif stage == 2 and ref_kind > 2:
-                ref_kind = 2
+            elif stage == 2 and first > 2:
+                first = 2
                 r2x = x
                 r2y = y
             n_seen, lox, loy, hix, hiy = _extremes(n_seen, x, y, lox, loy, hix, hiy)
+    if inside:
+        return IN_POLYGON, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
     if n_seen == 0:
         return NONE, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
-    if ref_kind == 1:
-        refx = r1x
-        refy = r1y
-    elif ref_kind == 2:
-        refx = r2x
-        refy = r2y
-    rx = refx
-    ry = refy
+    rx, ry = (vx, vy) if first == 0 else ((r1x, r1y) if first == 1 else (r2x, r2y))
     return (POLYGON, ry, rx, rx * loy - ry * lox, rx * lox + ry * loy,
             rx * hiy - ry * hix, rx * hix + ry * hiy)
 
@@ -424,8 +414,11 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e,
             pmax = max(pmax, abs(Pp[rp, 0] + Lp * (cp[rp] * cap[j] - sp[rp] * sap[j])),
                        abs(Pp[rp, 1] + Lp * (sp[rp] * cap[j] + cp[rp] * sap[j])))
     tol = np.empty(offsets.shape[0] - 1)
+    slack = np.empty(norm.shape[0])
     for p in range(tol.shape[0]):
         tol[p] = 1e-12 * max(1.0, L, vext[p], pmax)
+        for j in range(offsets[p], offsets[p + 1]):
+            slack[j] = tol[p] / norm[j]
     # Each obstacle's centre and reach: rows whose base point is farther away are rejected.
     ox = np.empty(nobs)
     oy = np.empty(nobs)
@@ -469,7 +462,7 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e,
             else:
                 p = k - nc
                 kind, ay, ax, by, bx, cy, cx = _polygon_args(
-                    px, py, L, v, e, ee, norm, offsets[p], offsets[p + 1], tol[p])
+                    px, py, L, v, e, ee, norm, slack, offsets[p], offsets[p + 1], tol[p])
             if kind == NONE:
                 continue
             buf[0, n] = r
