@@ -51,7 +51,7 @@ def agree_but_touching(arm, obstacles, grid, a, b):
     return int(diff.sum())
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=200, deadline=None)
 @given(interval_scenes())
 def test_compiled_occupancy_equals_numpy_and_collides(scene):
     grid, obstacles = scene
@@ -142,7 +142,7 @@ def test_pack_keeps_the_polygons_geometry():
     assert np.allclose(polys.radius, [np.hypot(1.0, 0.5), np.hypot(2 / 3, 1 / 3)])
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(interval_scenes())
 def test_compiled_certified_free_equals_numpy(scene):
     # certified_free paints each link against the obstacles grown for it: the same kernel.
