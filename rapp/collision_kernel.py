@@ -36,7 +36,7 @@ import numpy as np
 
 from rapp.obstacles import Circle, Polygon
 
-__all__ = ["pack", "kernels", "loaded", "Kernels", "LOAD_FROM"]
+__all__ = ["pack", "by_identity", "kernels", "loaded", "Kernels", "LOAD_FROM"]
 
 #: The compiled functions (see :func:`kernels`).
 Kernels = namedtuple("Kernels", "collides clearances certify")
@@ -58,14 +58,37 @@ def pack(obstacles) -> tuple:
     >>> c.tolist(), pv.shape, off.tolist()
     ([[0.0, 1.0, 0.5]], (4, 2), [0, 4])
     """
-    if not isinstance(obstacles, (list, tuple)):
-        obstacles = tuple(obstacles)
-    # The cache holds the obstacles themselves, so while an entry lives no other object can
-    # take one of its ids: equal ids are the same obstacles.
+    return by_identity(_PACKED, obstacles, _pack)
+
+
+def by_identity(cache: dict, obstacles, build):
+    """``build(obstacles)`` (a tuple), kept in ``cache`` for the same obstacles, by identity.
+
+    Obstacles are immutable, and the cache holds them, so while an entry lives no other
+    object can take one of their ids: equal ids are the same obstacles. The cache keeps
+    the last 64 lists.
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> obs, cache = [Circle((0, 1), 0.5)], {}
+    >>> by_identity(cache, obs, len), by_identity(cache, obs, lambda o: 1 / 0)
+    (1, 1)
+    """
+    obstacles = tuple(obstacles)
     key = tuple(map(id, obstacles))
-    hit = _PACKED.get(key)
+    hit = cache.get(key)
     if hit is not None:
         return hit[1]
+    out = build(obstacles)
+    if len(cache) >= 64:
+        cache.clear()
+    cache[key] = (obstacles, out)
+    return out
+
+
+def _pack(obstacles) -> tuple:
+    """:func:`pack`, uncached."""
     circles, pv, pn, pr, offsets = [], [], [], [], [0]
     for ob in obstacles:
         if isinstance(ob, Circle):
@@ -87,9 +110,6 @@ def pack(obstacles) -> tuple:
     )
     for arr in out:
         arr.setflags(write=False)
-    if len(_PACKED) >= 64:
-        _PACKED.clear()
-    _PACKED[key] = (tuple(obstacles), out)
     return out
 
 

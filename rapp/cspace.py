@@ -12,11 +12,15 @@ computed on the grid of those joints and broadcast over the others; and on the
 grid of joints ``0..i-1`` the angles of joint ``i`` at which the link touches a
 disc or a convex polygon form one interval in closed form, painted onto the
 joint's axis, so the work per obstacle is per cell of the shorter prefix grid.
+The intervals are computed and painted by compiled loops (:mod:`rapp.cspace_kernel`,
+numba) once numba is loaded or the grid is large, and by numpy otherwise
+(:func:`occupancy_numpy`, also the fallback without numba); both give the same cells.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,8 +29,8 @@ from rapp.arm import Arm, wrap_angle
 from rapp.collision import check_obstacle, motion_bounds
 from rapp.obstacles import Circle, Polygon
 
-__all__ = ["JointGrid", "occupancy", "grid_q", "certified_free", "cell_extent", "check_grid",
-           "prefix_grid", "MAX_GRID_CELLS"]
+__all__ = ["JointGrid", "occupancy", "occupancy_numpy", "grid_q", "certified_free", "cell_extent",
+           "check_grid", "prefix_grid", "prefix_step", "MAX_GRID_CELLS", "COMPILE_FROM"]
 
 #: Most cells (the product of the cells per joint) a :class:`JointGrid` accepts.
 #: At this size :func:`occupancy` and :func:`certified_free` return 50 MB bool
@@ -198,20 +202,53 @@ def check_grid(arm, grid):
         raise ValueError("grid was built for a different arm")
 
 
-def prefix_grid(grid, i):
+def prefix_grid(grid, i, *, trig=False):
     """Base point and absolute angle of link ``i`` on the grid of joints ``0..i-1``.
 
     Returns ``P`` of shape ``cells[:i] + (2,)`` and ``phi`` of shape ``cells[:i]``
-    (the absolute angle of link ``i-1``, 0 for the base).
+    (the absolute angle of link ``i-1``, 0 for the base); with ``trig=True`` also the
+    cosine and sine of ``phi`` (same shape).
+
+    The cosine and sine of each absolute angle come from those of the previous one and
+    of the axis by the addition formulas: outer products of short vectors, no
+    trigonometry on the grid (which would cost more than the rest of a 3-link
+    :func:`occupancy`). They agree with ``cos(phi)``, ``sin(phi)`` to a few units in
+    the last place.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> grid = JointGrid(Arm([1.0, 0.5, 0.5]), 4)
+    >>> P, phi = prefix_grid(grid, 2)
+    >>> P.shape, phi.shape
+    ((4, 4, 2), (4, 4))
+    >>> q = grid.angles(np.stack(np.meshgrid(*[range(4)] * 3, indexing="ij"), axis=-1))
+    >>> bool(np.allclose(P, grid.arm.joint_positions(q)[:, :, 0, 2], atol=1e-15))
+    True
     """
-    P = np.zeros((2,))
-    phi = np.zeros(())
+    P, phi, c, s = np.zeros((2,)), np.zeros(()), np.ones(()), np.zeros(())
     axes = grid.axes
     for k in range(i):
-        phi = phi[..., None] + axes[k]
-        L = grid.arm.link_lengths[k]
-        P = P[..., None, :] + L * np.stack((np.cos(phi), np.sin(phi)), axis=-1)
-    return P, phi
+        P, phi, c, s = prefix_step(P, phi, c, s, axes[k], np.cos(axes[k]), np.sin(axes[k]),
+                                   grid.arm.link_lengths[k])
+    return (P, phi, c, s) if trig else (P, phi)
+
+
+def prefix_step(P, phi, c, s, ax, ca, sa, L):
+    """:func:`prefix_grid` (``trig=True``) one joint further: the next joint's angles ``ax``
+    (cosines ``ca``, sines ``sa``) and the link ``L`` before it, as a new last axis.
+
+    Examples
+    --------
+    >>> P, phi, c, s = prefix_step(np.zeros(2), np.zeros(()), np.ones(()), np.zeros(()),
+    ...                            np.array([0.0, np.pi / 2]), np.array([1.0, 0.0]),
+    ...                            np.array([0.0, 1.0]), 2.0)
+    >>> P.tolist(), phi.tolist()
+    ([[2.0, 0.0], [0.0, 2.0]], [0.0, 1.5707963267948966])
+    """
+    phi = phi[..., None] + ax
+    c, s = c[..., None] * ca - s[..., None] * sa, s[..., None] * ca + c[..., None] * sa
+    return P[..., None, :] + L * np.stack((c, s), axis=-1), phi, c, s
 
 
 def _circle_hits(P, L, center, r):
@@ -422,6 +459,14 @@ def _paint(intervals, ax, wraps, step, chunk=2048):
     return out
 
 
+#: Grids of at least this many cells use the compiled kernel even when numba is not imported
+#: yet (:func:`occupancy`); smaller ones use numpy unless numba is already loaded. Importing
+#: numba costs a few tenths of a second, more than numpy spends on such a grid; it is the
+#: threshold from which :func:`rapp.astar` compiles its search too, so a grid planned on
+#: pays the import once.
+COMPILE_FROM = 1 << 16
+
+
 def occupancy(arm, obstacles, grid) -> np.ndarray:
     """Collision of every grid configuration: a bool array of ``grid.shape`` (True = collides).
 
@@ -430,8 +475,16 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     the directions in which it touches an obstacle form one interval, in
     closed form (:func:`_circle_hits`, :func:`_polygon_hits`); shifted
     by the previous angle it is an interval of joint ``i``'s angle, painted
-    onto that axis (:func:`_paint`) and broadcast over the later joints. The
-    work is per prefix cell and obstacle, plus a few passes over the grid.
+    onto that axis. The work is per prefix cell and obstacle, plus one write of
+    the grid.
+
+    The intervals are computed and painted by compiled loops
+    (:mod:`rapp.cspace_kernel`), one prefix cell at a time, skipping the cells
+    where an earlier link already collides; without numba (or on a grid of
+    fewer than :data:`COMPILE_FROM` cells before numba is loaded) by
+    :func:`occupancy_numpy`. The two agree cell for cell (the kernel takes its angles
+    from the same numpy ``arctan2``; :mod:`rapp.cspace_kernel` names the one step
+    that could round differently, at a configuration touching an obstacle).
 
     Parameters
     ----------
@@ -453,14 +506,50 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     """
     check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
-    shape = grid.shape
-    n = arm.n
-    occ = np.zeros(shape, dtype=bool)
+    compiled = _compiled_for(grid) if obstacles else None
+    if compiled is None:
+        return occupancy_numpy(arm, obstacles, grid)
+    return _occupancy_compiled(compiled, [obstacles] * arm.n, grid)
+
+
+def occupancy_numpy(arm, obstacles, grid) -> np.ndarray:
+    """:func:`occupancy` by numpy alone: the fallback without numba, and the kernel's oracle.
+
+    For each link, every prefix cell's interval of every obstacle is computed into
+    arrays, painted onto the link's axis by a difference array and a cumulative sum
+    (:func:`_paint`) and ORed, broadcast, into the grid. The arguments are those of
+    :func:`occupancy`.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> arm = Arm([1.0, 0.8, 0.5])
+    >>> grid, obs = JointGrid(arm, 12), [Circle((1.2, 0.5), 0.3)]
+    >>> bool((occupancy_numpy(arm, obs, grid) == occupancy(arm, obs, grid)).all())
+    True
+    """
+    check_grid(arm, grid)
+    obstacles = [check_obstacle(ob) for ob in obstacles]
+    occ = np.zeros(grid.shape, dtype=bool)
     if not obstacles:
         return occ
-    for i in range(n):
+    for i in range(arm.n):
         occ |= _link_hits(arm, obstacles, grid, i)
     return occ
+
+
+def _compiled_for(grid):
+    """The compiled kernels for ``grid`` (see :data:`COMPILE_FROM`), or None: use numpy."""
+    if math.prod(grid.shape) >= COMPILE_FROM or "numba" in sys.modules:
+        from rapp import cspace_kernel
+        return cspace_kernel.kernels()
+    return None
+
+
+def _occupancy_compiled(k, per_link, grid) -> np.ndarray:
+    """Occupancy by the compiled kernels ``k``, link ``i`` against the obstacles ``per_link[i]``."""
+    from rapp import cspace_kernel
+    return cspace_kernel.run(k, cspace_kernel.levels(grid, per_link)).reshape(grid.shape)
 
 
 def _link_hits(arm, obstacles, grid, i) -> np.ndarray:
@@ -537,7 +626,8 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
 
     "Clearance of link ``j`` above ``r``" is "link ``j`` does not touch the obstacles grown by
     ``r``" (:func:`_inflated`), so this is :func:`occupancy` of grown obstacles, one growth per
-    link, painted as intervals on the prefix grids: no distance is computed on the grid.
+    link, painted as intervals on the prefix grids: no distance is computed on the grid
+    (by the compiled kernel where :func:`occupancy` uses it).
 
     Examples
     --------
@@ -555,12 +645,18 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
     obstacles = [check_obstacle(ob) for ob in obstacles]
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
-    out = np.ones(grid.shape, bool)
     if not obstacles:
-        return out
+        return np.ones(grid.shape, bool)
+    grown = [[piece for ob in obstacles for piece in _inflated(ob, float(need[j]))]
+             for j in range(n)]
+    compiled = _compiled_for(grid)
+    if compiled is not None:
+        # The occupancy of link j against the obstacles grown for it, every link at once.
+        hit = _occupancy_compiled(compiled, grown, grid)
+        return np.logical_not(hit, out=hit)
+    out = np.ones(grid.shape, bool)
     for j in range(n):
-        grown = [piece for ob in obstacles for piece in _inflated(ob, float(need[j]))]
-        out &= ~_link_hits(arm, grown, grid, j)
+        out &= ~_link_hits(arm, grown[j], grid, j)
     return out
 
 

@@ -1,0 +1,548 @@
+"""The compiled occupancy kernel: hit intervals computed and painted per prefix cell.
+
+:func:`rapp.cspace.occupancy` works link by link on prefix grids: on the grid of joints
+``0..i-1`` (one *row* per prefix cell) link ``i`` touches each obstacle for one interval
+of its own joint angle, and the intervals are painted onto joint ``i``'s axis. The numpy
+version (:func:`rapp.cspace.occupancy_numpy`) computes every interval of a link into arrays,
+paints them into a difference array, sums it up and ORs the result, broadcast, into the
+grid. Here each level (link) takes three steps, :func:`run`:
+
+* :func:`_collect`, compiled, one row at a time: a row whose prefix already collides (an
+  earlier link hits there) is filled with True and nothing is computed for it; any other
+  row is cleared, its base point and angle are computed (by the operations of
+  :func:`rapp.cspace.prefix_grid`), far obstacles are rejected, and for each obstacle in
+  reach the closed form of ``rapp.cspace``'s ``_circle_hits`` or ``_polygon_hits`` is
+  evaluated, operation by operation, up to its trigonometry (:func:`_circle_args`,
+  :func:`_polygon_args`); the arguments are appended to a buffer;
+* :func:`intervals`, numpy: every angle of the batch by one vectorized ``arctan2`` (the
+  same numpy function the numpy version calls, so the two agree to the bit);
+* :func:`_paint`, compiled: each interval cut into cell ranges and set in its row.
+
+Level ``i`` writes the array of shape ``cells[:i + 1]`` once, and level ``i + 1`` reads it as
+its rows' "already collides" flags, so the last level writes the result once and the
+only other arrays are the shorter levels (``M**2`` bytes for a 3-link ``M**3`` grid), the
+parent level's geometry and the buffer (at most :data:`BATCH` intervals).
+
+The grids agree cell for cell with the numpy version's (tested on random scenes); a
+difference could only come from the one step done differently, the choice of a polygon's
+extreme candidates by cross products instead of angles, which decides differently only
+between directions equal to rounding, i.e. at a configuration touching an obstacle.
+
+:func:`kernels` compiles the loops on first use (cached on disk, ``cache=True``) and
+returns None when numba cannot be imported; :mod:`rapp.cspace` then uses its numpy
+version. Importing this module does not import numba.
+
+Examples
+--------
+>>> from rapp import Circle, Polygon
+>>> circles, polys = pack([Circle((1.0, 0.0), 0.5), Polygon.rectangle((0, 1), 1, 1)])
+>>> circles.tolist(), polys.offsets.tolist()
+([[1.0, 0.0, 0.5]], [0, 4])
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections import namedtuple
+
+import numpy as np
+
+from rapp.collision_kernel import by_identity
+from rapp.obstacles import Circle, Polygon
+
+__all__ = ["pack", "levels", "run", "paint", "intervals", "one_per_cell", "kernels", "Kernels",
+           "Polygons", "Level", "BATCH", "NONE", "TANGENT", "TIP", "IN_DISC", "POLYGON",
+           "IN_POLYGON"]
+
+#: The compiled functions (see :func:`kernels`): :func:`_collect`, :func:`_paint`, :func:`_rows`.
+Kernels = namedtuple("Kernels", "collect paint rows")
+
+#: Convex polygons as arrays: polygon ``p`` owns rows ``offsets[p]:offsets[p + 1]`` of
+#: ``v`` (vertices, counter-clockwise), ``e`` (edge vectors ``v[j+1] - v[j]``), ``ee``
+#: (their squared lengths) and ``norm`` (their lengths); ``centre``, ``radius`` (a disc
+#: holding the polygon) and ``extent`` (its largest ``|coordinate|``) are one per polygon.
+Polygons = namedtuple("Polygons", "v e ee norm offsets centre radius extent")
+
+
+def pack(obstacles) -> tuple:
+    """Obstacles as the kernel's arrays: ``circles`` ``(c, 3)`` (centre, radius), :data:`Polygons`.
+
+    The derived quantities are computed by numpy exactly as
+    :func:`rapp.cspace.occupancy_numpy` computes them, so both versions start from the same
+    numbers. ``obstacles`` must already be checked (Circle or Polygon). The arrays are
+    cached for the last few obstacle lists (by the identity of their obstacles, which are
+    immutable), so a grid recomputed for the same scene does not pack it again.
+
+    Examples
+    --------
+    >>> from rapp import Polygon
+    >>> _, p = pack([Polygon.rectangle((0, 0), 2, 1)])
+    >>> p.ee.tolist(), p.centre.tolist(), p.extent.tolist()
+    ([4.0, 1.0, 4.0, 1.0], [[1.0, 0.5]], [2.0])
+    """
+    return by_identity(_PACKED, obstacles, _pack)
+
+
+def _pack(obstacles) -> tuple:
+    """:func:`pack`, uncached."""
+    circles = [(ob.center[0], ob.center[1], ob.radius)
+               for ob in obstacles if isinstance(ob, Circle)]
+    polys = [ob for ob in obstacles if isinstance(ob, Polygon)]
+    vs, es, ees, cs, rads, ext, off = [], [], [], [], [], [], [0]
+    for ob in polys:
+        v = ob.array
+        e = np.roll(v, -1, axis=0) - v
+        c = v.mean(axis=0)
+        vs.append(v)
+        es.append(e)
+        ees.append(np.einsum("ij,ij->i", e, e))
+        cs.append(c)
+        rads.append(np.sqrt(((v - c) ** 2).sum(axis=1).max()))
+        ext.append(float(np.abs(v).max()))
+        off.append(off[-1] + len(v))
+    ee = np.concatenate(ees) if polys else np.zeros(0)
+    out = np.array(circles, dtype=float).reshape(-1, 3), Polygons(
+        np.concatenate(vs) if polys else np.zeros((0, 2)),
+        np.concatenate(es) if polys else np.zeros((0, 2)),
+        ee, np.sqrt(ee), np.array(off, dtype=np.int64),
+        np.array(cs, dtype=float).reshape(-1, 2), np.array(rads, dtype=float),
+        np.array(ext, dtype=float))
+    return out
+
+
+_PACKED: dict = {}
+
+
+#: The geometry of one level (link ``i`` on the grid of joints ``0..i-1``): the rows (the
+#: parent level's prefix cells ``Pp``, ``phip``, ``cp``, ``sp`` times joint ``i - 1``'s cells
+#: ``axp``, ``cap``, ``sap``, link ``Lp``), the link ``L`` and its obstacles (:func:`pack`,
+#: with ``vext``, each polygon's largest ``|coordinate|``, for its tolerance), and joint
+#: ``i``'s axis ``ax`` (``step``, and the
+#: number of ``2 pi`` pieces an interval is cut into, ``periods``).
+Level = namedtuple("Level", "Pp phip cp sp axp cap sap Lp L circles v e ee norm offsets centre "
+                            "radius vext ax step periods")
+
+
+def levels(grid, per_link) -> list:
+    """The :data:`Level` of every link of ``grid.arm``, link ``i`` against ``per_link[i]``.
+
+    Each level's rows are its parent's prefix cells times joint ``i - 1``'s cells;
+    the parent's geometry is built as :func:`rapp.cspace.prefix_grid` builds it
+    (:func:`rapp.cspace.prefix_step`), on the grid of joints ``0..i-2``: ``M**(i-1)``
+    cells, the last level's own ``M**i`` are never built.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, JointGrid
+    >>> lv = levels(JointGrid(Arm([1.0, 0.5]), 8), [[Circle((1.0, 1.0), 0.2)]] * 2)
+    >>> [(x.Pp.shape[0] * x.axp.size, x.ax.size) for x in lv]   # rows x cells per level
+    [(1, 8), (8, 8)]
+    """
+    from rapp.cspace import prefix_step
+    arm, axes, steps = grid.arm, grid.axes, grid.step
+    trig = [(np.cos(ax), np.sin(ax)) for ax in axes]
+    # The prefix grid of joints 0..i-2 (level i's parent), starting from the base alone.
+    base = pre = (np.zeros(2), np.zeros(()), np.ones(()), np.zeros(()))
+    packed, out = {}, []
+    for i in range(arm.n):
+        if i == 0:
+            # Level 0's parent: the base, on a one-cell axis at angle 0 with no link.
+            parent, axp, cap, sap, Lp = base, np.zeros(1), np.ones(1), np.zeros(1), 0.0
+        else:
+            if i >= 2:
+                pre = prefix_step(*pre, axes[i - 2], *trig[i - 2], arm.link_lengths[i - 2])
+            parent, axp, (cap, sap), Lp = pre, axes[i - 1], trig[i - 1], arm.link_lengths[i - 1]
+        key = id(per_link[i])
+        if key not in packed:
+            packed[key] = pack(per_link[i])
+        circles, polys = packed[key]
+        ax = axes[i]
+        periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
+        P, phi, c, s = parent
+        out.append(Level(np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
+                         s.reshape(-1), axp, cap, sap, float(Lp), float(arm.link_lengths[i]),
+                         circles, polys.v, polys.e, polys.ee, polys.norm, polys.offsets,
+                         polys.centre, polys.radius, polys.extent, ax, float(steps[i]), periods))
+    return out
+
+
+#: Kinds of a collected interval (row 2 of the buffer of :func:`_collect`).
+NONE, TANGENT, TIP, IN_DISC, POLYGON, IN_POLYGON = 0, 1, 2, 3, 4, 5
+
+#: Intervals collected per batch: the buffer is ``9 x BATCH`` floats (1.2 MB).
+BATCH = 1 << 14
+
+
+def intervals(buf, n):
+    """The intervals collected in ``buf[:, :n]`` (:func:`_collect`): ``rows, starts, widths``.
+
+    Their angles are computed here in bulk by numpy, by the formulas of
+    ``rapp.cspace``'s ``_circle_hits`` and ``_polygon_hits``, so that both versions take
+    them from the same (vectorized) ``arctan2`` and ``arctan``.
+    """
+    b = buf[:, :n]
+    kind = b[2]
+    a = np.arctan2(b[3], b[4])
+    lo = np.arctan2(b[5], b[6])
+    # Discs: half-width h; the arguments of the kinds that do not use a value are (0, 1).
+    h = np.where(kind == TIP, 2.0 * np.arctan(b[5]), lo)
+    h[kind == IN_DISC] = 2 * np.pi
+    polygon = kind >= POLYGON
+    start = np.where(polygon, a + lo, a - np.minimum(h, np.pi))
+    width = np.where(polygon, np.arctan2(b[7], b[8]) - lo, 2.0 * h)
+    width[kind == IN_POLYGON] = 2 * np.pi
+    start -= b[1]
+    return b[0].astype(np.int64), start, width
+
+
+def run(k, lv, *, keep=False):
+    """The occupancy by the compiled :data:`Kernels` ``k`` over the levels ``lv`` (:func:`levels`),
+    flat over the last level's rows (reshape it to ``grid.shape``).
+
+    Per level: :func:`_collect` clears or fills every row and gathers the arguments of
+    each interval's angles, :func:`intervals` computes them, :func:`_paint` paints them
+    (in batches of :data:`BATCH` intervals). With ``keep=True`` it returns also, per
+    level, the intervals it painted ``(rows, starts, widths)`` (for :func:`paint`).
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, JointGrid
+    >>> k, grid = kernels(), JointGrid(Arm([1.0, 0.5]), 8)
+    >>> lv = levels(grid, [[Circle((1.0, 1.0), 0.2)]] * 2)
+    >>> k is None or bool((paint(k, lv, run(k, lv, keep=True)[1]) == run(k, lv)).all())
+    True
+    """
+    blocked = np.zeros(1, dtype=bool)
+    kept = []
+    # The buffer holds a batch (at least one row's intervals), or every interval of the
+    # largest level if fewer.
+    nobs = max([x.circles.shape[0] + x.offsets.size - 1 for x in lv] + [1])
+    most = max([x.Pp.shape[0] * x.axp.size for x in lv] + [1]) * nobs
+    buf = np.empty((9, max(min(BATCH, most), nobs)))
+    for x in lv:
+        rows = x.Pp.shape[0] * x.axp.size
+        out = np.empty((rows, x.ax.size), dtype=bool)
+        r, parts = 0, []
+        while r < rows:
+            r, n = k.collect(r, blocked, *x[:18], out, buf)
+            if n == 0 and not keep:
+                continue
+            found = intervals(buf, n)
+            k.paint(blocked, *found, x.ax, x.step, x.periods, out)
+            if keep:
+                parts.append(found)
+        if keep:
+            kept.append(tuple(np.concatenate(p) for p in zip(*parts)))
+        blocked = out.reshape(-1)
+    return (blocked, kept) if keep else blocked
+
+
+def paint(k, lv, given):
+    """The painting of :func:`run` alone, given the intervals of every level as
+    ``(rows, starts, widths)`` (those of ``run(k, lv, keep=True)[1]``, or one per prefix cell
+    and obstacle, ``width < 0`` where it does not hit): every row cleared, or filled where
+    an earlier level collides, and the intervals of the other rows painted. (The floor of
+    ``benchmarks/bench_occupancy.py``.)"""
+    blocked = np.zeros(1, dtype=bool)
+    for x, found in zip(lv, given):
+        out = np.empty((x.Pp.shape[0] * x.axp.size, x.ax.size), dtype=bool)
+        k.rows(blocked, out)
+        k.paint(blocked, *found, x.ax, x.step, x.periods, out)
+        blocked = out.reshape(-1)
+    return blocked
+
+
+def one_per_cell(lv, kept) -> list:
+    """The painted intervals ``kept`` of every level (``run(k, lv, keep=True)[1]``) as one per
+    prefix cell and obstacle, in the order of the rows, ``width = -1`` where there is none
+    (the link misses the obstacle, or the row was full and nothing was computed): the
+    benchmark floor's input, which :func:`paint` accepts as well.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, JointGrid
+    >>> k, grid = kernels(), JointGrid(Arm([1.0, 0.5]), 8)
+    >>> lv = levels(grid, [[Circle((1.0, 1.0), 0.2)]] * 2)
+    >>> occ, kept = run(k, lv, keep=True) if k else (None, None)
+    >>> k is None or bool((paint(k, lv, one_per_cell(lv, kept)) == occ).all())
+    True
+    """
+    out = []
+    for x, (rows, starts, widths) in zip(lv, kept):
+        nobs = x.circles.shape[0] + x.offsets.size - 1
+        total = x.Pp.shape[0] * x.axp.size * nobs
+        # The rows come in order: an interval's slot is its rank among its row's.
+        slot = rows * nobs + (np.arange(rows.size) - np.searchsorted(rows, rows))
+        s, w = np.zeros(total), np.full(total, -1.0)
+        s[slot], w[slot] = starts, widths
+        out.append((np.repeat(np.arange(total // nobs), nobs), s, w))
+    return out
+
+
+# ---------------------------------------------------------------- the loops, compiled by kernels()
+
+def _mod(a, b):
+    """``numpy.mod(a, b)``: Python's float remainder, which numpy's follows step by step
+    (``fmod``, then ``+ b`` when the signs differ, ``+0.0`` for a zero)."""
+    return a % b
+
+
+def _circle_args(px, py, L, cx, cy, r):
+    """``rapp.cspace``'s ``_circle_hits`` for one row, up to its trigonometry:
+    ``kind, ay, ax, by, bx``, the interval being ``atan2(ay, ax) -+ h`` with
+    ``h = atan2(by, bx)`` (TANGENT), ``2 atan(by)`` (TIP) or ``2 pi`` (IN_DISC)."""
+    vx = cx - px
+    vy = cy - py
+    d2 = vx * vx + vy * vy
+    d = math.sqrt(d2)
+    if L < d - r:
+        return NONE, 0.0, 1.0, 0.0, 1.0
+    if d2 <= r * r:
+        return IN_DISC, vy, vx, 0.0, 1.0
+    t = math.sqrt(max((d - r) * (d + r), 0.0))
+    if L >= t:
+        return TANGENT, vy, vx, r, t
+    # d > r here, so d + L - r > 0: no guard against a zero denominator is needed.
+    z = math.sqrt(max(L + r - d, 0.0) * max(d + r - L, 0.0) / ((d + L + r) * (d + L - r)))
+    return TIP, vy, vx, z, 1.0
+
+
+def _polygon_args(px, py, L, v, e, ee, norm, slack, s0, s1, tol):
+    """``rapp.cspace``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``, up to its
+    trigonometry: ``kind, ay, ax, by, bx, cy, cx``, the interval running from
+    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``. ``slack`` is
+    numpy's ``tol / sqrt(ee)`` per edge.
+
+    When the base point is in the polygon every direction hits (IN_POLYGON). Otherwise
+    the candidates are numpy's (vertices within reach, each edge's crossings with the
+    circle of radius ``L``: its "first" and "second root"), computed by the same
+    operations, one pass over the edges; the reference direction ``(ax, ay)`` is the
+    first valid one in numpy's order (vertices, then first roots, then second roots).
+    They all lie within an arc narrower than ``pi`` (the polygon, to rounding, is beyond
+    a line missing the base point), so the sign of a cross product orders two of them:
+    the two extreme candidates are found that way, and only their angles are computed
+    (by numpy, from these arguments), instead of one per candidate.
+    """
+    inside = True
+    n_seen = 0
+    lox = loy = hix = hiy = 0.0
+    # The first vertex, first root and second root found; which of them came first in
+    # numpy's order (0: a vertex, 1: a first root, 2: a second root, 3: none yet).
+    vx = vy = r1x = r1y = r2x = r2y = 0.0
+    first = 3
+    reach2 = (L + tol) ** 2
+    for j in range(s0, s1):
+        wx = v[j, 0] - px
+        wy = v[j, 1] - py
+        if not (e[j, 1] * wx - e[j, 0] * wy >= -tol * norm[j]):
+            inside = False
+        w2 = wx * wx + wy * wy
+        if w2 <= reach2:
+            if first > 0:
+                first = 0
+                vx = wx
+                vy = wy
+            n_seen, lox, loy, hix, hiy = _extremes(n_seen, wx, wy, lox, loy, hix, hiy)
+        b = wx * e[j, 0] + wy * e[j, 1]
+        disc = b * b - ee[j] * (w2 - L * L)
+        if not disc >= 0:
+            continue
+        root = math.sqrt(disc)
+        for stage in range(1, 3):
+            s = (-b + (-1.0 if stage == 1 else 1.0) * root) / ee[j]
+            if not (s >= -slack[j] and s <= 1 + slack[j]):
+                continue
+            s = min(max(s, 0.0), 1.0)
+            x = wx + s * e[j, 0]
+            y = wy + s * e[j, 1]
+            if stage == 1 and first > 1:
+                first = 1
+                r1x = x
+                r1y = y
+            elif stage == 2 and first > 2:
+                first = 2
+                r2x = x
+                r2y = y
+            n_seen, lox, loy, hix, hiy = _extremes(n_seen, x, y, lox, loy, hix, hiy)
+    if inside:
+        return IN_POLYGON, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
+    if n_seen == 0:
+        return NONE, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
+    rx, ry = (vx, vy) if first == 0 else ((r1x, r1y) if first == 1 else (r2x, r2y))
+    return (POLYGON, ry, rx, rx * loy - ry * lox, rx * lox + ry * loy,
+            rx * hiy - ry * hix, rx * hix + ry * hiy)
+
+
+def _extremes(n_seen, x, y, lox, loy, hix, hiy):
+    """The most clockwise and counter-clockwise of the directions seen so far and ``(x, y)``
+    (all within an arc narrower than ``pi``): ``n_seen + 1, lox, loy, hix, hiy``."""
+    if n_seen == 0:
+        return 1, x, y, x, y
+    if x * loy - y * lox > 0.0:      # clockwise of the lowest so far
+        return n_seen + 1, x, y, hix, hiy
+    if hix * y - hiy * x > 0.0:      # counter-clockwise of the highest so far
+        return n_seen + 1, lox, loy, x, y
+    return n_seen + 1, lox, loy, hix, hiy
+
+
+def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, norm,
+             offsets, centre, radius, vext, out, buf):
+    """Rows ``r0, r0 + 1, ...`` of one level (see :data:`Level`): each row of ``out`` filled
+    (an earlier link already collides at that prefix cell, ``blocked[r]``) or cleared,
+    and the arguments of each of its intervals appended to ``buf`` (rows: prefix cell,
+    its absolute angle, kind, then those of :func:`_circle_args` / :func:`_polygon_args`).
+
+    Stops before a row whose intervals might not fit; returns ``(next row, count)``.
+    Each row's base point and angle are computed here by the operations of
+    ``rapp.cspace.prefix_grid``, so no array of the rows' geometry is built. The loops
+    are written out here: a call passing arrays costs reference counts per row, more than
+    rejecting a far obstacle does.
+    """
+    nc = circles.shape[0]
+    nobs = nc + offsets.shape[0] - 1
+    mp = axp.shape[0]
+    cap_n = buf.shape[1]
+    n = 0
+    # The tolerance of _polygon_hits: 1e-12 of the largest of 1, L, the polygon's coordinates
+    # and the base points' (of every row of the level, as numpy takes them).
+    pmax = 0.0
+    if offsets.shape[0] > 1:
+        for r in range(Pp.shape[0] * mp):
+            rp = r // mp
+            j = r - rp * mp
+            pmax = max(pmax, abs(Pp[rp, 0] + Lp * (cp[rp] * cap[j] - sp[rp] * sap[j])),
+                       abs(Pp[rp, 1] + Lp * (sp[rp] * cap[j] + cp[rp] * sap[j])))
+    tol = np.empty(offsets.shape[0] - 1)
+    slack = np.empty(norm.shape[0])
+    for p in range(tol.shape[0]):
+        tol[p] = 1e-12 * max(1.0, L, vext[p], pmax)
+        for j in range(offsets[p], offsets[p + 1]):
+            slack[j] = tol[p] / norm[j]
+    # Each obstacle's centre and reach: rows whose base point is farther away are rejected.
+    ox = np.empty(nobs)
+    oy = np.empty(nobs)
+    rho = np.empty(nobs)
+    for k in range(nobs):
+        if k < nc:
+            ox[k] = circles[k, 0]
+            oy[k] = circles[k, 1]
+            rho[k] = L + circles[k, 2]
+        else:
+            ox[k] = centre[k - nc, 0]
+            oy[k] = centre[k - nc, 1]
+            rho[k] = L + radius[k - nc] + 2 * tol[k - nc]
+    for r in range(r0, Pp.shape[0] * mp):
+        if n + nobs > cap_n:
+            return r, n
+        if blocked[r]:
+            out[r, :] = True
+            continue
+        out[r, :] = False
+        rp = r // mp
+        j = r - rp * mp
+        phi = phip[rp] + axp[j]
+        c = cp[rp] * cap[j] - sp[rp] * sap[j]
+        s = sp[rp] * cap[j] + cp[rp] * sap[j]
+        px = Pp[rp, 0] + Lp * c
+        py = Pp[rp, 1] + Lp * s
+        for k in range(nobs):
+            # Most rows are far from any one obstacle: a test without a square root (with
+            # a margin far above rounding) rejects them before the exact one. (A polygon's
+            # reach is its bounding disc's: rows farther than L from it cannot touch it.)
+            dx = ox[k] - px
+            dy = oy[k] - py
+            if dx * dx + dy * dy > rho[k] * rho[k] * (1.0 + 1e-9):
+                continue
+            if k < nc:
+                kind, ay, ax, by, bx = _circle_args(px, py, L, circles[k, 0], circles[k, 1],
+                                                    circles[k, 2])
+                cy = 0.0
+                cx = 1.0
+            else:
+                p = k - nc
+                kind, ay, ax, by, bx, cy, cx = _polygon_args(
+                    px, py, L, v, e, ee, norm, slack, offsets[p], offsets[p + 1], tol[p])
+            if kind == NONE:
+                continue
+            buf[0, n] = r
+            buf[1, n] = phi
+            buf[2, n] = kind
+            buf[3, n] = ay
+            buf[4, n] = ax
+            buf[5, n] = by
+            buf[6, n] = bx
+            buf[7, n] = cy
+            buf[8, n] = cx
+            n += 1
+    return Pp.shape[0] * mp, n
+
+
+def _cell_range(a, width, step, m):
+    """Cells ``first..last`` of an axis of ``m`` cells, ``step`` apart from angle 0, whose angle
+    lies in ``[a, a + width]``; by the index arithmetic of ``rapp.cspace``'s ``_paint``."""
+    first = max(math.ceil(a / step), 0)
+    last = min(math.floor((a + width) / step), m - 1)
+    return first, last
+
+
+def _paint(blocked, rows, starts, widths, ax, step, periods, out):
+    """Set the cells of row ``rows[i]`` of ``out`` (one joint axis, angles ``ax``) whose angle
+    lies in ``[starts[i], starts[i] + widths[i]]`` mod ``2 pi``, by the index arithmetic of
+    ``rapp.cspace``'s ``_paint``; skipped where ``widths[i] < 0`` (no hit) or the row is
+    ``blocked`` (already full)."""
+    m = ax.shape[0]
+    two_pi = 2.0 * math.pi
+    for i in range(rows.shape[0]):
+        r = rows[i]
+        s = starts[i]
+        w = widths[i]
+        if w < 0.0 or blocked[r]:
+            continue
+        if periods > m:
+            # A limited joint spanning more turns than it has cells: each cell tested.
+            for jj in range(m):
+                if _mod(ax[jj] - s, two_pi) <= w:
+                    out[r, jj] = True
+        else:
+            f = _mod(s - ax[0], two_pi)
+            for piece in range(-1, periods - 1):
+                first, last = _cell_range(f + piece * two_pi, w, step, m)
+                for jj in range(first, last + 1):
+                    out[r, jj] = True
+
+
+def _rows(blocked, out):
+    """Each row of ``out`` filled where ``blocked``, else cleared."""
+    for r in range(out.shape[0]):
+        out[r, :] = blocked[r]
+
+
+@functools.cache
+def kernels():
+    """The compiled :data:`Kernels` (numba, cached on disk), or None without numba.
+
+    The first call imports numba and loads the compiled code from its on-disk cache
+    (``cache=True``, beside this file): about half a second in a fresh process, of which
+    the import of numba is most, and a few tens of milliseconds once another kernel has
+    loaded numba. Without a cache (a new install, or this file changed) it compiles
+    them, some seconds (``benchmarks/bench_occupancy.py`` records both).
+    """
+    try:
+        import numba
+    except ImportError:
+        return None
+
+    def jit(f, **kw):
+        try:
+            return numba.njit(cache=True, nogil=True, **kw)(f)
+        except RuntimeError:  # no writable cache directory: compile on every run
+            return numba.njit(nogil=True, **kw)(f)
+
+    g = globals()
+    # The helpers are compiled first, so that the kernels calling them find compiled functions.
+    # They are inlined: a call passing arrays costs a reference count per array, more than
+    # rejecting a far obstacle does.
+    for name in ("_mod", "_circle_args", "_extremes", "_polygon_args", "_cell_range"):
+        g[name] = jit(g[name], inline="always")
+    return Kernels(jit(_collect), jit(_paint), jit(_rows))

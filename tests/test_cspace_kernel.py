@@ -1,0 +1,163 @@
+"""The compiled occupancy (rapp.cspace_kernel) against the numpy version and rapp.collides.
+
+Properties: on random arms (1 to 4 links, free, limited and multi-turn joints), obstacles
+(discs and convex polygons, also around the base, a joint or across the +-pi seam) and small
+grids, the compiled ``occupancy`` equals ``occupancy_numpy`` and ``collides`` on every
+configuration, except where a link touches an obstacle to within 1e-12 (where rounding
+decides either way); painting the kernel's own intervals gives the same grid; without numba
+``occupancy`` is the numpy version; importing the kernel module does not import numba.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+
+from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, cspace, cspace_kernel
+from rapp.cspace import grid_q, occupancy, occupancy_numpy
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_cspace import interval_scenes  # noqa: E402  the random scenes, defined once
+
+pytestmark = pytest.mark.skipif(cspace_kernel.kernels() is None, reason="numba is not installed")
+
+#: Cells where the arm touches an obstacle to within this clearance may round either way.
+TOUCHING = 1e-12
+
+LINKS3 = [1.0, 0.8, 0.5]
+OBSTACLES3 = [Circle((1.4, 0.9), 0.35), Circle((-0.4, 1.5), 0.3), Circle((0.2, -1.3), 0.3),
+              Circle((1.0, -1.0), 0.3), Polygon.rectangle((-1.9, -0.6), 0.5, 1.0)]
+
+
+def compiled(arm, obstacles, grid):
+    """The kernel's occupancy whatever the grid's size (occupancy() picks it only from
+    COMPILE_FROM cells or once numba is loaded)."""
+    return cspace_kernel.run(cspace_kernel.kernels(),
+                             cspace_kernel.levels(grid, [list(obstacles)] * arm.n)
+                             ).reshape(grid.shape)
+
+
+def agree_but_touching(arm, obstacles, grid, a, b):
+    """a == b on every cell whose |clearance| exceeds TOUCHING; the cells that differ."""
+    diff = a != b
+    if diff.any():
+        c = np.abs(clearance(arm, grid_q(grid)[diff], obstacles))
+        assert np.all(c <= TOUCHING), (int(diff.sum()), float(c.max()))
+    return int(diff.sum())
+
+
+@settings(max_examples=200, deadline=None)
+@given(interval_scenes())
+def test_compiled_occupancy_equals_numpy_and_collides(scene):
+    grid, obstacles = scene
+    arm = grid.arm
+    occ = compiled(arm, obstacles, grid)
+    assert occ.shape == grid.shape and occ.dtype == bool
+    agree_but_touching(arm, obstacles, grid, occ, occupancy_numpy(arm, obstacles, grid))
+    agree_but_touching(arm, obstacles, grid, occ, collides(arm, grid_q(grid), obstacles))
+
+
+@settings(max_examples=100, deadline=None)
+@given(interval_scenes())
+def test_painting_the_kernels_own_intervals_gives_the_same_grid(scene):
+    # The benchmark's floor paints intervals computed beforehand: it must paint the same grid.
+    grid, obstacles = scene
+    k = cspace_kernel.kernels()
+    lv = cspace_kernel.levels(grid, [obstacles] * grid.n)
+    occ, kept = cspace_kernel.run(k, lv, keep=True)
+    for x, (rows, starts, widths) in zip(lv, kept):
+        assert rows.shape == starts.shape == widths.shape
+        assert np.all(np.diff(rows) >= 0) and np.all(widths >= 0)
+        assert np.all(np.bincount(rows, minlength=1) <= len(obstacles))
+    assert np.array_equal(cspace_kernel.paint(k, lv, kept), occ)
+    assert np.array_equal(cspace_kernel.paint(k, lv, cspace_kernel.one_per_cell(lv, kept)), occ)
+
+
+def test_batches_of_intervals_paint_the_same_grid(monkeypatch):
+    arm = Arm(LINKS3)
+    grid = JointGrid(arm, (24, 20, 16))
+    whole = compiled(arm, OBSTACLES3, grid)
+    for batch in (7, 2):   # several batches per level; fewer than one row's obstacles
+        monkeypatch.setattr(cspace_kernel, "BATCH", batch)
+        assert np.array_equal(compiled(arm, OBSTACLES3, grid), whole)
+
+
+def test_the_3link_benchmark_grid_matches_numpy_and_collides():
+    arm = Arm(LINKS3)
+    grid = JointGrid(arm, (40, 36, 32))
+    occ = occupancy(arm, OBSTACLES3, grid)   # 46,080 cells: compiled once numba is loaded
+    assert np.array_equal(occ, compiled(arm, OBSTACLES3, grid))
+    assert agree_but_touching(arm, OBSTACLES3, grid, occ,
+                              occupancy_numpy(arm, OBSTACLES3, grid)) == 0
+    agree_but_touching(arm, OBSTACLES3, grid, occ, collides(arm, grid_q(grid), OBSTACLES3))
+    assert 0.1 < occ.mean() < 0.5
+
+
+@pytest.mark.parametrize("M", [100, 360])
+def test_2link_grids_match_numpy(M):
+    arm = Arm([1.0, 1.0])
+    obs = [Circle((1.75, 0.75), 0.6), Circle((0.55, 1.5), 0.5), Circle((0.0, -1.0), 0.25)]
+    grid = JointGrid(arm, M)
+    assert np.array_equal(compiled(arm, obs, grid), occupancy_numpy(arm, obs, grid))
+
+
+def test_no_obstacles_and_the_base_inside_one():
+    arm = Arm([1.0, 0.5])
+    grid = JointGrid(arm, 16)
+    assert not compiled(arm, [Circle((5.0, 5.0), 0.1)], grid).any()
+    assert not occupancy(arm, [], grid).any()
+    for ob in (Circle((0.0, 0.0), 0.2), Polygon.rectangle((-0.1, -0.1), 0.2, 0.2)):
+        assert compiled(arm, [ob], grid).all()
+
+
+def test_without_numba_occupancy_is_the_numpy_version(monkeypatch):
+    arm = Arm(LINKS3)
+    grid = JointGrid(arm, 48)   # above COMPILE_FROM: the kernel would be used
+    assert grid.shape[0] ** 3 >= cspace.COMPILE_FROM
+    monkeypatch.setattr(cspace_kernel, "kernels", lambda: None)
+    assert np.array_equal(occupancy(arm, OBSTACLES3, grid), occupancy_numpy(arm, OBSTACLES3, grid))
+
+
+def test_importing_the_kernel_or_a_small_grid_does_not_import_numba():
+    code = ("import sys, rapp, rapp.cspace_kernel\n"
+            "arm = rapp.Arm([1.0, 1.0])\n"
+            "rapp.occupancy(arm, [rapp.Circle((1.5, 0.0), 0.3)], rapp.JointGrid(arm, 64))\n"
+            "print('numba' in sys.modules)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_pack_keeps_the_polygons_geometry():
+    circles, polys = cspace_kernel.pack([Polygon.rectangle((0, 0), 2, 1), Circle((3, 0), 0.5),
+                                         Polygon([(0, 0), (1, 0), (0, 1)])])
+    assert circles.tolist() == [[3.0, 0.0, 0.5]]
+    assert polys.offsets.tolist() == [0, 4, 7]
+    assert np.allclose(polys.norm ** 2, polys.ee)
+    assert np.allclose(polys.e[:4].sum(axis=0), 0) and np.allclose(polys.e[4:].sum(axis=0), 0)
+    assert np.allclose(polys.radius, [np.hypot(1.0, 0.5), np.hypot(2 / 3, 1 / 3)])
+
+
+@settings(max_examples=60, deadline=None)
+@given(interval_scenes())
+def test_compiled_certified_free_equals_numpy(scene):
+    # certified_free paints each link against the obstacles grown for it: the same kernel.
+    grid, obstacles = scene
+    arm = grid.arm
+    fast = cspace.certified_free(arm, obstacles, grid)     # numba is loaded: compiled
+    monkey = cspace_kernel.kernels
+    try:
+        cspace_kernel.kernels = lambda: None
+        slow = cspace.certified_free(arm, obstacles, grid)
+    finally:
+        cspace_kernel.kernels = monkey
+    diff = fast != slow
+    if diff.any():   # only where a link's clearance is the certificate's margin, to rounding
+        from rapp.collision import link_clearances, motion_bounds
+        need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)
+        c = link_clearances(arm, grid_q(grid)[diff], obstacles) - need
+        assert np.all(np.abs(c).min(axis=-1) <= TOUCHING)
