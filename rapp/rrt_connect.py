@@ -14,17 +14,21 @@ Kuffner and LaValle (2000), RRT-Connect: an efficient approach to single-query p
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 
 from rapp import progress
 from rapp.checks import finite_number
 from rapp.collision import reach_matrix, link_clearances, segment_collision_free
-from rapp import collision_kernel
+from rapp import collision_kernel, sampling_kernel
+from rapp.collision import MAX_PENDING_INTERVALS
+from rapp.collision_kernel import pack
 from rapp.obstacles import Circle
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import PlannerResult, tree_result
 from rapp.rrt import MAX_STEP, MIN_STEP
-from rapp.sampling import Budget, Tree, check_start_and_goals, uniform_samples, unwrapped_chain
+from rapp.sampling import Budget, Tree, squared_norms, check_start_and_goals, uniform_samples, unwrapped_chain
 
 __all__ = ["rrt_connect", "MAX_NODES", "MIN_STEP", "MAX_STEP", "smallest_step"]
 
@@ -157,7 +161,7 @@ def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, cle
     i = tree.nearest(target)
     base = tree.nodes[i]
     d = arm.joint_delta(base, target)
-    dist = float(np.sqrt(d @ d))
+    dist = float(np.sqrt(squared_norms(d)))
     if dist == 0.0:
         return i, True
     k = min(int(np.ceil(dist / step)), room) if chain else 1
@@ -247,7 +251,36 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     rng = np.random.default_rng(seed)
     reach = reach_matrix(arm)
     # Clearances this small cannot be told from touching (as in segment_collision_free).
-    clearance = _Clearance(arm, obstacles, 16 * np.finfo(float).eps * float(np.sum(arm.lengths)))
+    touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
+    loops = sampling_kernel.kernels() if collision_kernel.loaded() is not None else None
+    grown = None
+    if loops is not None:
+        grown = _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach,
+                               touch, chain_room)
+    if grown is None:  # no numba, or an edge beyond the kernel's interval limit (numpy raises)
+        rng = np.random.default_rng(seed)
+        budget = Budget(max_iterations, time_budget)
+        grown = _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_room)
+    trees, meet, full = grown
+    nodes = np.vstack((trees[0].nodes, trees[1].nodes))
+    parent = np.concatenate((trees[0].parent, np.where(trees[1].parent >= 0,
+                                                      trees[1].parent + len(trees[0].nodes), -1)))
+    if meet is None:
+        if raise_on_failure:
+            if full:
+                raise NoPathFound(f"RRT-Connect joined no goal before its trees reached their "
+                                  f"{MAX_NODES} nodes ({budget.iterations} iterations; each "
+                                  f"node advances at most step = {step:g} rad)")
+            raise NoPathFound(f"RRT-Connect joined no goal in {budget.iterations} iterations")
+        return tree_result(arm, None, nodes, parent, budget.iterations)
+    walk = _root_chain(trees[0], meet[0])[::-1] + _root_chain(trees[1], meet[1])[1:]
+    path = unwrapped_chain(arm, np.array(walk), start)
+    return tree_result(arm, path, nodes, parent, budget.iterations)
+
+
+def _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_room):
+    """The numpy loop: ``(trees, meet, full)``, ``meet`` the two nodes that met or None."""
+    clearance = _Clearance(arm, obstacles, touch)
     trees = [_Tree(arm, [start], clearance), _Tree(arm, goals, clearance)]
     meet = None
     # The start may already see a goal along one straight chain.
@@ -271,20 +304,57 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
                                  room())
         if reached:
             meet = (new, other) if a is trees[0] else (other, new)
-    nodes = np.vstack((trees[0].nodes, trees[1].nodes))
-    parent = np.concatenate((trees[0].parent, np.where(trees[1].parent >= 0,
-                                                      trees[1].parent + trees[0].m, -1)))
-    if meet is None:
-        if raise_on_failure:
-            if full:
-                raise NoPathFound(f"RRT-Connect joined no goal before its trees reached their "
-                                  f"{MAX_NODES} nodes ({budget.iterations} iterations; each "
-                                  f"node advances at most step = {step:g} rad)")
-            raise NoPathFound(f"RRT-Connect joined no goal in {budget.iterations} iterations")
-        return tree_result(arm, None, nodes, parent, budget.iterations)
-    walk = _root_chain(trees[0], meet[0])[::-1] + _root_chain(trees[1], meet[1])[1:]
-    path = unwrapped_chain(arm, np.array(walk), start)
-    return tree_result(arm, path, nodes, parent, budget.iterations)
+    return trees, meet, full
+
+
+#: Iterations the compiled loop runs between two looks at the clock (and the progress line).
+BATCH = 64
+
+
+def _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach, touch,
+                   chain_room):
+    """:func:`_grow` in the compiled loops of :mod:`rapp.sampling_kernel`, the same trees;
+    None when an edge needs more bisection intervals than allowed (numpy says so then)."""
+    n = arm.n
+    cap = MAX_NODES + len(goals) + 2
+    nodes, clear = np.empty((2, cap, n)), np.empty((2, cap, n))
+    parent, cost = np.empty((2, cap), dtype=np.int64), np.empty((2, cap))
+    m = np.zeros(2, dtype=np.int64)
+    for t, roots in enumerate((start[None], goals)):
+        k = len(roots)
+        nodes[t, :k] = arm.wrap(roots)
+        clear[t, :k] = link_clearances(arm, nodes[t, :k], obstacles)
+        parent[t, :k], cost[t, :k], m[t] = -1, 0.0, k
+    geometry = (arm.lengths, np.asarray(arm.limited, dtype=np.bool_), reach, *pack(obstacles),
+                touch, 1e-9, MAX_PENDING_INTERVALS, nodes, parent, cost, clear, m)
+    meet = None
+    room = int(min(chain_room, MAX_NODES - m[0] - m[1]))
+    j, reached, status = loops.extend(1, start, True, room, step, *geometry,
+                                      np.empty((7, n)))
+    if status == sampling_kernel.CONNECT_LIMIT:
+        return None
+    if reached:
+        meet = (0, j)
+    full = False
+    met = np.full(2, -1, dtype=np.int64)
+    while meet is None:
+        k = budget.grant(BATCH)
+        if not k:
+            break
+        progress.report("RRT-Connect", budget.iterations, budget.max_iterations)
+        samples = uniform_samples(arm, rng, k)
+        status, ran = loops.connect(samples, budget.iterations, MAX_NODES, chain_room, step,
+                                    *geometry, met)
+        budget.iterations += int(ran)
+        if status == sampling_kernel.CONNECT_MEET:
+            meet = (int(met[0]), int(met[1]))
+        elif status == sampling_kernel.CONNECT_FULL:
+            full = True
+            break
+        elif status == sampling_kernel.CONNECT_LIMIT:
+            return None
+    trees = [SimpleNamespace(nodes=nodes[t, :m[t]], parent=parent[t, :m[t]]) for t in (0, 1)]
+    return trees, meet, full
 
 
 def _root_chain(tree: Tree, i: int) -> list:

@@ -22,7 +22,27 @@ from rapp import collision_kernel
 from rapp.collision import collides
 from rapp.errors import NoPathFound
 
-__all__ = ["Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
+__all__ = ["squared_norms", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
+
+
+def squared_norms(d) -> np.ndarray:
+    """Sum of squares along the last axis, joint by joint in order: ``(..., n) -> (...)``.
+
+    Written out rather than ``d @ d`` or ``einsum``, whose rounding depends on the BLAS and
+    the processor (fused multiply-adds, vector lanes): this order is the one the compiled
+    loops of :mod:`rapp.sampling_kernel` use, so both find the same nearest nodes and steps
+    to the last bit.
+
+    Examples
+    --------
+    >>> squared_norms(np.array([[3.0, 4.0], [1.0, 1.0]])).tolist()
+    [25.0, 2.0]
+    """
+    d = np.asarray(d, float)
+    s = d[..., 0] * d[..., 0]
+    for j in range(1, d.shape[-1]):
+        s = s + d[..., j] * d[..., j]
+    return s
 
 
 class Tree:
@@ -73,8 +93,7 @@ class Tree:
 
     def nearest(self, q) -> int:
         """Index of the node nearest ``q`` (wrap-aware Euclidean distance)."""
-        d = self.deltas(q)
-        return int(np.argmin(np.einsum("ij,ij->i", d, d)))
+        return int(np.argmin(squared_norms(self.deltas(q))))
 
     def set_parent(self, i: int, parent_index: int, cost: float) -> None:
         """Rewire node ``i`` under ``parent_index`` at path cost ``cost``."""
@@ -114,6 +133,25 @@ class Budget:
             return True
         self.iterations += 1
         return False
+
+    def grant(self, k: int) -> int:
+        """How many of the next ``k`` iterations may run (0 when none is left); the caller
+        adds those it ran to ``iterations``. The time is looked at once, for the batch.
+
+        Examples
+        --------
+        >>> b = Budget(100, None)
+        >>> b.grant(64), b.iterations
+        (64, 0)
+        >>> b.iterations = 90
+        >>> b.grant(64)
+        10
+        """
+        left = self.max_iterations - self.iterations
+        if left <= 0 or (self.time_budget is not None
+                         and time.perf_counter() - self.t0 > self.time_budget):
+            return 0
+        return min(int(k), left)
 
 
 def check_start_and_goals(arm, start, goal, obstacles):

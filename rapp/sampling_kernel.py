@@ -1,0 +1,259 @@
+"""The compiled inner loops of the sampling planners: trees as preallocated arrays.
+
+With the collision kernel compiled (:mod:`rapp.collision_kernel`), one clearance check costs
+about a microsecond, and what is left of a planner's time is Python: the nearest-node scan,
+the steering arithmetic, a dozen numpy calls on arrays of three numbers per step. Here the
+whole iteration of RRT-Connect (nearest node by a linear scan under the torus metric, one
+extend step, the connect chain, each edge certified) runs inside one numba function that
+calls the collision kernel's compiled loops directly, for a batch of random samples drawn in
+Python by the planner's own ``numpy.random.Generator``: the random stream is the numpy
+path's, sample for sample.
+
+The arithmetic is that of the numpy path (:func:`rapp.rrt_connect.rrt_connect` without
+numba), operation by operation: the wrapped difference ``(d + pi) % 2pi - pi``, the steps
+``base + (j step / dist) d``, the exact link clearances, the end-point certificate
+``c0 + c1 > B`` and the bisection of :func:`rapp.collision.segment_collision_free`. The trees
+are the same node for node (``tests/test_sampling_kernel.py`` checks it over many seeds);
+where a sum of three products is rounded differently by numpy's vectorized loops than by a
+plain loop (it would have to decide a tie in the nearest-node scan, or an end-point
+certificate to the last bit), a tree could differ, and then only there.
+
+:func:`kernels` compiles on first use (cached on disk, ``cache=True``) and returns None
+without numba; importing this module does not import numba. Numba's disk cache does not see
+changes to the collision kernel's file: after editing :mod:`rapp.collision_kernel`, touch
+this file (or clear ``__pycache__``) so that these loops are compiled again.
+
+Examples
+--------
+>>> k = kernels()
+>>> k is None or float(k.wrap(3 * np.pi / 2)) == -np.pi / 2
+True
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections import namedtuple
+
+import numpy as np
+
+from rapp import collision_kernel
+
+__all__ = ["kernels", "Connect", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
+
+#: The compiled functions (see :func:`kernels`).
+Connect = namedtuple("Connect", "wrap extend connect")
+
+#: What :func:`_connect` says when it returns: a batch ran out without a meeting, the trees
+#: met, the trees are full, an edge needed more bisection intervals than allowed.
+CONNECT_MORE, CONNECT_MEET, CONNECT_FULL, CONNECT_LIMIT = 0, 1, 2, 3
+
+_TWO_PI = 2 * math.pi
+#: Intervals a first bisection of an edge may keep pending; more, and it runs again with the
+#: caller's full allowance (the answer does not depend on it, only the scratch memory does).
+_FIRST_CAP = 64
+
+
+def _clearances(*args):
+    """The collision kernel's compiled ``clearances`` (set by :func:`_compile`)."""
+    raise RuntimeError("compiled only")
+
+
+_certify = _clearances
+
+
+def _wrap(x):
+    """``(x + pi) % 2pi - pi`` to the bit, as numpy computes it (rapp.wrap_angle)."""
+    y = x + math.pi
+    # fmod(y, 2pi) is y itself for |y| < 2pi and the exact y - 2pi for 2pi <= y < 4pi; the
+    # remainder then adds 2pi to a negative result. Differences of wrapped angles land here.
+    if y < 0.0:
+        if y >= -_TWO_PI:
+            return (y + _TWO_PI) - math.pi
+    elif y < _TWO_PI:
+        return y - math.pi
+    elif y < 2 * _TWO_PI:
+        return (y - _TWO_PI) - math.pi
+    # numba's float remainder is Python's (fmod, then the sign of the divisor), as numpy's.
+    return y % _TWO_PI - math.pi
+
+
+def _nearest(nodes, m, q, limited):
+    """Index of the node of ``nodes[:m]`` nearest ``q`` (the first of equals, as argmin)."""
+    n = q.shape[0]
+    best = np.inf
+    bi = 0
+    for i in range(m):
+        s = 0.0
+        for j in range(n):
+            d = q[j] - nodes[i, j]
+            if not limited[j]:
+                d = _wrap(d)
+            s += d * d
+            if s >= best:  # the sum only grows: this node is not the first nearest
+                break
+        if s < best:
+            best = s
+            bi = i
+    return bi
+
+
+def _extend(t, target, chain, room, step, lengths, limited, reach, circles, pv, pn, pr,
+            offsets, touch, min_interval, cap, nodes, parent, cost, clear, m, scratch):
+    """rapp.rrt_connect's ``_extend`` on tree ``t`` of the arrays: one step toward
+    ``target``, or (``chain``) steps until it is reached, an edge is blocked or ``room``
+    nodes were added.
+
+    Returns ``(last node added or -1, reached, status)``; ``status`` is CONNECT_LIMIT when
+    an edge needed more than ``cap`` pending intervals (nothing is added then).
+    """
+    n = target.shape[0]
+    base, d, p, prev, q0, dq, bnd = (scratch[0], scratch[1], scratch[2], scratch[3],
+                                     scratch[4:5], scratch[5:6], scratch[6:7])
+    i = _nearest(nodes[t], m[t], target, limited)
+    dist2 = 0.0
+    for j in range(n):
+        base[j] = nodes[t, i, j]
+        dj = target[j] - base[j]
+        if not limited[j]:
+            dj = _wrap(dj)
+        d[j] = dj
+        dist2 += dj * dj
+    dist = math.sqrt(dist2)
+    if dist == 0.0:
+        return i, True, CONNECT_MORE
+    k = min(int(math.ceil(dist / step)), room) if chain else 1
+    if k <= 0:
+        return -1, False, CONNECT_MORE
+    last = -1
+    par = i
+    for j in range(n):
+        prev[j] = base[j]
+    c_prev = clear[t, i]
+    frac = 0.0
+    added = 0
+    for s in range(k):
+        frac = min((s + 1) * step / dist, 1.0)
+        for j in range(n):
+            p[j] = base[j] + frac * d[j]
+        c = _clearances(lengths, p.reshape(1, n), circles, pv, pn, pr,
+                                                offsets)[0]
+        hit = False
+        for j in range(n):
+            if c[j] <= touch:
+                hit = True
+        if hit:
+            break
+        # The end-point certificate (rapp.rrt_connect._endpoint_certified), else the bisection.
+        ok = True
+        for j in range(n):
+            dq[0, j] = p[j] - prev[j]
+        for l in range(n):
+            b = 0.0
+            for j in range(n):
+                b += abs(dq[0, j]) * reach[j, l]
+            bnd[0, l] = b
+            if not (c_prev[l] + c[l] > b and c_prev[l] > touch and c[l] > touch):
+                ok = False
+        if not ok:
+            for j in range(n):
+                q0[0, j] = prev[j]
+            code = _certify(lengths, q0, dq, bnd, circles, pv, pn, pr,
+                                                    offsets, min_interval, _FIRST_CAP, touch)[0]
+            if code < 0:
+                code = _certify(lengths, q0, dq, bnd, circles, pv, pn,
+                                                        pr, offsets, min_interval, cap, touch)[0]
+            if code < 0:
+                return last, False, CONNECT_LIMIT
+            if code == 0:
+                break
+        length = 0.0
+        for j in range(n):
+            length += dq[0, j] * dq[0, j]
+        new = m[t]
+        for j in range(n):
+            nodes[t, new, j] = p[j] if limited[j] else _wrap(p[j])
+            clear[t, new, j] = c[j]
+        parent[t, new] = par
+        cost[t, new] = cost[t, par] + math.sqrt(length)
+        m[t] = new + 1
+        par = new
+        last = new
+        added += 1
+        c_prev = clear[t, new]
+        for j in range(n):
+            prev[j] = p[j]
+    return last, added == k and frac == 1.0, CONNECT_MORE
+
+
+def _connect(samples, it0, max_nodes, chain_room, step, lengths, limited, reach, circles, pv,
+             pn, pr, offsets, touch, min_interval, cap, nodes, parent, cost, clear, m, meet):
+    """Iterations ``it0 + 1, it0 + 2, ...`` of RRT-Connect, one per row of ``samples``.
+
+    The loop of :func:`rapp.rrt_connect.rrt_connect`: tree ``a`` (the start's on odd
+    iterations) extends one step toward the sample, then tree ``b`` connects toward the new
+    node. Returns ``(status, iterations run)``; on CONNECT_MEET ``meet`` holds the two
+    nodes that met (start's tree first).
+    """
+    n = samples.shape[1]
+    scratch = np.empty((7, n))
+    target = np.empty(n)
+    for s in range(samples.shape[0]):
+        it = it0 + s + 1
+        if m[0] + m[1] >= max_nodes:
+            return CONNECT_FULL, s + 1
+        a = 0 if it % 2 else 1
+        b = 1 - a
+        new, _, status = _extend(a, samples[s], False, max_nodes, step, lengths, limited, reach,
+                                 circles, pv, pn, pr, offsets, touch, min_interval, cap, nodes,
+                                 parent, cost, clear, m, scratch)
+        if status != CONNECT_MORE:
+            return status, s + 1
+        if new < 0:
+            continue
+        for j in range(n):
+            target[j] = nodes[a, new, j]
+        room = min(chain_room, max_nodes - m[0] - m[1])
+        other, reached, status = _extend(b, target, True, room, step, lengths, limited, reach,
+                                         circles, pv, pn, pr, offsets, touch, min_interval, cap,
+                                         nodes, parent, cost, clear, m, scratch)
+        if status != CONNECT_MORE:
+            return status, s + 1
+        if reached:
+            meet[a] = new
+            meet[b] = other
+            return CONNECT_MEET, s + 1
+    return CONNECT_MORE, samples.shape[0]
+
+
+@functools.cache
+def _compile():
+    try:
+        import numba
+    except ImportError:
+        return None
+    ck = collision_kernel.kernels()
+    if ck is None:
+        return None
+
+    def jit(f):
+        try:
+            return numba.njit(cache=True, nogil=True)(f)
+        except RuntimeError:  # no writable cache directory: compile on every run
+            return numba.njit(nogil=True)(f)
+
+    g = globals()
+    g["_clearances"], g["_certify"] = ck.clearances, ck.certify
+    g["_wrap"] = jit(_wrap)
+    g["_nearest"] = jit(_nearest)
+    g["_extend"] = jit(_extend)
+    return Connect(g["_wrap"], g["_extend"], jit(_connect))
+
+
+def kernels():
+    """The compiled :class:`Connect` loops, or None without numba (or when the collision
+    kernel is switched off: :func:`rapp.collision_kernel.kernels` returns None)."""
+    if collision_kernel.kernels() is None:
+        return None
+    return _compile()

@@ -1,0 +1,163 @@
+"""The compiled RRT-Connect loop (rapp.sampling_kernel) against the numpy loop it replaced.
+
+Properties: from the same seed both grow the same two trees, node for node and bit for bit,
+and return the same path (hypothesis over arms of 2 to 4 joints, free and limited, discs and
+polygons, one or several goals, steps from 0.05 to 0.5 rad); every path of the compiled loop
+passes rapp.verify's certificate, the numpy certificate of rapp.reference and a dense sampled
+check, over many seeds; budgets, the node limit and the certification limit are answered as
+the numpy loop answers them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+import rapp
+from rapp import reference, sampling_kernel
+from rapp.errors import CertificationLimit, NoPathFound
+from rapp.rrt_connect import rrt_connect
+
+pytestmark = pytest.mark.skipif(sampling_kernel.kernels() is None, reason="numba is not installed")
+
+LINKS3 = [1.0, 0.8, 0.5]
+OBSTACLES3 = [
+    rapp.Circle((1.4, 0.9), 0.35),
+    rapp.Circle((-0.4, 1.5), 0.3),
+    rapp.Circle((0.2, -1.3), 0.3),
+    rapp.Circle((1.0, -1.0), 0.3),
+    rapp.Polygon.rectangle((-1.9, -0.6), 0.5, 1.0),
+]
+
+
+def both(monkeypatch, *args, **kw):
+    """The compiled run and the numpy run (the compiled loops switched off) of rrt_connect;
+    an exception is returned, not raised, so that both can be compared."""
+    out = []
+    for compiled in (True, False):
+        with monkeypatch.context() as m:
+            if not compiled:
+                m.setattr(sampling_kernel, "kernels", lambda: None)
+            try:
+                out.append(rrt_connect(*args, **kw))
+            except (NoPathFound, CertificationLimit) as e:
+                out.append(e)
+    return out
+
+
+def assert_same(fast, slow):
+    if isinstance(slow, Exception):
+        assert type(fast) is type(slow) and str(fast) == str(slow)
+        return
+    assert fast.success == slow.success and fast.iterations == slow.iterations
+    assert np.array_equal(fast.nodes, slow.nodes)
+    assert np.array_equal(fast.parent, slow.parent)
+    assert np.array_equal(fast.path, slow.path)
+
+
+def dense_free(arm, path, obstacles, per_rad=400):
+    """Independent check: every segment sampled densely, each sample tested by numpy."""
+    for a, b in zip(path[:-1], path[1:]):
+        k = max(2, int(np.linalg.norm(b - a) * per_rad))
+        if reference.collides(arm, a + np.linspace(0, 1, k)[:, None] * (b - a), obstacles).any():
+            return False
+    return True
+
+
+def assert_verified(arm, res, start, goals, obstacles):
+    """The path joins the exact start to a goal, and three checks find it free."""
+    assert np.array_equal(res.path[0], start)
+    goals = np.atleast_2d(goals)
+    assert np.abs(arm.joint_delta(res.path[-1], goals)).max(axis=-1).min() < 1e-12
+    assert rapp.path_collision_free(arm, res.path, obstacles)  # rapp.verify's certificate
+    assert reference.segment_collision_free(arm, res.path[:-1], res.path[1:], obstacles).all()
+    assert dense_free(arm, res.path, obstacles)
+
+
+@st.composite
+def problems(draw):
+    n = draw(st.integers(2, 4))
+    lengths = draw(st.lists(st.floats(0.3, 1.0), min_size=n, max_size=n))
+    limited = draw(st.lists(st.booleans(), min_size=n, max_size=n))
+    arm = rapp.Arm(lengths, [(-2.5, 2.5) if lim else None for lim in limited])
+    reach = sum(lengths)
+    obstacles = []
+    for _ in range(draw(st.integers(0, 4))):
+        r = draw(st.floats(0.3, 1.1)) * reach
+        a = draw(st.floats(-np.pi, np.pi))
+        c = (r * np.cos(a), r * np.sin(a))
+        if draw(st.booleans()):
+            obstacles.append(rapp.Circle(c, draw(st.floats(0.05, 0.4))))
+        else:
+            obstacles.append(rapp.Polygon.rectangle(c, draw(st.floats(0.1, 0.5)),
+                                                    draw(st.floats(0.1, 0.5)), a))
+    angles = st.lists(st.floats(-2.4, 2.4), min_size=n, max_size=n)
+    start = np.array(draw(angles))
+    goals = np.array(draw(st.lists(angles, min_size=1, max_size=3)))
+    step = draw(st.floats(0.05, 0.5))
+    return arm, obstacles, start, goals, step
+
+
+@settings(max_examples=30, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(problem=problems(), seed=st.integers(0, 2**32 - 1))
+def test_the_compiled_loop_grows_the_numpy_trees(problem, seed, monkeypatch):
+    arm, obstacles, start, goals, step = problem
+    fast, slow = both(monkeypatch, arm, start, goals, obstacles, step=step, seed=seed,
+                      max_iterations=300, raise_on_failure=False)
+    assert_same(fast, slow)
+    if not isinstance(fast, Exception) and fast.success:
+        assert_verified(arm, fast, start, goals, obstacles)
+
+
+@pytest.mark.parametrize("seeds", [range(6), pytest.param(range(6, 50), marks=pytest.mark.slow)])
+def test_the_benchmark_problem_same_trees_and_verified_paths(seeds, monkeypatch):
+    arm = rapp.Arm(LINKS3)
+    for seed in seeds:
+        fast, slow = both(monkeypatch, arm, (0, 0, 0), (-2, 0.5, 0.5), OBSTACLES3, step=0.1,
+                          seed=seed, raise_on_failure=False)
+        assert_same(fast, slow)
+        assert fast.success, seed
+        assert_verified(arm, fast, np.zeros(3), [(-2, 0.5, 0.5)], OBSTACLES3)
+
+
+@pytest.mark.slow
+def test_plans_with_the_compiled_loop_pass_rapp_verify_over_many_seeds():
+    d = rapp.load_scenario("three_link").to_dict()
+    for seed in range(20):
+        d["planner"] = {"algorithm": "rrt_connect", "seed": seed}
+        plan = rapp.plan(d)
+        assert plan.report.ok, (seed, str(plan.report))
+
+
+def test_budgets_are_those_of_the_numpy_loop(monkeypatch):
+    s = rapp.load_scenario("no_solution")   # no path exists: the budget decides
+    for k in (1, 63, 64, 65, 200):
+        fast, slow = both(monkeypatch, s.arm, s.start_array, s.goal_q, s.obstacles,
+                          max_iterations=k, raise_on_failure=False)
+        assert_same(fast, slow)
+        assert fast.iterations == k and not fast.success
+    fast, slow = both(monkeypatch, s.arm, s.start_array, s.goal_q, s.obstacles, max_iterations=50)
+    assert_same(fast, slow)
+    res = rrt_connect(s.arm, s.start_array, s.goal_q, s.obstacles, max_iterations=10**7,
+                      time_budget=0.2, raise_on_failure=False)
+    assert not res.success and 0 < res.iterations < 10**7
+
+
+@pytest.mark.slow
+def test_the_node_limit_is_that_of_the_numpy_loop(monkeypatch):
+    # A wall between start and goal: the trees grow until they hold MAX_NODES.
+    s = rapp.load_scenario("no_solution")
+    fast, slow = both(monkeypatch, s.arm, s.start_array, s.goal_q, s.obstacles, step=0.05,
+                      max_iterations=10**6)
+    assert "before its trees reached their 20000 nodes" in str(slow)
+    assert_same(fast, slow)
+
+
+def test_the_certification_limit_is_raised_with_the_numpy_message(monkeypatch):
+    # Links of 1e6 beside a clearance of 1: an edge needs 2**18 pieces.
+    arm = rapp.Arm([1e6, 1e6])
+    fast, slow = both(monkeypatch, arm, [0.0, 0.0], [0.5, 0.0], [rapp.Circle((0.0, -2.0), 1.0)])
+    assert isinstance(slow, CertificationLimit)
+    assert_same(fast, slow)
