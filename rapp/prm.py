@@ -22,13 +22,14 @@ import time
 
 import numpy as np
 
-from rapp import progress
+from rapp import progress, sampling_kernel
 from rapp.checks import positive_integer
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import PlannerResult, tree_result
 from rapp.rrt import RRTResult
-from rapp.sampling import Budget, check_start_and_goals, uniform_samples, unwrapped_chain
+from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared_norms, uniform_samples,
+                           unwrapped_chain)
 
 __all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE"]
 
@@ -275,8 +276,13 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
     rng = np.random.default_rng(seed)
     nodes = arm.wrap(np.vstack((start, goals)))
     goal_ids = np.arange(1, len(goals) + 1)
-    edges: dict = {}          # candidate edges (i < j) -> length
-    certified: set = set()
+    loops = sampling_kernel.kernels()
+    dijkstra = _compiled_dijkstra()
+    if loops is not None and dijkstra is not None:
+        edges = _ArrayEdges(arm, neighbours, loops, dijkstra, goal_ids)
+    else:
+        edges = _DictEdges(arm, neighbours, goal_ids)
+    certify = EdgeCertifier(arm, obstacles)
     parent, hit = np.full(len(nodes), -1), -1
     grow = True
     while not budget.spent():
@@ -285,27 +291,21 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
                 break
             first_new = len(nodes)
             nodes = _grow(arm, rng, nodes, samples, obstacles, budget)
-            _add_candidate_edges(arm, nodes, neighbours, edges, 0 if first_new <= 1 + len(goals)
-                                 else first_new, budget)
-        parent, hit = _shortest(len(nodes), edges, [0], goal_ids, budget)
+            edges.add(nodes, 0 if first_new <= 1 + len(goals) else first_new, budget)
+        parent, hit = edges.shortest(len(nodes), budget)
         if hit < 0:
             grow = True
             continue
         chain = [hit]
         while parent[chain[-1]] >= 0:
             chain.append(int(parent[chain[-1]]))
-        chain = chain[::-1]
-        pairs = [(min(a, b), max(a, b)) for a, b in zip(chain[:-1], chain[1:])]
-        todo = [p for p in pairs if p not in certified]
-        if todo:
-            a = nodes[[p[0] for p in todo]]
-            b = a + arm.joint_delta(a, nodes[[p[1] for p in todo]])
-            free = segment_collision_free(arm, a, b, obstacles)
-            for p, ok in zip(todo, free):
-                if ok:
-                    certified.add(p)
-                else:
-                    del edges[p]
+        chain = np.array(chain[::-1])
+        pairs = np.sort(np.stack((chain[:-1], chain[1:]), axis=-1), axis=-1)
+        todo = pairs[~edges.certified(pairs)]
+        if len(todo):
+            a = nodes[todo[:, 0]]
+            free = certify(a, a + arm.joint_delta(a, nodes[todo[:, 1]]))
+            edges.settle(todo, free)
             if not free.all():
                 grow = False
                 continue
@@ -320,6 +320,102 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
         raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal in "
                           f"{budget.iterations} searches")
     return tree_result(arm, None, nodes, parent, budget.iterations)
+
+
+class _DictEdges:
+    """Candidate edges as a dict ``{(i, j): length}`` (``i < j``) in the order they were found,
+    the certified ones in a set; Dijkstra by :func:`_shortest`. The path without numba."""
+
+    def __init__(self, arm, neighbours, goal_ids):
+        self.arm, self.neighbours, self.goal_ids = arm, neighbours, goal_ids
+        self.edges: dict = {}
+        self.done: set = set()
+
+    def add(self, nodes, first_new, budget):
+        _add_candidate_edges(self.arm, nodes, self.neighbours, self.edges, first_new, budget)
+
+    def shortest(self, nodes_n, budget):
+        return _shortest(nodes_n, self.edges, [0], self.goal_ids, budget)
+
+    def certified(self, pairs):
+        return np.array([(int(a), int(b)) in self.done for a, b in pairs], dtype=bool)
+
+    def settle(self, pairs, free):
+        """Keep the certified edges of ``pairs`` (``free``), drop the others."""
+        for (a, b), ok in zip(pairs, free):
+            if ok:
+                self.done.add((int(a), int(b)))
+            else:
+                del self.edges[(int(a), int(b))]
+
+
+class _ArrayEdges:
+    """:class:`_DictEdges` as arrays, for the compiled loops: the same edges in the same order,
+    found by the compiled nearest-neighbour scan, and one CSR graph per roadmap size in which a
+    dropped edge weighs ``inf`` (Dijkstra never relaxes it: the same search as without it)."""
+
+    def __init__(self, arm, neighbours, loops, dijkstra, goal_ids):
+        self.arm, self.neighbours, self.loops, self.dijkstra = arm, neighbours, loops, dijkstra
+        self.goal_ids = goal_ids
+        self.limited = np.asarray(arm.limited, dtype=np.bool_)
+        self.ij = np.empty((0, 2), dtype=np.int64)
+        self.w = np.empty(0)
+        self.done = np.empty(0, dtype=bool)
+
+    def add(self, nodes, first_new, budget):
+        k = min(self.neighbours, len(nodes) - 1)
+        if k <= 0:
+            return
+        _check_time(budget)
+        rows = len(nodes) - first_new
+        near, dist = np.empty((rows, k), dtype=np.int64), np.empty((rows, k))
+        self.loops.nearest_k(nodes, first_new, k, self.limited, near, dist)
+        i = np.repeat(np.arange(first_new, len(nodes)), k)
+        ij = np.sort(np.stack((i, near.ravel()), axis=-1), axis=-1)
+        # The first time each edge is met, in the order the dict of _DictEdges fills.
+        first = np.sort(np.unique(ij[:, 0] * len(nodes) + ij[:, 1], return_index=True)[1])
+        self.ij = np.concatenate((self.ij, ij[first]))
+        self.w = np.concatenate((self.w, dist.ravel()[first]))
+        self.done = np.concatenate((self.done, np.zeros(len(first), dtype=bool)))
+        self._graph(len(nodes))
+
+    def _graph(self, nodes_n):
+        m = len(self.w)
+        src = self.ij.ravel()
+        order = np.argsort(src, kind="stable")  # as _shortest orders its neighbour lists
+        self.dst = self.ij[:, ::-1].ravel()[order]
+        self.wt = np.repeat(self.w, 2)[order]  # a dropped edge's length is inf already
+        self.slot = np.empty(2 * m, dtype=np.int64)  # where each edge's two entries went
+        self.slot[order] = np.arange(2 * m)
+        counts = np.bincount(src, minlength=nodes_n)
+        self.stop = np.cumsum(counts)
+        self.start = self.stop - counts
+        self.is_target = np.zeros(nodes_n, dtype=np.bool_)
+        self.is_target[self.goal_ids] = True
+        self.key = self.ij[:, 0] * nodes_n + self.ij[:, 1]
+        self.by_key = np.argsort(self.key)
+        self.nodes_n = nodes_n
+        self.sources = np.zeros(1, dtype=np.int64)
+
+    def shortest(self, nodes_n, budget):
+        _check_time(budget)
+        parent, hit = self.dijkstra(nodes_n, self.start, self.stop, self.dst, self.wt,
+                                    self.sources, self.is_target)
+        return parent, int(hit)
+
+    def index(self, pairs):
+        key = pairs[:, 0] * self.nodes_n + pairs[:, 1]
+        return self.by_key[np.searchsorted(self.key, key, sorter=self.by_key)]
+
+    def certified(self, pairs):
+        return self.done[self.index(pairs)]
+
+    def settle(self, pairs, free):
+        e = self.index(pairs)
+        self.done[e[free]] = True
+        self.w[e[~free]] = np.inf
+        self.wt[self.slot[2 * e[~free]]] = np.inf
+        self.wt[self.slot[2 * e[~free] + 1]] = np.inf
 
 
 def _grow(arm, rng, nodes, k, obstacles, budget=None):
@@ -351,9 +447,12 @@ def _add_candidate_edges(arm, nodes, k, edges, first_new, budget=None):
         progress.report("PRM roadmap", lo - first_new, len(nodes) - first_new)
         block = np.arange(lo, min(lo + rows, len(nodes)))
         d = arm.joint_delta(nodes[block, None, :], nodes[None, :, :])
-        dist = np.sqrt(np.einsum("ijk,ijk->ij", d, d))
+        dist = np.sqrt(squared_norms(d))
         dist[np.arange(len(block)), block] = np.inf
         near = np.argpartition(dist, k - 1, axis=1)[:, :k]
+        # Nearest first, equal distances by index: the order of the compiled scan
+        # (rapp.sampling_kernel), so both fill the roadmap alike.
+        near = np.take_along_axis(near, np.lexsort((near, np.take_along_axis(dist, near, 1))), 1)
         for row, i in enumerate(block):
             for j in near[row]:
                 key = (min(int(i), int(j)), max(int(i), int(j)))

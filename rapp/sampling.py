@@ -19,10 +19,11 @@ import numpy as np
 
 from rapp.checks import finite_number, positive_integer
 from rapp import collision_kernel
-from rapp.collision import collides
+from rapp.collision import collides, reach_matrix, segment_collision_free
+from rapp.collision_kernel import pack
 from rapp.errors import NoPathFound
 
-__all__ = ["squared_norms", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
+__all__ = ["squared_norms", "EdgeCertifier", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
 
 
 def squared_norms(d) -> np.ndarray:
@@ -43,6 +44,49 @@ def squared_norms(d) -> np.ndarray:
     for j in range(1, d.shape[-1]):
         s = s + d[..., j] * d[..., j]
     return s
+
+
+class EdgeCertifier:
+    """:func:`rapp.collision.segment_collision_free` for a planner's own edges, the same answers.
+
+    A planner certifies a few edges at a time, thousands of times, always with the same arm
+    and obstacles, and its configurations are its own finite arithmetic: the obstacles'
+    arrays, the reach matrix and the touching distance are made once here, the angles are
+    not checked again, and the compiled bisection first runs with a small interval allowance
+    (an edge needing more goes through ``segment_collision_free``, which also raises its
+    message). Without the compiled kernel it is ``segment_collision_free``.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> arm, obs = Arm([1.0, 1.0]), [Circle((0.0, 1.5), 0.3)]
+    >>> EdgeCertifier(arm, obs)(np.zeros((2, 2)), np.array([[0.5, 0.0], [3.0, 0.0]])).tolist()
+    [True, False]
+    """
+
+    #: Pending intervals of the first, compiled try (the answer does not depend on it).
+    FIRST_CAP = 64
+
+    def __init__(self, arm, obstacles):
+        self.arm, self.obstacles = arm, list(obstacles)
+        self.kernel = collision_kernel.loaded() if self.obstacles else None
+        if self.kernel is not None:
+            self.packed = pack(self.obstacles)
+            self.reach = reach_matrix(arm)
+            self.touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
+
+    def __call__(self, q0, q1) -> np.ndarray:
+        """Free or not, for each straight edge ``q0 -> q1`` (``(m, n)`` each): bool ``(m,)``."""
+        if self.kernel is None:
+            return segment_collision_free(self.arm, q0, q1, self.obstacles)
+        q0 = np.ascontiguousarray(q0, dtype=float)
+        dq = np.ascontiguousarray(q1 - q0)  # as segment_collision_free forms it
+        bounds = np.abs(dq) @ self.reach
+        code = self.kernel.certify(self.arm.lengths, q0, dq, bounds, *self.packed, 1e-9,
+                                   self.FIRST_CAP, self.touch)
+        if (code < 0).any():
+            return segment_collision_free(self.arm, q0, q1, self.obstacles)
+        return code > 0
 
 
 class Tree:

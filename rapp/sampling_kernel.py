@@ -40,10 +40,10 @@ import numpy as np
 
 from rapp import collision_kernel
 
-__all__ = ["kernels", "Connect", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
+__all__ = ["kernels", "Loops", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
 
 #: The compiled functions (see :func:`kernels`).
-Connect = namedtuple("Connect", "wrap extend connect")
+Loops = namedtuple("Loops", "wrap extend connect nearest_k")
 
 #: What :func:`_connect` says when it returns: a batch ran out without a meeting, the trees
 #: met, the trees are full, an edge needed more bisection intervals than allowed.
@@ -67,14 +67,13 @@ def _wrap(x):
     """``(x + pi) % 2pi - pi`` to the bit, as numpy computes it (rapp.wrap_angle)."""
     y = x + math.pi
     # fmod(y, 2pi) is y itself for |y| < 2pi and the exact y - 2pi for 2pi <= y < 4pi; the
-    # remainder then adds 2pi to a negative result. Differences of wrapped angles land here.
-    if y < 0.0:
-        if y >= -_TWO_PI:
-            return (y + _TWO_PI) - math.pi
-    elif y < _TWO_PI:
-        return y - math.pi
-    elif y < 2 * _TWO_PI:
-        return (y - _TWO_PI) - math.pi
+    # remainder then adds 2pi to a negative result. Differences of wrapped angles land here,
+    # and there the sum is formed without a branch (selects; random signs mispredict). Adding
+    # 0.0 changes nothing.
+    if -_TWO_PI <= y < 2 * _TWO_PI:
+        up = _TWO_PI if y < 0.0 else 0.0
+        down = _TWO_PI if y >= _TWO_PI else 0.0
+        return ((y + up) - down) - math.pi
     # numba's float remainder is Python's (fmod, then the sign of the divisor), as numpy's.
     return y % _TWO_PI - math.pi
 
@@ -227,6 +226,49 @@ def _connect(samples, it0, max_nodes, chain_room, step, lengths, limited, reach,
     return CONNECT_MORE, samples.shape[0]
 
 
+def _nearest_k(nodes, first, k, limited, out_j, out_d):
+    """The ``k`` nodes nearest each node ``i >= first`` (itself left out): PRM's candidates.
+
+    Row ``i - first`` of ``out_j`` and ``out_d`` receives their indices and distances (the
+    square root of the sum of squares joint by joint, as rapp.sampling.squared_norms), nearest
+    first, equal distances by index.
+    """
+    m, n = nodes.shape
+    for r in range(m - first):
+        i = first + r
+        count = 0
+        bound = np.inf
+        for j in range(m):
+            if j == i:
+                continue
+            s = 0.0
+            for c in range(n):
+                d = nodes[j, c] - nodes[i, c]
+                if not limited[c]:
+                    d = _wrap(d)
+                s += d * d
+            # Once the list is full, most nodes are farther than its last one: told from the
+            # square (with a margin far above rounding), without the square root.
+            if count == k and s > bound:
+                continue
+            dist = math.sqrt(s)
+            if count < k:
+                pos = count
+                count += 1
+            elif dist < out_d[r, k - 1]:
+                pos = k - 1
+            else:
+                bound = out_d[r, k - 1] * out_d[r, k - 1] * (1 + 1e-9)
+                continue
+            while pos > 0 and out_d[r, pos - 1] > dist:  # later indices stay behind equals
+                out_d[r, pos] = out_d[r, pos - 1]
+                out_j[r, pos] = out_j[r, pos - 1]
+                pos -= 1
+            out_d[r, pos] = dist
+            out_j[r, pos] = j
+            bound = out_d[r, k - 1] * out_d[r, k - 1] * (1 + 1e-9)
+
+
 @functools.cache
 def _compile():
     try:
@@ -248,11 +290,11 @@ def _compile():
     g["_wrap"] = jit(_wrap)
     g["_nearest"] = jit(_nearest)
     g["_extend"] = jit(_extend)
-    return Connect(g["_wrap"], g["_extend"], jit(_connect))
+    return Loops(g["_wrap"], g["_extend"], jit(_connect), jit(_nearest_k))
 
 
 def kernels():
-    """The compiled :class:`Connect` loops, or None without numba (or when the collision
+    """The compiled :class:`Loops`, or None without numba (or when the collision
     kernel is switched off: :func:`rapp.collision_kernel.kernels` returns None)."""
     if collision_kernel.kernels() is None:
         return None
