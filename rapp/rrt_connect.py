@@ -20,7 +20,7 @@ import numpy as np
 
 from rapp import progress
 from rapp.checks import finite_number
-from rapp.collision import reach_matrix, link_clearances, segment_collision_free
+from rapp.collision import reach_matrix, link_clearances
 from rapp import collision_kernel, sampling_kernel
 from rapp.collision import MAX_PENDING_INTERVALS
 from rapp.collision_kernel import pack
@@ -28,7 +28,7 @@ from rapp.obstacles import Circle
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import PlannerResult, tree_result
 from rapp.rrt import MAX_STEP, MIN_STEP
-from rapp.sampling import Budget, Tree, squared_norms, check_start_and_goals, uniform_samples, unwrapped_chain
+from rapp.sampling import Budget, EdgeCertifier, Tree, motion_bounds_of, squared_norms, check_start_and_goals, uniform_samples, unwrapped_chain
 
 __all__ = ["rrt_connect", "MAX_NODES", "MIN_STEP", "MAX_STEP", "smallest_step"]
 
@@ -149,7 +149,7 @@ def _endpoint_certified(c0, c1, bounds, touch):
     return ((c0 + c1 > bounds) & (c0 > touch) & (c1 > touch)).all(axis=-1)
 
 
-def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, clearance,
+def _extend(tree: _Tree, target, step: float, certify, chain: bool, reach, clearance,
             room: int = MAX_NODES):
     """Step from the node nearest ``target`` toward it: one step, or (``chain``) until blocked
     or ``room`` nodes were added.
@@ -179,11 +179,11 @@ def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, cle
     free = np.zeros(reach_k, dtype=bool)
     if reach_k:
         c0 = np.vstack((tree.clear[i], clear[: reach_k - 1]))
-        bounds = np.abs(points[:reach_k] - prev[:reach_k]) @ reach
+        bounds = motion_bounds_of(points[:reach_k] - prev[:reach_k], reach)
         free = _endpoint_certified(c0, clear[:reach_k], bounds, touch)
         todo = np.flatnonzero(~free)
         if todo.size:  # the rest are bisected, as every edge was before
-            free[todo] = segment_collision_free(arm, prev[todo], points[todo], obstacles)
+            free[todo] = certify(prev[todo], points[todo])
     ok = int(np.argmin(free)) if not free.all() else reach_k  # the free prefix
     last = -1
     parent = i
@@ -281,11 +281,12 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
 def _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_room):
     """The numpy loop: ``(trees, meet, full)``, ``meet`` the two nodes that met or None."""
     clearance = _Clearance(arm, obstacles, touch)
+    certify = EdgeCertifier(arm, obstacles)
     trees = [_Tree(arm, [start], clearance), _Tree(arm, goals, clearance)]
     meet = None
     # The start may already see a goal along one straight chain.
     room = lambda: min(chain_room, MAX_NODES - trees[0].m - trees[1].m)  # noqa: E731
-    j, reached = _extend(trees[1], start, step, obstacles, True, reach, clearance, room())
+    j, reached = _extend(trees[1], start, step, certify, True, reach, clearance, room())
     if reached:
         meet = (0, j)
     full = False
@@ -297,10 +298,10 @@ def _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_r
             progress.report("RRT-Connect", budget.iterations, budget.max_iterations)
         a, b = trees if budget.iterations % 2 else trees[::-1]
         q_rand = uniform_samples(arm, rng, 1)[0]
-        new, _ = _extend(a, q_rand, step, obstacles, False, reach, clearance)
+        new, _ = _extend(a, q_rand, step, certify, False, reach, clearance)
         if new < 0:
             continue
-        other, reached = _extend(b, a.nodes[new], step, obstacles, True, reach, clearance,
+        other, reached = _extend(b, a.nodes[new], step, certify, True, reach, clearance,
                                  room())
         if reached:
             meet = (new, other) if a is trees[0] else (other, new)

@@ -17,43 +17,50 @@ import math
 
 import numpy as np
 
+from rapp import collision_kernel, sampling_kernel
 from rapp.checks import finite_number
-from rapp.collision import segment_collision_free
+from rapp.collision import MAX_PENDING_INTERVALS, reach_matrix
+from rapp.collision_kernel import pack
 from rapp.errors import NoPathFound
 from rapp.paths import PlannerResult, tree_result
-from rapp.sampling import Budget, Tree, check_start_and_goals, uniform_samples, unwrapped_chain
+from rapp.sampling import (Budget, EdgeCertifier, Tree, check_start_and_goals, squared_norms,
+                           uniform_samples, unwrapped_chain)
 
 __all__ = ["rrt_star", "choose_parent_and_add"]
 
 
 def choose_parent_and_add(tree: Tree, q_new, near, obstacles) -> int:
-    """Add ``q_new`` under the near node that reaches it most cheaply; -1 if no edge is free."""
+    """Add ``q_new`` under the near node that reaches it most cheaply; -1 if no edge is free.
+
+    ``obstacles`` may also be an :class:`rapp.sampling.EdgeCertifier` made for them.
+    """
     arm = tree.arm
+    certify = obstacles if isinstance(obstacles, EdgeCertifier) else EdgeCertifier(arm, obstacles)
     d = arm.joint_delta(tree.nodes[near], q_new)
-    dist = np.sqrt(np.einsum("ij,ij->i", d, d))
+    dist = np.sqrt(squared_norms(d))
     order = np.argsort(tree.cost[near] + dist, kind="stable")
     near, d, dist = near[order], d[order], dist[order]
-    free = segment_collision_free(arm, tree.nodes[near], tree.nodes[near] + d, obstacles)
+    free = certify(tree.nodes[near], tree.nodes[near] + d)
     if not free.any():
         return -1
     k = int(np.argmax(free))
     return tree.add(q_new, int(near[k]), float(tree.cost[near[k]] + dist[k]))
 
 
-def _rewire(tree: Tree, new: int, near, obstacles) -> None:
+def _rewire(tree: Tree, new: int, near, certify) -> None:
     """Give each near node the new node as parent where that is cheaper and the edge is free."""
     arm = tree.arm
     near = near[near != tree.parent[new]]
     if near.size == 0:
         return
     d = arm.joint_delta(tree.nodes[new], tree.nodes[near])
-    through = tree.cost[new] + np.sqrt(np.einsum("ij,ij->i", d, d))
+    through = tree.cost[new] + np.sqrt(squared_norms(d))
     better = near[through < tree.cost[near] - 1e-12]
     if better.size == 0:
         return
     dd = arm.joint_delta(tree.nodes[new], tree.nodes[better])
-    free = segment_collision_free(arm, tree.nodes[new], tree.nodes[new] + dd, obstacles)
-    for i, c in zip(better[free], (tree.cost[new] + np.sqrt(np.einsum("ij,ij->i", dd, dd)))[free]):
+    free = certify(np.broadcast_to(tree.nodes[new], dd.shape), tree.nodes[new] + dd)
+    for i, c in zip(better[free], (tree.cost[new] + np.sqrt(squared_norms(dd)))[free]):
         delta = c - tree.cost[i]
         tree.set_parent(int(i), new, float(c))
         _shift_subtree_cost(tree, int(i), delta)
@@ -113,44 +120,115 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: fl
         unit_ball = math.pi ** (n / 2) / math.gamma(n / 2 + 1)
         gamma = 2.0 * ((1 + 1 / n) * volume / unit_ball) ** (1 / n)
     rng = np.random.default_rng(seed)
+    loops = sampling_kernel.kernels() if collision_kernel.loaded() is not None else None
+    grown = None
+    if loops is not None:
+        grown = _grow_compiled(loops, arm, goals, obstacles, step, goal_bias, goal_threshold,
+                               gamma, rng, budget, start)
+    if grown is None:  # no numba, or an edge beyond the kernel's interval limit (numpy raises)
+        rng, budget = np.random.default_rng(seed), Budget(max_iterations, time_budget)
+        grown = _grow(arm, goals, obstacles, step, goal_bias, goal_threshold, gamma, rng, budget,
+                      start)
+    nodes, parent, best_goal = grown
+    if best_goal < 0:
+        if raise_on_failure:
+            raise NoPathFound(f"RRT* reached no goal in {budget.iterations} iterations")
+        return tree_result(arm, None, nodes, parent, budget.iterations)
+    # Rewiring may have improved the goal's branch since it was found: walk the parent map now.
+    chain = [best_goal]
+    while parent[chain[-1]] >= 0:
+        chain.append(int(parent[chain[-1]]))
+    path = unwrapped_chain(arm, nodes[chain[::-1]], start)
+    return tree_result(arm, path, nodes, parent, budget.iterations)
+
+
+def _targets(arm, goals, goal_bias, rng, k) -> np.ndarray:
+    """The next ``k`` targets: a goal with probability ``goal_bias``, else a uniform sample."""
+    out = np.empty((k, arm.n))
+    for t in range(k):
+        out[t] = (goals[rng.integers(len(goals))] if rng.random() < goal_bias
+                  else uniform_samples(arm, rng, 1)[0])
+    return out
+
+
+def _grow(arm, goals, obstacles, step, goal_bias, goal_threshold, gamma, rng, budget, start):
+    """The numpy loop: ``(nodes, parent, best goal node or -1)``."""
+    n = arm.n
+    certify = EdgeCertifier(arm, obstacles)
     tree = Tree(arm, [start])
     best_goal, best_cost = -1, math.inf
     while not budget.spent():
-        target = (goals[rng.integers(len(goals))] if rng.random() < goal_bias
-                  else uniform_samples(arm, rng, 1)[0])
+        target = _targets(arm, goals, goal_bias, rng, 1)[0]
         i = tree.nearest(target)
         d = arm.joint_delta(tree.nodes[i], target)
-        dist = float(np.sqrt(d @ d))
+        dist = float(np.sqrt(squared_norms(d)))
         if dist == 0.0:
             continue
         q_new = tree.nodes[i] + min(1.0, step / dist) * d
         m = tree.m
         radius = min(step, gamma * (math.log(m + 1) / (m + 1)) ** (1 / n))
-        dn = tree.deltas(q_new)
-        near = np.flatnonzero(np.einsum("ij,ij->i", dn, dn) <= radius * radius)
+        near = np.flatnonzero(squared_norms(tree.deltas(q_new)) <= radius * radius)
         if i not in near:
             near = np.append(near, i)
-        new = choose_parent_and_add(tree, q_new, near, obstacles)
+        new = choose_parent_and_add(tree, q_new, near, certify)
         if new < 0:
             continue
-        _rewire(tree, new, near, obstacles)
+        _rewire(tree, new, near, certify)
         # A node close to a goal is joined to it exactly (the edge certified too).
         dg = arm.joint_delta(tree.nodes[new], goals)
-        g = int(np.argmin(np.einsum("ij,ij->i", dg, dg)))
-        gd = float(np.linalg.norm(dg[g]))
+        g = int(np.argmin(squared_norms(dg)))
+        gd = float(np.sqrt(squared_norms(dg[g])))
         if gd <= goal_threshold and tree.cost[new] + gd < best_cost:
             if gd == 0.0:
                 best_goal, best_cost = new, float(tree.cost[new])
-            elif segment_collision_free(arm, tree.nodes[new], tree.nodes[new] + dg[g], obstacles):
+            elif certify(tree.nodes[new][None], (tree.nodes[new] + dg[g])[None])[0]:
                 best_goal = tree.add(goals[g], new, float(tree.cost[new] + gd))
                 best_cost = float(tree.cost[best_goal])
-    if best_goal < 0:
-        if raise_on_failure:
-            raise NoPathFound(f"RRT* reached no goal in {budget.iterations} iterations")
-        return tree_result(arm, None, tree.nodes.copy(), tree.parent.copy(), budget.iterations)
-    # Rewiring may have improved the goal's branch since it was found: walk the parent map now.
-    chain = [best_goal]
-    while tree.parent[chain[-1]] >= 0:
-        chain.append(int(tree.parent[chain[-1]]))
-    path = unwrapped_chain(arm, tree.nodes[chain[::-1]], start)
-    return tree_result(arm, path, tree.nodes.copy(), tree.parent.copy(), budget.iterations)
+    return tree.nodes.copy(), tree.parent.copy(), best_goal
+
+
+#: Iterations the compiled loop runs between two looks at the clock.
+BATCH = 64
+
+
+def _grow_compiled(loops, arm, goals, obstacles, step, goal_bias, goal_threshold, gamma, rng,
+                   budget, start):
+    """:func:`_grow` in the compiled loop of :mod:`rapp.sampling_kernel`, the same tree; None
+    when an edge needs more bisection intervals than allowed (numpy says so then)."""
+    n = arm.n
+    cap = 2 * BATCH + 2
+    arrays = {"nodes": np.empty((cap, n)), "parent": np.empty(cap, dtype=np.int64),
+              "cost": np.empty(cap), "first_child": np.empty(cap, dtype=np.int64),
+              "next_sib": np.empty(cap, dtype=np.int64), "prev_sib": np.empty(cap, dtype=np.int64)}
+    arrays["nodes"][0] = arm.wrap(start)
+    arrays["parent"][0], arrays["cost"][0], arrays["first_child"][0] = -1, 0.0, -1
+    arrays["next_sib"][0] = arrays["prev_sib"][0] = -1
+    m = np.ones(1, dtype=np.int64)
+    best, best_cost = np.full(1, -1, dtype=np.int64), np.full(1, np.inf)
+    scratch = None
+    fixed = (step, gamma, goal_threshold, np.ascontiguousarray(goals), arm.lengths,
+             np.asarray(arm.limited, dtype=np.bool_), reach_matrix(arm), *pack(obstacles),
+             16 * np.finfo(float).eps * float(np.sum(arm.lengths)), 1e-9, MAX_PENDING_INTERVALS)
+    while True:
+        k = budget.grant(BATCH)
+        if not k:
+            break
+        if m[0] + 2 * k > cap:  # each iteration adds two nodes at most (the new one, a goal)
+            cap = 2 * (m[0] + 2 * k)
+            for name, a in arrays.items():
+                grown = np.empty((cap,) + a.shape[1:], dtype=a.dtype)
+                grown[: m[0]] = a[: m[0]]
+                arrays[name] = grown
+            scratch = None
+        if scratch is None:  # near set, its deltas, distances, sort keys; a DFS stack
+            scratch = (np.empty(cap, dtype=np.int64), np.empty((cap, n)), np.empty(cap),
+                       np.empty(cap), np.empty(cap, dtype=np.int64))
+        status, ran = loops.star(_targets(arm, goals, goal_bias, rng, k), *fixed,
+                                 arrays["nodes"], arrays["parent"], arrays["cost"],
+                                 arrays["first_child"], arrays["next_sib"], arrays["prev_sib"], m,
+                                 best, best_cost, *scratch)
+        budget.iterations += int(ran)
+        if status == sampling_kernel.CONNECT_LIMIT:
+            return None
+    mm = int(m[0])
+    return arrays["nodes"][:mm].copy(), arrays["parent"][:mm].copy(), int(best[0])

@@ -23,7 +23,7 @@ from rapp.collision import collides, reach_matrix, segment_collision_free
 from rapp.collision_kernel import pack
 from rapp.errors import NoPathFound
 
-__all__ = ["squared_norms", "EdgeCertifier", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
+__all__ = ["squared_norms", "motion_bounds_of", "EdgeCertifier", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
 
 
 def squared_norms(d) -> np.ndarray:
@@ -44,6 +44,24 @@ def squared_norms(d) -> np.ndarray:
     for j in range(1, d.shape[-1]):
         s = s + d[..., j] * d[..., j]
     return s
+
+
+def motion_bounds_of(dq, reach) -> np.ndarray:
+    """``np.abs(dq) @ reach`` (:func:`rapp.collision.motion_bounds`), summed joint by joint in
+    order: the compiled loops' order, whatever the BLAS rounds (see :func:`squared_norms`).
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> from rapp.collision import reach_matrix
+    >>> motion_bounds_of(np.array([[0.1, 0.0]]), reach_matrix(Arm([1.0, 1.0]))).tolist()
+    [[0.1, 0.2]]
+    """
+    a = np.abs(np.asarray(dq, float))
+    b = a[..., 0, None] * reach[0]
+    for j in range(1, a.shape[-1]):
+        b = b + a[..., j, None] * reach[j]
+    return b
 
 
 class EdgeCertifier:
@@ -81,7 +99,7 @@ class EdgeCertifier:
             return segment_collision_free(self.arm, q0, q1, self.obstacles)
         q0 = np.ascontiguousarray(q0, dtype=float)
         dq = np.ascontiguousarray(q1 - q0)  # as segment_collision_free forms it
-        bounds = np.abs(dq) @ self.reach
+        bounds = motion_bounds_of(dq, self.reach)
         code = self.kernel.certify(self.arm.lengths, q0, dq, bounds, *self.packed, 1e-9,
                                    self.FIRST_CAP, self.touch)
         if (code < 0).any():

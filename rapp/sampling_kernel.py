@@ -43,7 +43,7 @@ from rapp import collision_kernel
 __all__ = ["kernels", "Loops", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
 
 #: The compiled functions (see :func:`kernels`).
-Loops = namedtuple("Loops", "wrap extend connect nearest_k")
+Loops = namedtuple("Loops", "wrap extend connect nearest_k star")
 
 #: What :func:`_connect` says when it returns: a batch ran out without a meeting, the trees
 #: met, the trees are full, an edge needed more bisection intervals than allowed.
@@ -269,6 +269,213 @@ def _nearest_k(nodes, first, k, limited, out_j, out_d):
             bound = out_d[r, k - 1] * out_d[r, k - 1] * (1 + 1e-9)
 
 
+def _edge_free(lengths, q0, d, reach, circles, pv, pn, pr, offsets, touch, min_interval, cap,
+               scratch):
+    """The certificate of the edge ``q0 -> q0 + d`` (dq formed as segment_collision_free forms
+    it, bounds joint by joint as rapp.sampling.motion_bounds_of): 1 free, 0 not, -1 over
+    ``cap`` pending intervals."""
+    n = q0.shape[0]
+    a, dq, bnd = scratch[0:1], scratch[1:2], scratch[2:3]
+    for j in range(n):
+        a[0, j] = q0[j]
+        dq[0, j] = (q0[j] + d[j]) - q0[j]
+    for l in range(n):
+        b = 0.0
+        for j in range(n):
+            b += abs(dq[0, j]) * reach[j, l]
+        bnd[0, l] = b
+    code = _certify(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, min_interval,
+                    _FIRST_CAP, touch)[0]
+    if code < 0:
+        code = _certify(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, min_interval, cap,
+                        touch)[0]
+    return code
+
+
+def _link(i, p, parent, first_child, next_sib, prev_sib):
+    """Make ``p`` the parent of ``i`` in the child lists (``i`` unlinked before, if linked)."""
+    parent[i] = p
+    prev_sib[i] = -1
+    next_sib[i] = first_child[p]
+    if first_child[p] >= 0:
+        prev_sib[first_child[p]] = i
+    first_child[p] = i
+
+
+def _unlink(i, parent, first_child, next_sib, prev_sib):
+    if prev_sib[i] >= 0:
+        next_sib[prev_sib[i]] = next_sib[i]
+    else:
+        first_child[parent[i]] = next_sib[i]
+    if next_sib[i] >= 0:
+        prev_sib[next_sib[i]] = prev_sib[i]
+
+
+def _star(targets, step, gamma, goal_threshold, goals, lengths, limited, reach, circles, pv, pn,
+          pr, offsets, touch, min_interval, cap, nodes, parent, cost, first_child, next_sib,
+          prev_sib, m, best, best_cost, near, dn, dist, key, stack):
+    """Iterations of rapp.rrt_star.rrt_star's loop, one per row of ``targets`` (drawn by the
+    planner's generator): nearest node, steer, near set, cheapest certified parent, rewiring
+    (descendants' costs through child lists), the goal joined. Returns ``(status, iterations
+    run)``, status CONNECT_LIMIT when an edge needed more intervals than ``cap``."""
+    n = targets.shape[1]
+    scratch = np.empty((3, n))
+    d = np.empty(n)
+    q_new = np.empty(n)
+    for it in range(targets.shape[0]):
+        target = targets[it]
+        mm = m[0]
+        i = _nearest(nodes, mm, target, limited)
+        s = 0.0
+        for j in range(n):
+            dj = target[j] - nodes[i, j]
+            if not limited[j]:
+                dj = _wrap(dj)
+            d[j] = dj
+            s += dj * dj
+        dd = math.sqrt(s)
+        if dd == 0.0:
+            continue
+        f = min(1.0, step / dd)
+        for j in range(n):
+            q_new[j] = nodes[i, j] + f * d[j]
+        radius = min(step, gamma * (math.log(mm + 1) / (mm + 1)) ** (1 / n))
+        r2 = radius * radius
+        k = 0
+        has_i = False
+        for v in range(mm):
+            s = 0.0
+            for j in range(n):
+                dj = q_new[j] - nodes[v, j]
+                if not limited[j]:
+                    dj = _wrap(dj)
+                dn[k, j] = dj
+                s += dj * dj
+            if s <= r2:
+                near[k] = v
+                dist[k] = math.sqrt(s)
+                has_i = has_i or v == i
+                k += 1
+        if not has_i:
+            s = 0.0
+            for j in range(n):
+                dj = q_new[j] - nodes[i, j]
+                if not limited[j]:
+                    dj = _wrap(dj)
+                dn[k, j] = dj
+                s += dj * dj
+            near[k] = i
+            dist[k] = math.sqrt(s)
+            k += 1
+        # The cheapest parent whose edge is free (choose_parent_and_add).
+        for v in range(k):
+            key[v] = cost[near[v]] + dist[v]
+        order = np.argsort(key[:k], kind="mergesort")
+        chosen = -1
+        for o in order:
+            code = _edge_free(lengths, nodes[near[o]], dn[o], reach, circles, pv, pn, pr,
+                              offsets, touch, min_interval, cap, scratch)
+            if code < 0:
+                return CONNECT_LIMIT, it + 1
+            if code == 1:
+                chosen = o
+                break
+        if chosen < 0:
+            continue
+        new = mm
+        for j in range(n):
+            nodes[new, j] = q_new[j] if limited[j] else _wrap(q_new[j])
+        cost[new] = cost[near[chosen]] + dist[chosen]
+        first_child[new] = -1
+        _link(new, near[chosen], parent, first_child, next_sib, prev_sib)
+        m[0] = mm + 1
+        # Rewire the near nodes (but the new node's parent) through the new node where cheaper
+        # (_rewire): which are cheaper is decided first, then each certified edge applied.
+        kb = 0
+        for v in range(k):
+            u = near[v]
+            if u == parent[new]:
+                continue
+            s = 0.0
+            for j in range(n):
+                dj = nodes[u, j] - nodes[new, j]
+                if not limited[j]:
+                    dj = _wrap(dj)
+                dn[v, j] = dj
+                s += dj * dj
+            through = cost[new] + math.sqrt(s)
+            if through < cost[u] - 1e-12:
+                near[kb] = u
+                key[kb] = through
+                for j in range(n):
+                    dn[kb, j] = dn[v, j]
+                kb += 1
+        for v in range(kb):
+            code = _edge_free(lengths, nodes[new], dn[v], reach, circles, pv, pn, pr, offsets,
+                              touch, min_interval, cap, scratch)
+            if code < 0:
+                return CONNECT_LIMIT, it + 1
+            if code == 0:
+                continue
+            u = near[v]
+            delta = key[v] - cost[u]
+            _unlink(u, parent, first_child, next_sib, prev_sib)
+            _link(u, new, parent, first_child, next_sib, prev_sib)
+            cost[u] = key[v]
+            top = 0
+            c = first_child[u]
+            while c >= 0:
+                stack[top] = c
+                top += 1
+                c = next_sib[c]
+            while top:
+                top -= 1
+                w = stack[top]
+                cost[w] += delta
+                c = first_child[w]
+                while c >= 0:
+                    stack[top] = c
+                    top += 1
+                    c = next_sib[c]
+        # A node close to a goal is joined to it exactly (the edge certified too).
+        g = 0
+        best_s = np.inf
+        for h in range(goals.shape[0]):
+            s = 0.0
+            for j in range(n):
+                dj = goals[h, j] - nodes[new, j]
+                if not limited[j]:
+                    dj = _wrap(dj)
+                s += dj * dj
+            if s < best_s:
+                best_s = s
+                g = h
+        for j in range(n):
+            dj = goals[g, j] - nodes[new, j]
+            d[j] = _wrap(dj) if not limited[j] else dj
+        gd = math.sqrt(best_s)
+        if gd <= goal_threshold and cost[new] + gd < best_cost[0]:
+            if gd == 0.0:
+                best[0] = new
+                best_cost[0] = cost[new]
+            else:
+                code = _edge_free(lengths, nodes[new], d, reach, circles, pv, pn, pr, offsets,
+                                  touch, min_interval, cap, scratch)
+                if code < 0:
+                    return CONNECT_LIMIT, it + 1
+                if code == 1:
+                    at = m[0]
+                    for j in range(n):
+                        nodes[at, j] = goals[g, j] if limited[j] else _wrap(goals[g, j])
+                    cost[at] = cost[new] + gd
+                    first_child[at] = -1
+                    _link(at, new, parent, first_child, next_sib, prev_sib)
+                    m[0] = at + 1
+                    best[0] = at
+                    best_cost[0] = cost[at]
+    return CONNECT_MORE, targets.shape[0]
+
+
 @functools.cache
 def _compile():
     try:
@@ -290,7 +497,9 @@ def _compile():
     g["_wrap"] = jit(_wrap)
     g["_nearest"] = jit(_nearest)
     g["_extend"] = jit(_extend)
-    return Loops(g["_wrap"], g["_extend"], jit(_connect), jit(_nearest_k))
+    for name in ("_edge_free", "_link", "_unlink"):
+        g[name] = jit(g[name])
+    return Loops(g["_wrap"], g["_extend"], jit(_connect), jit(_nearest_k), jit(_star))
 
 
 def kernels():
