@@ -28,7 +28,9 @@ from rapp.obstacles import Circle
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import PlannerResult, tree_result
 from rapp.rrt import MAX_STEP, MIN_STEP
-from rapp.sampling import Budget, EdgeCertifier, Tree, motion_bounds_of, squared_norms, check_start_and_goals, uniform_samples, unwrapped_chain
+from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals,
+                           endpoint_certified, motion_bounds_of, squared_norms, uniform_samples,
+                           unwrapped_chain)
 
 __all__ = ["rrt_connect", "MAX_NODES", "MIN_STEP", "MAX_STEP", "smallest_step"]
 
@@ -55,28 +57,6 @@ def smallest_step(distance: float) -> float:
     0.0001
     """
     return max(MIN_STEP, float(distance) / MAX_NODES)
-
-
-class _Tree(Tree):
-    """A :class:`Tree` that also keeps every node's link clearances ``(m, n)``.
-
-    Certifying an edge needs the clearances at its two ends, and the start of every new edge
-    is a node already in the tree: stored once, they are never computed twice.
-    """
-
-    def __init__(self, arm, roots, clearance):
-        self._clear = np.empty((max(256, 2 * len(np.atleast_2d(roots))), arm.n))
-        super().__init__(arm, roots)
-        self.clear[:] = clearance(self.nodes)
-
-    clear = property(lambda self: self._clear[: self.m], doc="Link clearances of every node.")
-
-    def add(self, q, parent_index: int, cost: float = 0.0, clearance=None) -> int:
-        if self.m == len(self._clear):
-            self._clear = np.concatenate((self._clear, np.empty_like(self._clear)))
-        if clearance is not None:
-            self._clear[self.m] = clearance
-        return super().add(q, parent_index, cost)
 
 
 class _Clearance:
@@ -135,21 +115,7 @@ class _Clearance:
         return lower
 
 
-def _endpoint_certified(c0, c1, bounds, touch):
-    """Edges certified free by their end clearances alone: ``c0 + c1 > B`` on every link.
-
-    Along a straight joint-space edge every point of link ``j`` moves at most ``B_j t`` from
-    where it is at the start (parameter ``t``) and ``B_j (1 - t)`` from where it is at the end
-    (:func:`rapp.collision.motion_bounds`), and a clearance changes no faster than the points
-    move. So link ``j`` is free at ``t`` when ``c0_j > B_j t`` or ``c1_j > B_j (1 - t)``, and
-    both intervals of ``t`` together cover ``[0, 1]`` exactly when ``c0_j + c1_j > B_j``. The
-    same lemma as the bisection of :func:`rapp.collision.segment_collision_free`, applied at the
-    ends, where the clearances are already known: most short edges need nothing more.
-    """
-    return ((c0 + c1 > bounds) & (c0 > touch) & (c1 > touch)).all(axis=-1)
-
-
-def _extend(tree: _Tree, target, step: float, certify, chain: bool, reach, clearance,
+def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reach, clearance,
             room: int = MAX_NODES):
     """Step from the node nearest ``target`` toward it: one step, or (``chain``) until blocked
     or ``room`` nodes were added.
@@ -180,7 +146,7 @@ def _extend(tree: _Tree, target, step: float, certify, chain: bool, reach, clear
     if reach_k:
         c0 = np.vstack((tree.clear[i], clear[: reach_k - 1]))
         bounds = motion_bounds_of(points[:reach_k] - prev[:reach_k], reach)
-        free = _endpoint_certified(c0, clear[:reach_k], bounds, touch)
+        free = endpoint_certified(c0, clear[:reach_k], bounds, touch)
         todo = np.flatnonzero(~free)
         if todo.size:  # the rest are bisected, as every edge was before
             free[todo] = certify(prev[todo], points[todo])
@@ -282,7 +248,7 @@ def _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_r
     """The numpy loop: ``(trees, meet, full)``, ``meet`` the two nodes that met or None."""
     clearance = _Clearance(arm, obstacles, touch)
     certify = EdgeCertifier(arm, obstacles)
-    trees = [_Tree(arm, [start], clearance), _Tree(arm, goals, clearance)]
+    trees = [ClearanceTree(arm, [start], clearance), ClearanceTree(arm, goals, clearance)]
     meet = None
     # The start may already see a goal along one straight chain.
     room = lambda: min(chain_room, MAX_NODES - trees[0].m - trees[1].m)  # noqa: E731

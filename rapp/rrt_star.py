@@ -19,20 +19,22 @@ import numpy as np
 
 from rapp import collision_kernel, sampling_kernel
 from rapp.checks import finite_number
-from rapp.collision import MAX_PENDING_INTERVALS, reach_matrix
+from rapp.collision import MAX_PENDING_INTERVALS, link_clearances, reach_matrix
 from rapp.collision_kernel import pack
 from rapp.errors import NoPathFound
 from rapp.paths import PlannerResult, tree_result
-from rapp.sampling import (Budget, EdgeCertifier, Tree, check_start_and_goals, squared_norms,
+from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals, squared_norms,
                            uniform_samples, unwrapped_chain)
 
 __all__ = ["rrt_star", "choose_parent_and_add"]
 
 
-def choose_parent_and_add(tree: Tree, q_new, near, obstacles) -> int:
+def choose_parent_and_add(tree: Tree, q_new, near, obstacles, clear_new=None) -> int:
     """Add ``q_new`` under the near node that reaches it most cheaply; -1 if no edge is free.
 
-    ``obstacles`` may also be an :class:`rapp.sampling.EdgeCertifier` made for them.
+    ``obstacles`` may also be an :class:`rapp.sampling.EdgeCertifier` made for them; with a
+    :class:`rapp.sampling.ClearanceTree` and ``q_new``'s link clearances ``clear_new``, the
+    edges' end clearances certify most of them without a bisection (the same answers).
     """
     arm = tree.arm
     certify = obstacles if isinstance(obstacles, EdgeCertifier) else EdgeCertifier(arm, obstacles)
@@ -40,11 +42,17 @@ def choose_parent_and_add(tree: Tree, q_new, near, obstacles) -> int:
     dist = np.sqrt(squared_norms(d))
     order = np.argsort(tree.cost[near] + dist, kind="stable")
     near, d, dist = near[order], d[order], dist[order]
-    free = certify(tree.nodes[near], tree.nodes[near] + d)
+    if clear_new is None:
+        free = certify(tree.nodes[near], tree.nodes[near] + d)
+    else:
+        free = certify(tree.nodes[near], tree.nodes[near] + d, tree.clear[near],
+                       np.broadcast_to(clear_new, d.shape))
     if not free.any():
         return -1
     k = int(np.argmax(free))
-    return tree.add(q_new, int(near[k]), float(tree.cost[near[k]] + dist[k]))
+    if clear_new is None:
+        return tree.add(q_new, int(near[k]), float(tree.cost[near[k]] + dist[k]))
+    return tree.add(q_new, int(near[k]), float(tree.cost[near[k]] + dist[k]), clear_new)
 
 
 def _rewire(tree: Tree, new: int, near, certify) -> None:
@@ -59,7 +67,8 @@ def _rewire(tree: Tree, new: int, near, certify) -> None:
     if better.size == 0:
         return
     dd = arm.joint_delta(tree.nodes[new], tree.nodes[better])
-    free = certify(np.broadcast_to(tree.nodes[new], dd.shape), tree.nodes[new] + dd)
+    free = certify(np.broadcast_to(tree.nodes[new], dd.shape), tree.nodes[new] + dd,
+                   np.broadcast_to(tree.clear[new], dd.shape), tree.clear[better])
     for i, c in zip(better[free], (tree.cost[new] + np.sqrt(squared_norms(dd)))[free]):
         delta = c - tree.cost[i]
         tree.set_parent(int(i), new, float(c))
@@ -155,7 +164,10 @@ def _grow(arm, goals, obstacles, step, goal_bias, goal_threshold, gamma, rng, bu
     """The numpy loop: ``(nodes, parent, best goal node or -1)``."""
     n = arm.n
     certify = EdgeCertifier(arm, obstacles)
-    tree = Tree(arm, [start])
+    clearance = lambda q: link_clearances(arm, q, obstacles)  # noqa: E731
+    tree = ClearanceTree(arm, [start], clearance)
+    goal_clear = clearance(goals)
+    touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
     best_goal, best_cost = -1, math.inf
     while not budget.spent():
         target = _targets(arm, goals, goal_bias, rng, 1)[0]
@@ -165,12 +177,15 @@ def _grow(arm, goals, obstacles, step, goal_bias, goal_threshold, gamma, rng, bu
         if dist == 0.0:
             continue
         q_new = tree.nodes[i] + min(1.0, step / dist) * d
+        clear_new = clearance(q_new[None])[0]
+        if (clear_new <= touch).any():  # no edge to it is free: choose_parent_and_add says -1
+            continue
         m = tree.m
         radius = min(step, gamma * (math.log(m + 1) / (m + 1)) ** (1 / n))
         near = np.flatnonzero(squared_norms(tree.deltas(q_new)) <= radius * radius)
         if i not in near:
             near = np.append(near, i)
-        new = choose_parent_and_add(tree, q_new, near, certify)
+        new = choose_parent_and_add(tree, q_new, near, certify, clear_new)
         if new < 0:
             continue
         _rewire(tree, new, near, certify)
@@ -181,10 +196,51 @@ def _grow(arm, goals, obstacles, step, goal_bias, goal_threshold, gamma, rng, bu
         if gd <= goal_threshold and tree.cost[new] + gd < best_cost:
             if gd == 0.0:
                 best_goal, best_cost = new, float(tree.cost[new])
-            elif certify(tree.nodes[new][None], (tree.nodes[new] + dg[g])[None])[0]:
-                best_goal = tree.add(goals[g], new, float(tree.cost[new] + gd))
+            elif certify(tree.nodes[new][None], (tree.nodes[new] + dg[g])[None],
+                         tree.clear[new][None], goal_clear[g][None])[0]:
+                best_goal = tree.add(goals[g], new, float(tree.cost[new] + gd), goal_clear[g])
                 best_cost = float(tree.cost[best_goal])
     return tree.nodes.copy(), tree.parent.copy(), best_goal
+
+
+class _Targets:
+    """:func:`_targets` for the compiled loop: with one goal, parsed from blocks of the
+    generator's doubles by the compiled :func:`rapp.sampling_kernel` ``draw``, the same
+    targets (the stream read further ahead, which no result depends on)."""
+
+    def __init__(self, loops, arm, goals, goal_bias, rng):
+        self.loops, self.arm, self.goals, self.goal_bias, self.rng = loops, arm, goals, goal_bias, rng
+        self.buf, self.pos = np.empty(0), 0
+        self.span = arm.upper - arm.lower  # as rng.uniform forms it
+
+    def __call__(self, k) -> np.ndarray:
+        if len(self.goals) != 1:
+            return _targets(self.arm, self.goals, self.goal_bias, self.rng, k)
+        need = k * (self.arm.n + 1)
+        if len(self.buf) - self.pos < need:
+            self.buf = np.concatenate((self.buf[self.pos:], self.rng.random(max(4096, need))))
+            self.pos = 0
+        out = np.empty((k, self.arm.n))
+        _, self.pos = self.loops.draw(self.buf, self.pos, float(self.goal_bias), self.arm.lower,
+                                      self.span, self.goals[0], out)
+        return out
+
+
+#: Cells of the grid that finds nearest and near nodes in a large tree, at most.
+GRID_CELLS = 1 << 20
+
+
+def _grid(arm, step):
+    """The cells of the compiled loop's grid: ``(lower corner, widths, cells per joint, the
+    list heads)``; cells at least ``step`` (the largest near radius) wide."""
+    span = arm.upper - arm.lower
+    # Cells wider than the near radius by a margin far above rounding: a node within the
+    # radius lies in the same cell or the next on every axis.
+    per = np.maximum(1, np.floor(span / (step * (1 + 1e-6)))).astype(np.int64)
+    cap = int(GRID_CELLS ** (1 / arm.n))
+    per = np.minimum(per, max(1, cap))
+    return (np.asarray(arm.lower, float), span / per, per,
+            np.full(int(np.prod(per)), -1, dtype=np.int64))
 
 
 #: Iterations the compiled loop runs between two looks at the clock.
@@ -197,18 +253,25 @@ def _grow_compiled(loops, arm, goals, obstacles, step, goal_bias, goal_threshold
     when an edge needs more bisection intervals than allowed (numpy says so then)."""
     n = arm.n
     cap = 2 * BATCH + 2
-    arrays = {"nodes": np.empty((cap, n)), "parent": np.empty(cap, dtype=np.int64),
+    arrays = {"nodes": np.empty((cap, n)), "clear": np.empty((cap, n)),
+              "parent": np.empty(cap, dtype=np.int64),
               "cost": np.empty(cap), "first_child": np.empty(cap, dtype=np.int64),
-              "next_sib": np.empty(cap, dtype=np.int64), "prev_sib": np.empty(cap, dtype=np.int64)}
+              "next_sib": np.empty(cap, dtype=np.int64), "prev_sib": np.empty(cap, dtype=np.int64),
+              "grid_next": np.empty(cap, dtype=np.int64)}
     arrays["nodes"][0] = arm.wrap(start)
+    arrays["clear"][0] = link_clearances(arm, arrays["nodes"][:1], obstacles)[0]
     arrays["parent"][0], arrays["cost"][0], arrays["first_child"][0] = -1, 0.0, -1
     arrays["next_sib"][0] = arrays["prev_sib"][0] = -1
     m = np.ones(1, dtype=np.int64)
     best, best_cost = np.full(1, -1, dtype=np.int64), np.full(1, np.inf)
     scratch = None
-    fixed = (step, gamma, goal_threshold, np.ascontiguousarray(goals), arm.lengths,
+    grid = _grid(arm, step)
+    fixed = (step, gamma, goal_threshold, np.ascontiguousarray(goals),
+             link_clearances(arm, goals, obstacles), arm.lengths,
              np.asarray(arm.limited, dtype=np.bool_), reach_matrix(arm), *pack(obstacles),
              16 * np.finfo(float).eps * float(np.sum(arm.lengths)), 1e-9, MAX_PENDING_INTERVALS)
+    draw = _Targets(loops, arm, goals, goal_bias, rng)
+    indexed = np.zeros(1, dtype=np.int64)  # nodes already in the grid
     while True:
         k = budget.grant(BATCH)
         if not k:
@@ -223,10 +286,10 @@ def _grow_compiled(loops, arm, goals, obstacles, step, goal_bias, goal_threshold
         if scratch is None:  # near set, its deltas, distances, sort keys; a DFS stack
             scratch = (np.empty(cap, dtype=np.int64), np.empty((cap, n)), np.empty(cap),
                        np.empty(cap), np.empty(cap, dtype=np.int64))
-        status, ran = loops.star(_targets(arm, goals, goal_bias, rng, k), *fixed,
-                                 arrays["nodes"], arrays["parent"], arrays["cost"],
+        status, ran = loops.star(draw(k), *fixed,
+                                 arrays["nodes"], arrays["clear"], arrays["parent"], arrays["cost"],
                                  arrays["first_child"], arrays["next_sib"], arrays["prev_sib"], m,
-                                 best, best_cost, *scratch)
+                                 best, best_cost, *scratch, *grid, arrays["grid_next"], indexed)
         budget.iterations += int(ran)
         if status == sampling_kernel.CONNECT_LIMIT:
             return None

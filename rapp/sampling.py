@@ -23,7 +23,7 @@ from rapp.collision import collides, reach_matrix, segment_collision_free
 from rapp.collision_kernel import pack
 from rapp.errors import NoPathFound
 
-__all__ = ["squared_norms", "motion_bounds_of", "EdgeCertifier", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
+__all__ = ["ClearanceTree", "squared_norms", "motion_bounds_of", "endpoint_certified", "EdgeCertifier", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
 
 
 def squared_norms(d) -> np.ndarray:
@@ -64,6 +64,26 @@ def motion_bounds_of(dq, reach) -> np.ndarray:
     return b
 
 
+def endpoint_certified(c0, c1, bounds, touch):
+    """Edges certified free by their end clearances alone: ``c0 + c1 > B`` on every link.
+
+    Along a straight joint-space edge every point of link ``j`` moves at most ``B_j t`` from
+    where it is at the start (parameter ``t``) and ``B_j (1 - t)`` from where it is at the end
+    (:func:`rapp.collision.motion_bounds`), and a clearance changes no faster than the points
+    move. So link ``j`` is free at ``t`` when ``c0_j > B_j t`` or ``c1_j > B_j (1 - t)``, and
+    both intervals of ``t`` together cover ``[0, 1]`` exactly when ``c0_j + c1_j > B_j``. The
+    same lemma as the bisection of :func:`rapp.collision.segment_collision_free`, applied at the
+    ends, where the clearances are already known: most short edges need nothing more.
+
+    Examples
+    --------
+    >>> endpoint_certified(np.array([[0.3, 0.2]]), np.array([[0.3, 0.2]]),
+    ...                    np.array([[0.5, 0.5]]), 1e-14).tolist()
+    [False]
+    """
+    return ((c0 + c1 > bounds) & (c0 > touch) & (c1 > touch)).all(axis=-1)
+
+
 class EdgeCertifier:
     """:func:`rapp.collision.segment_collision_free` for a planner's own edges, the same answers.
 
@@ -93,13 +113,25 @@ class EdgeCertifier:
             self.reach = reach_matrix(arm)
             self.touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
 
-    def __call__(self, q0, q1) -> np.ndarray:
-        """Free or not, for each straight edge ``q0 -> q1`` (``(m, n)`` each): bool ``(m,)``."""
+    def __call__(self, q0, q1, c0=None, c1=None) -> np.ndarray:
+        """Free or not, for each straight edge ``q0 -> q1`` (``(m, n)`` each): bool ``(m,)``.
+
+        With the link clearances ``c0``, ``c1`` of both ends, an edge whose ends certify it
+        (:func:`endpoint_certified`) is free and one with an end within touching distance is
+        not, without a bisection: the answers the bisection gives.
+        """
         if self.kernel is None:
             return segment_collision_free(self.arm, q0, q1, self.obstacles)
         q0 = np.ascontiguousarray(q0, dtype=float)
         dq = np.ascontiguousarray(q1 - q0)  # as segment_collision_free forms it
         bounds = motion_bounds_of(dq, self.reach)
+        if c0 is not None:
+            free = endpoint_certified(c0, c1, bounds, self.touch)
+            hit = ((c0 <= self.touch) | (c1 <= self.touch)).any(axis=-1)
+            rest = np.flatnonzero(~free & ~hit)
+            if rest.size:
+                free[rest] = self(q0[rest], q1[rest])
+            return free
         code = self.kernel.certify(self.arm.lengths, q0, dq, bounds, *self.packed, 1e-9,
                                    self.FIRST_CAP, self.touch)
         if (code < 0).any():
@@ -268,3 +300,33 @@ def unwrapped_chain(arm, walk, start) -> np.ndarray:
     start = np.asarray(start, float)
     steps = arm.joint_delta(walk[:-1], walk[1:])
     return np.concatenate((start[None], start + np.cumsum(steps, axis=0)))
+
+
+class ClearanceTree(Tree):
+    """A :class:`Tree` that also keeps every node's link clearances ``(m, n)``.
+
+    Certifying an edge needs the clearances at its two ends, and the start of every new edge
+    is a node already in the tree: stored once, they are never computed twice.
+    ``clearance`` maps configurations ``(k, n)`` to their link clearances ``(k, n)``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> t = ClearanceTree(Arm([1.0, 1.0]), [[0.0, 0.0]], lambda q: np.ones(q.shape))
+    >>> t.add([0.1, 0.0], 0, 0.1, [0.5, 0.5]), t.clear.tolist()
+    (1, [[1.0, 1.0], [0.5, 0.5]])
+    """
+
+    def __init__(self, arm, roots, clearance):
+        self._clear = np.empty((max(256, 2 * len(np.atleast_2d(roots))), arm.n))
+        super().__init__(arm, roots)
+        self.clear[:] = clearance(self.nodes)
+
+    clear = property(lambda self: self._clear[: self.m], doc="Link clearances of every node.")
+
+    def add(self, q, parent_index: int, cost: float = 0.0, clearance=None) -> int:
+        if self.m == len(self._clear):
+            self._clear = np.concatenate((self._clear, np.empty_like(self._clear)))
+        if clearance is not None:
+            self._clear[self.m] = clearance
+        return super().add(q, parent_index, cost)

@@ -43,7 +43,7 @@ from rapp import collision_kernel
 __all__ = ["kernels", "Loops", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
 
 #: The compiled functions (see :func:`kernels`).
-Loops = namedtuple("Loops", "wrap extend connect nearest_k star")
+Loops = namedtuple("Loops", "wrap extend connect nearest_k star draw")
 
 #: What :func:`_connect` says when it returns: a batch ran out without a meeting, the trees
 #: met, the trees are full, an edge needed more bisection intervals than allowed.
@@ -269,27 +269,181 @@ def _nearest_k(nodes, first, k, limited, out_j, out_d):
             bound = out_d[r, k - 1] * out_d[r, k - 1] * (1 + 1e-9)
 
 
-def _edge_free(lengths, q0, d, reach, circles, pv, pn, pr, offsets, touch, min_interval, cap,
-               scratch):
-    """The certificate of the edge ``q0 -> q0 + d`` (dq formed as segment_collision_free forms
-    it, bounds joint by joint as rapp.sampling.motion_bounds_of): 1 free, 0 not, -1 over
-    ``cap`` pending intervals."""
+def _edge_free(lengths, q0, d, c0, c1, reach, circles, pv, pn, pr, offsets, touch,
+               min_interval, cap, scratch):
+    """rapp.sampling.EdgeCertifier for the edge ``q0 -> q0 + d`` whose ends have the link
+    clearances ``c0``, ``c1``: 1 free, 0 not, -1 over ``cap`` pending intervals.
+
+    ``dq`` is formed as segment_collision_free forms it and the bounds joint by joint (as
+    rapp.sampling.motion_bounds_of); the ends' certificate first, else the bisection.
+    """
     n = q0.shape[0]
     a, dq, bnd = scratch[0:1], scratch[1:2], scratch[2:3]
     for j in range(n):
         a[0, j] = q0[j]
         dq[0, j] = (q0[j] + d[j]) - q0[j]
+    ends = True
     for l in range(n):
         b = 0.0
         for j in range(n):
             b += abs(dq[0, j]) * reach[j, l]
         bnd[0, l] = b
+        if c0[l] <= touch or c1[l] <= touch:
+            return 0
+        if not c0[l] + c1[l] > b:
+            ends = False
+    if ends:
+        return 1
     code = _certify(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, min_interval,
                     _FIRST_CAP, touch)[0]
     if code < 0:
         code = _certify(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, min_interval, cap,
                         touch)[0]
     return code
+
+
+#: Trees of more nodes than this find their nearest and near nodes through the grid of cells.
+GRID_FROM = 256
+
+
+def _cell(q, limited, lo, w, shape, at):
+    """Cell coordinates of configuration ``q`` into ``at``; returns the flat cell index."""
+    flat = 0
+    for j in range(q.shape[0]):
+        x = q[j] if limited[j] else _wrap(q[j])
+        c = int(math.floor((x - lo[j]) / w[j]))
+        c = min(max(c, 0), shape[j] - 1)
+        at[j] = c
+        flat = flat * shape[j] + c
+    return flat
+
+
+def _grid_insert(v, nodes, limited, lo, w, shape, head, nxt, at):
+    c = _cell(nodes[v], limited, lo, w, shape, at)
+    nxt[v] = head[c]
+    head[c] = v
+
+
+def _cell_nodes_nearest(q, c, nodes, limited, head, nxt, best_s, best_v):
+    """The nodes of cell ``c`` against the nearest so far ``(best_s, best_v)`` (sum of squares,
+    index; equal sums: the lower index), with the arithmetic of :func:`_nearest`."""
+    n = q.shape[0]
+    v = head[c]
+    while v >= 0:
+        s = 0.0
+        for j in range(n):
+            d = q[j] - nodes[v, j]
+            if not limited[j]:
+                d = _wrap(d)
+            s += d * d
+        if s < best_s or (s == best_s and v < best_v):
+            best_s = s
+            best_v = v
+        v = nxt[v]
+    return best_s, best_v
+
+
+def _grid_nearest(q, nodes, m, limited, lo, w, shape, head, nxt, at, off):
+    """:func:`_nearest` through the grid: cells in growing rings around ``q``'s until no
+    unvisited cell can hold a nearer node; the linear scan once the rings would visit more
+    cells than there are nodes."""
+    n = q.shape[0]
+    _cell(q, limited, lo, w, shape, at)
+    wmin = np.inf
+    gmax = 0
+    for j in range(n):
+        wmin = min(wmin, w[j])
+        gmax = max(gmax, shape[j])
+    best_s = np.inf
+    best_v = -1
+    rho = 0
+    cells = 0
+    while True:
+        cells += (2 * rho + 1) ** n
+        if cells > m or 2 * rho + 1 > gmax:
+            return _nearest(nodes, m, q, limited)
+        for j in range(n):
+            off[j] = -rho
+        while True:
+            shell = rho == 0
+            flat = 0
+            inside = True
+            for j in range(n):
+                if off[j] == rho or off[j] == -rho:
+                    shell = True
+                c = at[j] + off[j]
+                if limited[j]:
+                    if c < 0 or c >= shape[j]:
+                        inside = False
+                else:
+                    c %= shape[j]
+                flat = flat * shape[j] + c
+            if shell and inside:
+                best_s, best_v = _cell_nodes_nearest(q, flat, nodes, limited, head, nxt, best_s,
+                                                     best_v)
+            j = n - 1
+            while j >= 0 and off[j] == rho:
+                off[j] = -rho
+                j -= 1
+            if j < 0:
+                break
+            off[j] += 1
+        # Every node not seen lies in a cell at least rho + 1 cells away on some axis: more
+        # than rho cell widths away (the margin covers rounding at the cell borders).
+        if best_v >= 0 and (rho * wmin * (1 - 1e-9)) ** 2 > best_s:
+            return best_v
+        rho += 1
+
+
+def _grid_near(q, r, nodes, limited, lo, w, shape, head, nxt, at, off, span, out):
+    """Indices of the nodes within ``r`` of ``q`` (sum of squares ``<= r * r``, the
+    arithmetic of the linear scan), ascending, into ``out``; returns how many."""
+    n = q.shape[0]
+    r2 = r * r
+    _cell(q, limited, lo, w, shape, at)
+    for j in range(n):
+        reach = int(r / w[j]) + 1  # cells are wider than r by a margin over any rounding
+        if 2 * reach + 1 >= shape[j]:
+            span[j] = shape[j]  # every cell of this axis, once
+            at[j] = 0
+        else:
+            span[j] = 2 * reach + 1
+            at[j] -= reach
+        off[j] = 0
+    k = 0
+    while True:
+        flat = 0
+        inside = True
+        for j in range(n):
+            c = at[j] + off[j]
+            if limited[j]:
+                if c < 0 or c >= shape[j]:
+                    inside = False
+            else:
+                c %= shape[j]
+            flat = flat * shape[j] + c
+        if inside:
+            v = head[flat]
+            while v >= 0:
+                s = 0.0
+                for j in range(n):
+                    d = q[j] - nodes[v, j]
+                    if not limited[j]:
+                        d = _wrap(d)
+                    s += d * d
+                if s <= r2:
+                    out[k] = v
+                    k += 1
+                v = nxt[v]
+        j = n - 1
+        while j >= 0 and off[j] == span[j] - 1:
+            off[j] = 0
+            j -= 1
+        if j < 0:
+            break
+        off[j] += 1
+    out[:k].sort()
+    return k
 
 
 def _link(i, p, parent, first_child, next_sib, prev_sib):
@@ -311,9 +465,10 @@ def _unlink(i, parent, first_child, next_sib, prev_sib):
         prev_sib[next_sib[i]] = prev_sib[i]
 
 
-def _star(targets, step, gamma, goal_threshold, goals, lengths, limited, reach, circles, pv, pn,
-          pr, offsets, touch, min_interval, cap, nodes, parent, cost, first_child, next_sib,
-          prev_sib, m, best, best_cost, near, dn, dist, key, stack):
+def _star(targets, step, gamma, goal_threshold, goals, goal_clear, lengths, limited, reach,
+          circles, pv, pn, pr, offsets, touch, min_interval, cap, nodes, clear, parent, cost,
+          first_child, next_sib, prev_sib, m, best, best_cost, near, dn, dist, key, stack,
+          lo, width, shape, head, nxt, indexed):
     """Iterations of rapp.rrt_star.rrt_star's loop, one per row of ``targets`` (drawn by the
     planner's generator): nearest node, steer, near set, cheapest certified parent, rewiring
     (descendants' costs through child lists), the goal joined. Returns ``(status, iterations
@@ -322,10 +477,19 @@ def _star(targets, step, gamma, goal_threshold, goals, lengths, limited, reach, 
     scratch = np.empty((3, n))
     d = np.empty(n)
     q_new = np.empty(n)
+    at = np.empty(n, dtype=np.int64)
+    off = np.empty(n, dtype=np.int64)
+    span = np.empty(n, dtype=np.int64)
+    for v in range(indexed[0], m[0]):
+        _grid_insert(v, nodes, limited, lo, width, shape, head, nxt, at)
+    indexed[0] = m[0]
     for it in range(targets.shape[0]):
         target = targets[it]
         mm = m[0]
-        i = _nearest(nodes, mm, target, limited)
+        if mm > GRID_FROM:
+            i = _grid_nearest(target, nodes, mm, limited, lo, width, shape, head, nxt, at, off)
+        else:
+            i = _nearest(nodes, mm, target, limited)
         s = 0.0
         for j in range(n):
             dj = target[j] - nodes[i, j]
@@ -339,11 +503,24 @@ def _star(targets, step, gamma, goal_threshold, goals, lengths, limited, reach, 
         f = min(1.0, step / dd)
         for j in range(n):
             q_new[j] = nodes[i, j] + f * d[j]
+        c_new = _clearances(lengths, q_new.reshape(1, n), circles, pv, pn, pr, offsets)[0]
+        blocked = False
+        for j in range(n):
+            if c_new[j] <= touch:
+                blocked = True
+        if blocked:  # no edge to it is free
+            continue
         radius = min(step, gamma * (math.log(mm + 1) / (mm + 1)) ** (1 / n))
         r2 = radius * radius
         k = 0
         has_i = False
-        for v in range(mm):
+        if mm > GRID_FROM:
+            found = _grid_near(q_new, radius, nodes, limited, lo, width, shape, head, nxt, at, off,
+                               span, stack)
+        else:
+            found = mm
+        for t in range(found):
+            v = stack[t] if mm > GRID_FROM else t
             s = 0.0
             for j in range(n):
                 dj = q_new[j] - nodes[v, j]
@@ -373,8 +550,8 @@ def _star(targets, step, gamma, goal_threshold, goals, lengths, limited, reach, 
         order = np.argsort(key[:k], kind="mergesort")
         chosen = -1
         for o in order:
-            code = _edge_free(lengths, nodes[near[o]], dn[o], reach, circles, pv, pn, pr,
-                              offsets, touch, min_interval, cap, scratch)
+            code = _edge_free(lengths, nodes[near[o]], dn[o], clear[near[o]], c_new, reach,
+                              circles, pv, pn, pr, offsets, touch, min_interval, cap, scratch)
             if code < 0:
                 return CONNECT_LIMIT, it + 1
             if code == 1:
@@ -385,10 +562,14 @@ def _star(targets, step, gamma, goal_threshold, goals, lengths, limited, reach, 
         new = mm
         for j in range(n):
             nodes[new, j] = q_new[j] if limited[j] else _wrap(q_new[j])
+        for j in range(n):
+            clear[new, j] = c_new[j]
         cost[new] = cost[near[chosen]] + dist[chosen]
         first_child[new] = -1
         _link(new, near[chosen], parent, first_child, next_sib, prev_sib)
         m[0] = mm + 1
+        _grid_insert(new, nodes, limited, lo, width, shape, head, nxt, at)
+        indexed[0] = m[0]
         # Rewire the near nodes (but the new node's parent) through the new node where cheaper
         # (_rewire): which are cheaper is decided first, then each certified edge applied.
         kb = 0
@@ -411,8 +592,8 @@ def _star(targets, step, gamma, goal_threshold, goals, lengths, limited, reach, 
                     dn[kb, j] = dn[v, j]
                 kb += 1
         for v in range(kb):
-            code = _edge_free(lengths, nodes[new], dn[v], reach, circles, pv, pn, pr, offsets,
-                              touch, min_interval, cap, scratch)
+            code = _edge_free(lengths, nodes[new], dn[v], clear[new], clear[near[v]], reach,
+                              circles, pv, pn, pr, offsets, touch, min_interval, cap, scratch)
             if code < 0:
                 return CONNECT_LIMIT, it + 1
             if code == 0:
@@ -459,21 +640,46 @@ def _star(targets, step, gamma, goal_threshold, goals, lengths, limited, reach, 
                 best[0] = new
                 best_cost[0] = cost[new]
             else:
-                code = _edge_free(lengths, nodes[new], d, reach, circles, pv, pn, pr, offsets,
-                                  touch, min_interval, cap, scratch)
+                code = _edge_free(lengths, nodes[new], d, clear[new], goal_clear[g], reach,
+                                  circles, pv, pn, pr, offsets, touch, min_interval, cap,
+                                  scratch)
                 if code < 0:
                     return CONNECT_LIMIT, it + 1
                 if code == 1:
-                    at = m[0]
+                    gi = m[0]
                     for j in range(n):
-                        nodes[at, j] = goals[g, j] if limited[j] else _wrap(goals[g, j])
-                    cost[at] = cost[new] + gd
-                    first_child[at] = -1
-                    _link(at, new, parent, first_child, next_sib, prev_sib)
-                    m[0] = at + 1
-                    best[0] = at
-                    best_cost[0] = cost[at]
+                        nodes[gi, j] = goals[g, j] if limited[j] else _wrap(goals[g, j])
+                        clear[gi, j] = goal_clear[g, j]
+                    cost[gi] = cost[new] + gd
+                    first_child[gi] = -1
+                    _link(gi, new, parent, first_child, next_sib, prev_sib)
+                    m[0] = gi + 1
+                    _grid_insert(gi, nodes, limited, lo, width, shape, head, nxt, at)
+                    indexed[0] = m[0]
+                    best[0] = gi
+                    best_cost[0] = cost[gi]
     return CONNECT_MORE, targets.shape[0]
+
+
+def _draw(buf, pos, bias, lower, span, goal, out):
+    """Targets from a block of the generator's doubles, as ``rng.random() < bias`` then the
+    goal or ``rng.uniform(lower, upper)`` draw them one by one (numpy's uniform is
+    ``lower + span * double``; with one goal ``rng.integers(1)`` draws nothing). Fills rows
+    of ``out`` while ``buf`` lasts; returns ``(rows filled, next position)``."""
+    n = out.shape[1]
+    t = 0
+    while t < out.shape[0] and pos + 1 + n <= buf.shape[0]:
+        u = buf[pos]
+        pos += 1
+        if u < bias:
+            for j in range(n):
+                out[t, j] = goal[j]
+        else:
+            for j in range(n):
+                out[t, j] = lower[j] + span[j] * buf[pos + j]
+            pos += n
+        t += 1
+    return t, pos
 
 
 @functools.cache
@@ -497,9 +703,11 @@ def _compile():
     g["_wrap"] = jit(_wrap)
     g["_nearest"] = jit(_nearest)
     g["_extend"] = jit(_extend)
-    for name in ("_edge_free", "_link", "_unlink"):
+    for name in ("_edge_free", "_link", "_unlink", "_cell", "_grid_insert", "_cell_nodes_nearest",
+                 "_grid_nearest", "_grid_near"):
         g[name] = jit(g[name])
-    return Loops(g["_wrap"], g["_extend"], jit(_connect), jit(_nearest_k), jit(_star))
+    return Loops(g["_wrap"], g["_extend"], jit(_connect), jit(_nearest_k), jit(_star),
+                 jit(_draw))
 
 
 def kernels():
