@@ -350,17 +350,17 @@ def _grid_nearest(q, nodes, m, limited, lo, w, shape, head, nxt, at, off):
     n = q.shape[0]
     _cell(q, limited, lo, w, shape, at)
     wmin = np.inf
-    gmax = 0
+    gmin = shape[0]
     for j in range(n):
         wmin = min(wmin, w[j])
-        gmax = max(gmax, shape[j])
+        gmin = min(gmin, shape[j])
     best_s = np.inf
     best_v = -1
     rho = 0
     cells = 0
     while True:
         cells += (2 * rho + 1) ** n
-        if cells > m or 2 * rho + 1 > gmax:
+        if cells > m or 2 * rho + 1 > gmin:  # (a ring must not wrap onto itself)
             return _nearest(nodes, m, q, limited)
         for j in range(n):
             off[j] = -rho
@@ -375,8 +375,10 @@ def _grid_nearest(q, nodes, m, limited, lo, w, shape, head, nxt, at, off):
                 if limited[j]:
                     if c < 0 or c >= shape[j]:
                         inside = False
-                else:
-                    c %= shape[j]
+                elif c < 0:  # offsets stay within one turn: no integer division
+                    c += shape[j]
+                elif c >= shape[j]:
+                    c -= shape[j]
                 flat = flat * shape[j] + c
             if shell and inside:
                 best_s, best_v = _cell_nodes_nearest(q, flat, nodes, limited, head, nxt, best_s,
@@ -419,8 +421,10 @@ def _grid_near(q, r, nodes, limited, lo, w, shape, head, nxt, at, off, span, out
             if limited[j]:
                 if c < 0 or c >= shape[j]:
                     inside = False
-            else:
-                c %= shape[j]
+            elif c < 0:
+                c += shape[j]
+            elif c >= shape[j]:
+                c -= shape[j]
             flat = flat * shape[j] + c
         if inside:
             v = head[flat]
