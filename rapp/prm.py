@@ -24,6 +24,7 @@ import numpy as np
 
 from rapp import progress, sampling_kernel
 from rapp.checks import positive_integer
+from rapp.collision import MAX_PENDING_INTERVALS
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import PlannerResult, tree_result
@@ -170,6 +171,10 @@ class _OutOfTime(Exception):
     """The time budget ran out inside a roadmap batch."""
 
 
+class _Limit(Exception):
+    """An edge needed more bisection intervals than the compiled loop allows."""
+
+
 def _check_time(budget) -> None:
     if (budget is not None and budget.time_budget is not None
             and time.perf_counter() - budget.t0 > budget.time_budget):
@@ -260,8 +265,13 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
             + f" with {neighbours} neighbours each would need about {peak / 1e9:.3g} GB, over "
             f"the {MEMORY_BUDGET / 1e9:g} GB budget: lower {cap_name} or neighbours", cap_name)
     try:
-        return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, budget,
-                        seed, raise_on_failure)
+        try:
+            return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples,
+                            budget, seed, raise_on_failure)
+        except _Limit:  # the numpy loop meets the same edge and raises its message
+            budget = Budget(max_iterations, time_budget)
+            return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples,
+                            budget, seed, raise_on_failure, compiled=False)
     except _OutOfTime:
         if raise_on_failure:
             raise NoPathFound(f"PRM joined no goal within its time budget of "
@@ -271,46 +281,40 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
 
 
 def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, budget, seed,
-             raise_on_failure) -> RRTResult:
+             raise_on_failure, compiled=True) -> RRTResult:
     """The lazy PRM loop of :func:`prm` on validated arguments; raises _OutOfTime."""
     rng = np.random.default_rng(seed)
     nodes = arm.wrap(np.vstack((start, goals)))
     goal_ids = np.arange(1, len(goals) + 1)
-    loops = sampling_kernel.kernels()
-    dijkstra = _compiled_dijkstra()
-    if loops is not None and dijkstra is not None:
-        edges = _ArrayEdges(arm, neighbours, loops, dijkstra, goal_ids)
+    loops = sampling_kernel.kernels() if compiled and obstacles else None
+    lazy = _compiled_lazy() if loops is not None else None
+    if lazy is not None:
+        edges = _ArrayEdges(arm, neighbours, loops, lazy, goal_ids)
     else:
         edges = _DictEdges(arm, neighbours, goal_ids)
     certify = EdgeCertifier(arm, obstacles)
     parent, hit = np.full(len(nodes), -1), -1
     grow = True
-    while not budget.spent():
+    while True:
+        rounds = budget.grant(SEARCHES)
+        if not rounds:
+            break
         if grow:
             if len(nodes) - 1 - len(goals) >= max_samples:
+                budget.iterations += 1  # this search was counted before the roadmap was full
                 break
             first_new = len(nodes)
             nodes = _grow(arm, rng, nodes, samples, obstacles, budget)
             edges.add(nodes, 0 if first_new <= 1 + len(goals) else first_new, budget)
-        parent, hit = edges.shortest(len(nodes), budget)
-        if hit < 0:
-            grow = True
-            continue
-        chain = [hit]
-        while parent[chain[-1]] >= 0:
-            chain.append(int(parent[chain[-1]]))
-        chain = np.array(chain[::-1])
-        pairs = np.sort(np.stack((chain[:-1], chain[1:]), axis=-1), axis=-1)
-        todo = pairs[~edges.certified(pairs)]
-        if len(todo):
-            a = nodes[todo[:, 0]]
-            free = certify(a, a + arm.joint_delta(a, nodes[todo[:, 1]]))
-            edges.settle(todo, free)
-            if not free.all():
-                grow = False
-                continue
-        path = unwrapped_chain(arm, nodes[chain], start)
-        return tree_result(arm, path, nodes, parent, budget.iterations)
+        parent, hit, used, found = edges.search(nodes, rounds, certify, budget)
+        budget.iterations += used
+        if found:
+            chain = [hit]
+            while parent[chain[-1]] >= 0:
+                chain.append(int(parent[chain[-1]]))
+            path = unwrapped_chain(arm, nodes[chain[::-1]], start)
+            return tree_result(arm, path, nodes, parent, budget.iterations)
+        grow = hit < 0
     if raise_on_failure:
         try:
             _check_time(budget)
@@ -340,6 +344,29 @@ class _DictEdges:
     def certified(self, pairs):
         return np.array([(int(a), int(b)) in self.done for a, b in pairs], dtype=bool)
 
+    def search(self, nodes, rounds, certify, budget):
+        """Up to ``rounds`` searches, each certifying its path's new edges (dropping those not
+        free): ``(parent, hit, searches, found)``; it stops at a certified path (``found``) or
+        when the roadmap holds none (``hit < 0``)."""
+        for used in range(1, rounds + 1):
+            parent, hit = self.shortest(len(nodes), budget)
+            if hit < 0:
+                return parent, hit, used, False
+            chain = [hit]
+            while parent[chain[-1]] >= 0:
+                chain.append(int(parent[chain[-1]]))
+            chain = np.array(chain[::-1])
+            pairs = np.sort(np.stack((chain[:-1], chain[1:]), axis=-1), axis=-1)
+            todo = pairs[~self.certified(pairs)]
+            if len(todo):
+                a = nodes[todo[:, 0]]
+                free = certify(a, a + self.arm.joint_delta(a, nodes[todo[:, 1]]))
+                self.settle(todo, free)
+                if not free.all():
+                    continue
+            return parent, hit, used, True
+        return parent, hit, rounds, False
+
     def settle(self, pairs, free):
         """Keep the certified edges of ``pairs`` (``free``), drop the others."""
         for (a, b), ok in zip(pairs, free):
@@ -354,8 +381,8 @@ class _ArrayEdges:
     found by the compiled nearest-neighbour scan, and one CSR graph per roadmap size in which a
     dropped edge weighs ``inf`` (Dijkstra never relaxes it: the same search as without it)."""
 
-    def __init__(self, arm, neighbours, loops, dijkstra, goal_ids):
-        self.arm, self.neighbours, self.loops, self.dijkstra = arm, neighbours, loops, dijkstra
+    def __init__(self, arm, neighbours, loops, lazy, goal_ids):
+        self.arm, self.neighbours, self.loops, self.lazy = arm, neighbours, loops, lazy
         self.goal_ids = goal_ids
         self.limited = np.asarray(arm.limited, dtype=np.bool_)
         self.ij = np.empty((0, 2), dtype=np.int64)
@@ -392,30 +419,20 @@ class _ArrayEdges:
         self.start = self.stop - counts
         self.is_target = np.zeros(nodes_n, dtype=np.bool_)
         self.is_target[self.goal_ids] = True
-        self.key = self.ij[:, 0] * nodes_n + self.ij[:, 1]
-        self.by_key = np.argsort(self.key)
-        self.nodes_n = nodes_n
+        self.order = order
         self.sources = np.zeros(1, dtype=np.int64)
 
-    def shortest(self, nodes_n, budget):
+    def search(self, nodes, rounds, certify, budget):
+        """:meth:`_DictEdges.search` in one compiled loop (:func:`_lazy_searches`)."""
         _check_time(budget)
-        parent, hit = self.dijkstra(nodes_n, self.start, self.stop, self.dst, self.wt,
-                                    self.sources, self.is_target)
-        return parent, int(hit)
-
-    def index(self, pairs):
-        key = pairs[:, 0] * self.nodes_n + pairs[:, 1]
-        return self.by_key[np.searchsorted(self.key, key, sorter=self.by_key)]
-
-    def certified(self, pairs):
-        return self.done[self.index(pairs)]
-
-    def settle(self, pairs, free):
-        e = self.index(pairs)
-        self.done[e[free]] = True
-        self.w[e[~free]] = np.inf
-        self.wt[self.slot[2 * e[~free]]] = np.inf
-        self.wt[self.slot[2 * e[~free] + 1]] = np.inf
+        c = certify
+        status, used, hit, parent = self.lazy(
+            rounds, len(nodes), self.start, self.stop, self.dst, self.wt, self.order, self.slot,
+            self.w, self.done, self.sources, self.is_target, nodes, self.limited, self.arm.lengths,
+            c.reach, *c.packed, c.touch, 1e-9, MAX_PENDING_INTERVALS)
+        if status == _LIMIT:  # an edge beyond the kernel's interval limit: numpy says so
+            raise _Limit
+        return parent, int(hit), int(used), status == _FOUND
 
 
 def _grow(arm, rng, nodes, k, obstacles, budget=None):
@@ -458,3 +475,90 @@ def _add_candidate_edges(arm, nodes, k, edges, first_new, budget=None):
                 key = (min(int(i), int(j)), max(int(i), int(j)))
                 if key not in edges:
                     edges[key] = float(dist[row, j])
+
+
+#: Searches the roadmap loop runs between two looks at the clock.
+SEARCHES = 16
+_NO_PATH, _FOUND, _MORE, _LIMIT = 0, 1, 2, 3
+
+
+def _lazy_searches(rounds, nodes_n, start, stop, dst, wt, order, slot, w, done, sources,
+                   is_target, nodes, limited, lengths, reach, circles, pv, pn, pr, offsets,
+                   touch, min_interval, cap):
+    """:meth:`_DictEdges.search` for numba: up to ``rounds`` Dijkstra searches on the CSR graph
+    of :class:`_ArrayEdges`, each path's uncertified edges certified (the compiled bisection
+    of :class:`rapp.sampling.EdgeCertifier`), those not free dropped (weight ``inf``).
+
+    Returns ``(status, searches, hit, parent)``: _FOUND a certified path to ``hit``, _NO_PATH
+    none in the roadmap, _MORE the rounds ran out, _LIMIT an edge over ``cap`` intervals.
+    """
+    n = nodes.shape[1]
+    scratch = np.empty((3, n))
+    d = np.empty(n)
+    chain = np.empty(nodes_n, dtype=np.int64)
+    parent = np.full(nodes_n, -1, dtype=np.int64)
+    hit = -1
+    for used in range(1, rounds + 1):
+        parent, hit = _dijkstra_compiled(nodes_n, start, stop, dst, wt, sources, is_target)
+        if hit < 0:
+            return _NO_PATH, used, hit, parent
+        size = 0
+        v = hit
+        while v >= 0:
+            chain[size] = v
+            size += 1
+            v = parent[v]
+        found = True
+        for t in range(size - 1, 0, -1):  # from the start on, as the numpy loop lists them
+            lo = min(chain[t], chain[t - 1])
+            hi = max(chain[t], chain[t - 1])
+            e = -1
+            for pos in range(start[lo], stop[lo]):
+                if dst[pos] == hi and wt[pos] < np.inf:
+                    e = order[pos] >> 1
+                    break
+            if done[e]:
+                continue
+            for j in range(n):
+                dj = nodes[hi, j] - nodes[lo, j]
+                d[j] = dj if limited[j] else _wrap_compiled(dj)
+            code = _bisect_compiled(lengths, nodes[lo], d, reach, circles, pv, pn, pr, offsets,
+                                    touch, min_interval, cap, scratch)
+            if code < 0:
+                return _LIMIT, used, hit, parent
+            if code == 1:
+                done[e] = True
+            else:
+                found = False
+                w[e] = np.inf
+                wt[slot[2 * e]] = np.inf
+                wt[slot[2 * e + 1]] = np.inf
+        if found:
+            return _FOUND, used, hit, parent
+    return _MORE, rounds, hit, parent
+
+
+def _dijkstra_compiled(*args):
+    """The compiled Dijkstra (set by :func:`_compiled_lazy`)."""
+    raise RuntimeError("compiled only")
+
+
+_bisect_compiled = _wrap_compiled = _dijkstra_compiled
+
+
+@functools.cache
+def _compiled_lazy():
+    """:func:`_lazy_searches` compiled (cached on disk), calling the compiled Dijkstra and the
+    compiled loops of :mod:`rapp.sampling_kernel`; None without numba."""
+    dijkstra, loops = _compiled_dijkstra(), sampling_kernel.kernels()
+    if dijkstra is None or loops is None:
+        return None
+    import numba
+
+    g = globals()
+    g["_dijkstra_compiled"], g["_bisect_compiled"], g["_wrap_compiled"] = (
+        dijkstra, loops.bisect, loops.wrap)
+    try:
+        return numba.njit(cache=True, nogil=True)(_lazy_searches)
+    except RuntimeError:  # no writable cache directory: compile on every run
+        return numba.njit(nogil=True)(_lazy_searches)

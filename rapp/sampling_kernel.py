@@ -43,7 +43,7 @@ from rapp import collision_kernel
 __all__ = ["kernels", "Loops", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
 
 #: The compiled functions (see :func:`kernels`).
-Loops = namedtuple("Loops", "wrap extend connect nearest_k star draw")
+Loops = namedtuple("Loops", "wrap extend connect nearest_k star draw bisect")
 
 #: What :func:`_connect` says when it returns: a batch ran out without a meeting, the trees
 #: met, the trees are full, an edge needed more bisection intervals than allowed.
@@ -290,27 +290,50 @@ def _edge_free(lengths, q0, d, c0, c1, reach, circles, pv, pn, pr, offsets, touc
     """
     n = q0.shape[0]
     a, dq, bnd = scratch[0:1], scratch[1:2], scratch[2:3]
+    _edge_bounds(q0, d, reach, a, dq, bnd)
+    ends = True
+    for l in range(n):
+        if c0[l] <= touch or c1[l] <= touch:
+            return 0
+        if not c0[l] + c1[l] > bnd[0, l]:
+            ends = False
+    if ends:
+        return 1
+    return _bisect_bounded(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, touch,
+                           min_interval, cap)
+
+
+def _edge_bounds(q0, d, reach, a, dq, bnd):
+    """``a = q0``, ``dq = (q0 + d) - q0`` and its motion bounds joint by joint, as rows."""
+    n = q0.shape[0]
     for j in range(n):
         a[0, j] = q0[j]
         dq[0, j] = (q0[j] + d[j]) - q0[j]
-    ends = True
     for l in range(n):
         b = 0.0
         for j in range(n):
             b += abs(dq[0, j]) * reach[j, l]
         bnd[0, l] = b
-        if c0[l] <= touch or c1[l] <= touch:
-            return 0
-        if not c0[l] + c1[l] > b:
-            ends = False
-    if ends:
-        return 1
+
+
+def _bisect_bounded(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, touch, min_interval,
+                    cap):
     code = _certify(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, min_interval,
                     _FIRST_CAP, touch)[0]
     if code < 0:
         code = _certify(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, min_interval, cap,
                         touch)[0]
     return code
+
+
+def _bisect(lengths, q0, d, reach, circles, pv, pn, pr, offsets, touch, min_interval, cap,
+            scratch):
+    """rapp.sampling.EdgeCertifier for the edge ``q0 -> q0 + d`` by the bisection alone: 1 free,
+    0 not, -1 over ``cap`` pending intervals."""
+    a, dq, bnd = scratch[0:1], scratch[1:2], scratch[2:3]
+    _edge_bounds(q0, d, reach, a, dq, bnd)
+    return _bisect_bounded(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, touch,
+                           min_interval, cap)
 
 
 #: Trees of more nodes than this find their nearest and near nodes through the grid of cells.
@@ -718,11 +741,12 @@ def _compile():
     g["_wrap"] = jit(_wrap)
     g["_nearest"] = jit(_nearest)
     g["_extend"] = jit(_extend)
-    for name in ("_edge_free", "_link", "_unlink", "_cell", "_grid_insert", "_cell_nodes_nearest",
+    for name in ("_edge_bounds", "_bisect_bounded", "_bisect", "_edge_free", "_link", "_unlink",
+                 "_cell", "_grid_insert", "_cell_nodes_nearest",
                  "_grid_nearest", "_grid_near"):
         g[name] = jit(g[name])
     return Loops(g["_wrap"], g["_extend"], jit(_connect), jit(_nearest_k), jit(_star),
-                 jit(_draw))
+                 jit(_draw), g["_bisect"])
 
 
 def kernels():
