@@ -1,11 +1,12 @@
-"""The compiled RRT-Connect loop (rapp.sampling_kernel) against the numpy loop it replaced.
+"""The compiled loops of RRT-Connect, RRT* and PRM (rapp.sampling_kernel) against the numpy
+loops they replaced.
 
-Properties: from the same seed both grow the same two trees, node for node and bit for bit,
-and return the same path (hypothesis over arms of 2 to 4 joints, free and limited, discs and
-polygons, one or several goals, steps from 0.05 to 0.5 rad); every path of the compiled loop
-passes rapp.verify's certificate, the numpy certificate of rapp.reference and a dense sampled
-check, over many seeds; budgets, the node limit and the certification limit are answered as
-the numpy loop answers them.
+Properties: from the same seed both grow the same trees (roadmaps), node for node and bit for
+bit, and return the same path (hypothesis over arms of 2 to 4 joints, free and limited, discs
+and polygons, one or several goals, steps from 0.05 to 0.5 rad); every path of the compiled
+loops passes rapp.verify's certificate, the numpy certificate of rapp.reference and a dense
+sampled check, over many seeds; budgets, the node limit and the certification limit are
+answered as the numpy loops answer them.
 """
 
 from __future__ import annotations
@@ -17,7 +18,9 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 import rapp
 from rapp import reference, sampling_kernel
 from rapp.errors import CertificationLimit, NoPathFound
+from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect
+from rapp.rrt_star import rrt_star
 
 pytestmark = pytest.mark.skipif(sampling_kernel.kernels() is None, reason="numba is not installed")
 
@@ -31,8 +34,8 @@ OBSTACLES3 = [
 ]
 
 
-def both(monkeypatch, *args, **kw):
-    """The compiled run and the numpy run (the compiled loops switched off) of rrt_connect;
+def both(monkeypatch, *args, planner=rrt_connect, **kw):
+    """The compiled run and the numpy run (the compiled loops switched off) of ``planner``;
     an exception is returned, not raised, so that both can be compared."""
     out = []
     for compiled in (True, False):
@@ -40,10 +43,19 @@ def both(monkeypatch, *args, **kw):
             if not compiled:
                 m.setattr(sampling_kernel, "kernels", lambda: None)
             try:
-                out.append(rrt_connect(*args, **kw))
+                out.append(planner(*args, **kw))
             except (NoPathFound, CertificationLimit) as e:
                 out.append(e)
     return out
+
+
+#: Each planner with settings small enough for a property test (and RRT*'s goal region wide
+#: enough that it often succeeds).
+SMALL = {
+    rrt_connect: lambda step: {"step": step, "max_iterations": 300},
+    rrt_star: lambda step: {"step": step, "max_iterations": 300, "goal_threshold": 0.3},
+    prm: lambda step: {"samples": 60, "max_iterations": 40},
+}
 
 
 def assert_same(fast, slow):
@@ -99,49 +111,66 @@ def problems(draw):
     return arm, obstacles, start, goals, step
 
 
-@settings(max_examples=30, deadline=None, derandomize=True,
+@pytest.mark.parametrize("planner", list(SMALL), ids=lambda p: p.__name__)
+@settings(max_examples=25, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(problem=problems(), seed=st.integers(0, 2**32 - 1))
-def test_the_compiled_loop_grows_the_numpy_trees(problem, seed, monkeypatch):
+def test_the_compiled_loops_grow_the_numpy_trees(planner, problem, seed, monkeypatch):
     arm, obstacles, start, goals, step = problem
-    fast, slow = both(monkeypatch, arm, start, goals, obstacles, step=step, seed=seed,
-                      max_iterations=300, raise_on_failure=False)
+    fast, slow = both(monkeypatch, arm, start, goals, obstacles, planner=planner, seed=seed,
+                      raise_on_failure=False, **SMALL[planner](step))
     assert_same(fast, slow)
     if not isinstance(fast, Exception) and fast.success:
         assert_verified(arm, fast, start, goals, obstacles)
 
 
-@pytest.mark.parametrize("seeds", [range(6), pytest.param(range(6, 50), marks=pytest.mark.slow)])
-def test_the_benchmark_problem_same_trees_and_verified_paths(seeds, monkeypatch):
+BENCHMARK = {  # the settings of benchmarks/bench_planners.py
+    rrt_connect: {"step": 0.1},
+    rrt_star: {"step": 0.2, "max_iterations": 5000},
+    prm: {},
+}
+
+
+@pytest.mark.parametrize("planner, seeds", [
+    (rrt_connect, range(6)), (prm, range(6)), (rrt_star, range(1)),
+    pytest.param(rrt_connect, range(6, 40), marks=pytest.mark.slow),
+    pytest.param(prm, range(6, 40), marks=pytest.mark.slow),
+    pytest.param(rrt_star, range(1, 20), marks=pytest.mark.slow),
+], ids=lambda x: x.__name__ if callable(x) else f"seeds{len(x)}")
+def test_the_benchmark_problem_same_trees_and_verified_paths(planner, seeds, monkeypatch):
     arm = rapp.Arm(LINKS3)
     for seed in seeds:
-        fast, slow = both(monkeypatch, arm, (0, 0, 0), (-2, 0.5, 0.5), OBSTACLES3, step=0.1,
-                          seed=seed, raise_on_failure=False)
+        fast, slow = both(monkeypatch, arm, (0, 0, 0), (-2, 0.5, 0.5), OBSTACLES3,
+                          planner=planner, seed=seed, raise_on_failure=False, **BENCHMARK[planner])
         assert_same(fast, slow)
         assert fast.success, seed
         assert_verified(arm, fast, np.zeros(3), [(-2, 0.5, 0.5)], OBSTACLES3)
 
 
 @pytest.mark.slow
-def test_plans_with_the_compiled_loop_pass_rapp_verify_over_many_seeds():
+@pytest.mark.parametrize("algorithm", ["rrt_connect", "prm", "rrt_star"])
+def test_plans_with_the_compiled_loops_pass_rapp_verify_over_many_seeds(algorithm):
     d = rapp.load_scenario("three_link").to_dict()
-    for seed in range(20):
-        d["planner"] = {"algorithm": "rrt_connect", "seed": seed}
+    for seed in range(20 if algorithm != "rrt_star" else 5):
+        d["planner"] = {"algorithm": algorithm, "seed": seed}
         plan = rapp.plan(d)
         assert plan.report.ok, (seed, str(plan.report))
 
 
-def test_budgets_are_those_of_the_numpy_loop(monkeypatch):
+@pytest.mark.parametrize("planner", list(SMALL), ids=lambda p: p.__name__)
+def test_budgets_are_those_of_the_numpy_loop(planner, monkeypatch):
     s = rapp.load_scenario("no_solution")   # no path exists: the budget decides
-    for k in (1, 63, 64, 65, 200):
+    kw = {"samples": 30} if planner is prm else {}
+    for k in (1, 15, 16, 17, 63, 64, 65, 200):
         fast, slow = both(monkeypatch, s.arm, s.start_array, s.goal_q, s.obstacles,
-                          max_iterations=k, raise_on_failure=False)
+                          planner=planner, max_iterations=k, raise_on_failure=False, **kw)
         assert_same(fast, slow)
-        assert fast.iterations == k and not fast.success
-    fast, slow = both(monkeypatch, s.arm, s.start_array, s.goal_q, s.obstacles, max_iterations=50)
+        assert not fast.success and fast.iterations <= k
+    fast, slow = both(monkeypatch, s.arm, s.start_array, s.goal_q, s.obstacles, planner=planner,
+                      max_iterations=50, **kw)
     assert_same(fast, slow)
-    res = rrt_connect(s.arm, s.start_array, s.goal_q, s.obstacles, max_iterations=10**7,
-                      time_budget=0.2, raise_on_failure=False)
+    res = planner(s.arm, s.start_array, s.goal_q, s.obstacles, max_iterations=10**7,
+                  time_budget=0.2, raise_on_failure=False, **kw)
     assert not res.success and 0 < res.iterations < 10**7
 
 
@@ -155,9 +184,12 @@ def test_the_node_limit_is_that_of_the_numpy_loop(monkeypatch):
     assert_same(fast, slow)
 
 
-def test_the_certification_limit_is_raised_with_the_numpy_message(monkeypatch):
+@pytest.mark.parametrize("planner", list(SMALL), ids=lambda p: p.__name__)
+def test_the_certification_limit_is_raised_with_the_numpy_message(planner, monkeypatch):
     # Links of 1e6 beside a clearance of 1: an edge needs 2**18 pieces.
     arm = rapp.Arm([1e6, 1e6])
-    fast, slow = both(monkeypatch, arm, [0.0, 0.0], [0.5, 0.0], [rapp.Circle((0.0, -2.0), 1.0)])
+    kw = {"samples": 20, "seed": 1} if planner is prm else {}
+    fast, slow = both(monkeypatch, arm, [0.0, 0.0], [0.5, 0.0], [rapp.Circle((0.0, -2.0), 1.0)],
+                      planner=planner, **kw)
     assert isinstance(slow, CertificationLimit)
     assert_same(fast, slow)
