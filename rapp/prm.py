@@ -7,6 +7,11 @@ path from the start to a goal; only that path's uncertified edges are then certi
 and the search is repeated; when the roadmap holds no path, it grows by as many samples again.
 Most candidate edges are never checked, which is where the time of a PRM goes.
 
+With numba the candidate edges are found by a compiled nearest-k scan and kept as arrays, and the
+rounds of search, certification and removal run in one compiled loop (:func:`_lazy_searches`,
+calling the compiled Dijkstra); the roadmaps, searches and paths are those of the dict-based
+numpy loop, which is the fallback.
+
 References
 ----------
 Kavraki, Švestka, Latombe and Overmars (1996), Probabilistic roadmaps for path planning in
@@ -22,7 +27,7 @@ import time
 
 import numpy as np
 
-from rapp import progress, sampling_kernel
+from rapp import collision_kernel, progress, sampling_kernel
 from rapp.checks import positive_integer
 from rapp.collision import MAX_PENDING_INTERVALS
 from rapp.collision import collides, segment_collision_free
@@ -553,12 +558,7 @@ def _compiled_lazy():
     dijkstra, loops = _compiled_dijkstra(), sampling_kernel.kernels()
     if dijkstra is None or loops is None:
         return None
-    import numba
-
     g = globals()
     g["_dijkstra_compiled"], g["_bisect_compiled"], g["_wrap_compiled"] = (
         dijkstra, loops.bisect, loops.wrap)
-    try:
-        return numba.njit(cache=True, nogil=True)(_lazy_searches)
-    except RuntimeError:  # no writable cache directory: compile on every run
-        return numba.njit(nogil=True)(_lazy_searches)
+    return collision_kernel.njit(_lazy_searches)

@@ -5,7 +5,11 @@ toward it, and the other tree then *connects*: it steps toward the new node agai
 until it reaches it or is blocked. The trees swap roles every iteration. Every edge is certified
 collision-free (:func:`rapp.collision.segment_collision_free`), so the returned path is; a
 connect attempt certifies its whole chain of steps in one vectorized call and keeps the longest
-free prefix, the same tree as stepping one edge at a time.
+free prefix, the same tree as stepping one edge at a time. An edge whose end clearances prove it
+free (:func:`rapp.sampling.endpoint_certified`) needs no bisection.
+
+With numba the whole iteration runs compiled (:mod:`rapp.sampling_kernel`) on samples drawn by
+the same generator, and grows the same trees bit for bit; the numpy loop is the fallback.
 
 References
 ----------

@@ -4,7 +4,13 @@ Each new node is joined not to its nearest node but to the node within a shrinki
 ``r = min(step, gamma (log m / m)^(1/n))`` that reaches it most cheaply by a certified edge;
 then every node within ``r`` that the new node reaches more cheaply is rewired through it. The
 cost of the best path to a goal falls toward the optimum as the samples grow (asymptotic
-optimality), unlike RRT's. The near set's edges are certified in one vectorized call.
+optimality), unlike RRT's. Every node keeps its link clearances, so that most edges are proved
+free by their ends alone (:func:`rapp.sampling.endpoint_certified`); the rest are bisected.
+
+With numba the whole iteration runs compiled (:mod:`rapp.sampling_kernel`: nearest and near
+nodes through a grid of cells once the tree is large, descendants' costs through child lists)
+on targets drawn by the same generator, and grows the same tree bit for bit; the numpy loop is
+the fallback.
 
 References
 ----------

@@ -78,6 +78,19 @@ def _wrap(x):
     return y % _TWO_PI - math.pi
 
 
+def _delta(q, row, limited, out):
+    """``out = q - row`` the short way round on every free joint; returns its sum of squares,
+    joint by joint (rapp.sampling.squared_norms)."""
+    s = 0.0
+    for j in range(q.shape[0]):
+        d = q[j] - row[j]
+        if not limited[j]:
+            d = _wrap(d)
+        out[j] = d
+        s += d * d
+    return s
+
+
 def _nearest(nodes, m, q, limited):
     """Index of the node of ``nodes[:m]`` nearest ``q`` (the first of equals, as argmin)."""
     n = q.shape[0]
@@ -111,15 +124,9 @@ def _extend(t, target, chain, room, step, lengths, limited, reach, circles, pv, 
     base, d, p, prev, q0, dq, bnd = (scratch[0], scratch[1], scratch[2], scratch[3],
                                      scratch[4:5], scratch[5:6], scratch[6:7])
     i = _nearest(nodes[t], m[t], target, limited)
-    dist2 = 0.0
     for j in range(n):
         base[j] = nodes[t, i, j]
-        dj = target[j] - base[j]
-        if not limited[j]:
-            dj = _wrap(dj)
-        d[j] = dj
-        dist2 += dj * dj
-    dist = math.sqrt(dist2)
+    dist = math.sqrt(_delta(target, base, limited, d))
     if dist == 0.0:
         return i, True, CONNECT_MORE
     k = min(int(math.ceil(dist / step)), room) if chain else 1
@@ -352,24 +359,36 @@ def _cell(q, limited, lo, w, shape, at):
     return flat
 
 
+def _shifted_cell(at, off, shape, limited):
+    """Flat index of the cell ``at + off`` (around the turn on a free joint; offsets stay
+    within one turn, so no integer division), or -1 beyond a limited joint's range."""
+    flat = 0
+    for j in range(at.shape[0]):
+        c = at[j] + off[j]
+        if limited[j]:
+            if c < 0 or c >= shape[j]:
+                return -1
+        elif c < 0:
+            c += shape[j]
+        elif c >= shape[j]:
+            c -= shape[j]
+        flat = flat * shape[j] + c
+    return flat
+
+
 def _grid_insert(v, nodes, limited, lo, w, shape, head, nxt, at):
     c = _cell(nodes[v], limited, lo, w, shape, at)
     nxt[v] = head[c]
     head[c] = v
 
 
-def _cell_nodes_nearest(q, c, nodes, limited, head, nxt, best_s, best_v):
+def _cell_nodes_nearest(q, c, nodes, limited, head, nxt, best_s, best_v, d):
     """The nodes of cell ``c`` against the nearest so far ``(best_s, best_v)`` (sum of squares,
-    index; equal sums: the lower index), with the arithmetic of :func:`_nearest`."""
-    n = q.shape[0]
+    index; equal sums: the lower index), with the arithmetic of :func:`_nearest`; ``d`` is
+    scratch."""
     v = head[c]
     while v >= 0:
-        s = 0.0
-        for j in range(n):
-            d = q[j] - nodes[v, j]
-            if not limited[j]:
-                d = _wrap(d)
-            s += d * d
+        s = _delta(q, nodes[v], limited, d)
         if s < best_s or (s == best_s and v < best_v):
             best_s = s
             best_v = v
@@ -390,6 +409,7 @@ def _grid_nearest(q, nodes, m, limited, lo, w, shape, head, nxt, at, off):
         gmin = min(gmin, shape[j])
     best_s = np.inf
     best_v = -1
+    d = np.empty(n)
     rho = 0
     cells = 0
     while True:
@@ -400,23 +420,13 @@ def _grid_nearest(q, nodes, m, limited, lo, w, shape, head, nxt, at, off):
             off[j] = -rho
         while True:
             shell = rho == 0
-            flat = 0
-            inside = True
             for j in range(n):
                 if off[j] == rho or off[j] == -rho:
                     shell = True
-                c = at[j] + off[j]
-                if limited[j]:
-                    if c < 0 or c >= shape[j]:
-                        inside = False
-                elif c < 0:  # offsets stay within one turn: no integer division
-                    c += shape[j]
-                elif c >= shape[j]:
-                    c -= shape[j]
-                flat = flat * shape[j] + c
-            if shell and inside:
+            flat = _shifted_cell(at, off, shape, limited) if shell else -1
+            if flat >= 0:
                 best_s, best_v = _cell_nodes_nearest(q, flat, nodes, limited, head, nxt, best_s,
-                                                     best_v)
+                                                     best_v, d)
             j = n - 1
             while j >= 0 and off[j] == rho:
                 off[j] = -rho
@@ -447,29 +457,13 @@ def _grid_near(q, r, nodes, limited, lo, w, shape, head, nxt, at, off, span, out
             at[j] -= reach
         off[j] = 0
     k = 0
+    d = np.empty(n)
     while True:
-        flat = 0
-        inside = True
-        for j in range(n):
-            c = at[j] + off[j]
-            if limited[j]:
-                if c < 0 or c >= shape[j]:
-                    inside = False
-            elif c < 0:
-                c += shape[j]
-            elif c >= shape[j]:
-                c -= shape[j]
-            flat = flat * shape[j] + c
-        if inside:
+        flat = _shifted_cell(at, off, shape, limited)
+        if flat >= 0:
             v = head[flat]
             while v >= 0:
-                s = 0.0
-                for j in range(n):
-                    d = q[j] - nodes[v, j]
-                    if not limited[j]:
-                        d = _wrap(d)
-                    s += d * d
-                if s <= r2:
+                if _delta(q, nodes[v], limited, d) <= r2:
                     out[k] = v
                     k += 1
                 v = nxt[v]
@@ -528,14 +522,7 @@ def _star(targets, step, gamma, goal_threshold, goals, goal_clear, lengths, limi
             i = _grid_nearest(target, nodes, mm, limited, lo, width, shape, head, nxt, at, off)
         else:
             i = _nearest(nodes, mm, target, limited)
-        s = 0.0
-        for j in range(n):
-            dj = target[j] - nodes[i, j]
-            if not limited[j]:
-                dj = _wrap(dj)
-            d[j] = dj
-            s += dj * dj
-        dd = math.sqrt(s)
+        dd = math.sqrt(_delta(target, nodes[i], limited, d))
         if dd == 0.0:
             continue
         f = min(1.0, step / dd)
@@ -559,28 +546,15 @@ def _star(targets, step, gamma, goal_threshold, goals, goal_clear, lengths, limi
             found = mm
         for t in range(found):
             v = stack[t] if mm > GRID_FROM else t
-            s = 0.0
-            for j in range(n):
-                dj = q_new[j] - nodes[v, j]
-                if not limited[j]:
-                    dj = _wrap(dj)
-                dn[k, j] = dj
-                s += dj * dj
+            s = _delta(q_new, nodes[v], limited, dn[k])
             if s <= r2:
                 near[k] = v
                 dist[k] = math.sqrt(s)
                 has_i = has_i or v == i
                 k += 1
         if not has_i:
-            s = 0.0
-            for j in range(n):
-                dj = q_new[j] - nodes[i, j]
-                if not limited[j]:
-                    dj = _wrap(dj)
-                dn[k, j] = dj
-                s += dj * dj
             near[k] = i
-            dist[k] = math.sqrt(s)
+            dist[k] = math.sqrt(_delta(q_new, nodes[i], limited, dn[k]))
             k += 1
         # The cheapest parent whose edge is free (choose_parent_and_add).
         for v in range(k):
@@ -615,14 +589,7 @@ def _star(targets, step, gamma, goal_threshold, goals, goal_clear, lengths, limi
             u = near[v]
             if u == parent[new]:
                 continue
-            s = 0.0
-            for j in range(n):
-                dj = nodes[u, j] - nodes[new, j]
-                if not limited[j]:
-                    dj = _wrap(dj)
-                dn[v, j] = dj
-                s += dj * dj
-            through = cost[new] + math.sqrt(s)
+            through = cost[new] + math.sqrt(_delta(nodes[u], nodes[new], limited, dn[v]))
             if through < cost[u] - 1e-12:
                 near[kb] = u
                 key[kb] = through
@@ -660,18 +627,11 @@ def _star(targets, step, gamma, goal_threshold, goals, goal_clear, lengths, limi
         g = 0
         best_s = np.inf
         for h in range(goals.shape[0]):
-            s = 0.0
-            for j in range(n):
-                dj = goals[h, j] - nodes[new, j]
-                if not limited[j]:
-                    dj = _wrap(dj)
-                s += dj * dj
+            s = _delta(goals[h], nodes[new], limited, d)
             if s < best_s:
                 best_s = s
                 g = h
-        for j in range(n):
-            dj = goals[g, j] - nodes[new, j]
-            d[j] = _wrap(dj) if not limited[j] else dj
+        _delta(goals[g], nodes[new], limited, d)
         gd = math.sqrt(best_s)
         if gd <= goal_threshold and cost[new] + gd < best_cost[0]:
             if gd == 0.0:
@@ -722,26 +682,18 @@ def _draw(buf, pos, bias, lower, span, goal, out):
 
 @functools.cache
 def _compile():
-    try:
-        import numba
-    except ImportError:
-        return None
     ck = collision_kernel.kernels()
     if ck is None:
         return None
 
-    def jit(f):
-        try:
-            return numba.njit(cache=True, nogil=True)(f)
-        except RuntimeError:  # no writable cache directory: compile on every run
-            return numba.njit(nogil=True)(f)
-
+    jit = collision_kernel.njit
     g = globals()
     g["_clearances"], g["_certify"] = ck.clearances, ck.certify
     g["_wrap"] = jit(_wrap)
+    g["_delta"] = jit(_delta)
     g["_nearest"] = jit(_nearest)
     g["_extend"] = jit(_extend)
-    for name in ("_edge_bounds", "_bisect_bounded", "_bisect", "_edge_free", "_link", "_unlink",
+    for name in ("_shifted_cell", "_edge_bounds", "_bisect_bounded", "_bisect", "_edge_free", "_link", "_unlink",
                  "_cell", "_grid_insert", "_cell_nodes_nearest",
                  "_grid_nearest", "_grid_near"):
         g[name] = jit(g[name])

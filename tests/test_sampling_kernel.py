@@ -11,6 +11,9 @@ answered as the numpy loops answer them.
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
@@ -24,14 +27,10 @@ from rapp.rrt_star import rrt_star
 
 pytestmark = pytest.mark.skipif(sampling_kernel.kernels() is None, reason="numba is not installed")
 
-LINKS3 = [1.0, 0.8, 0.5]
-OBSTACLES3 = [
-    rapp.Circle((1.4, 0.9), 0.35),
-    rapp.Circle((-0.4, 1.5), 0.3),
-    rapp.Circle((0.2, -1.3), 0.3),
-    rapp.Circle((1.0, -1.0), 0.3),
-    rapp.Polygon.rectangle((-1.9, -0.6), 0.5, 1.0),
-]
+# The 3-link problem of the benchmarks, defined once in benchmarks/bench_core.py.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from bench_core import LINKS3, OBSTACLES3  # noqa: E402
+from test_sampling_planners import dense_free  # noqa: E402  the independent dense check
 
 
 def both(monkeypatch, *args, planner=rrt_connect, **kw):
@@ -66,15 +65,6 @@ def assert_same(fast, slow):
     assert np.array_equal(fast.nodes, slow.nodes)
     assert np.array_equal(fast.parent, slow.parent)
     assert np.array_equal(fast.path, slow.path)
-
-
-def dense_free(arm, path, obstacles, per_rad=400):
-    """Independent check: every segment sampled densely, each sample tested by numpy."""
-    for a, b in zip(path[:-1], path[1:]):
-        k = max(2, int(np.linalg.norm(b - a) * per_rad))
-        if reference.collides(arm, a + np.linspace(0, 1, k)[:, None] * (b - a), obstacles).any():
-            return False
-    return True
 
 
 def assert_verified(arm, res, start, goals, obstacles):
