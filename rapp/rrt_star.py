@@ -174,7 +174,7 @@ def _grow(arm, goals, obstacles, step, goal_bias, goal_threshold, gamma, rng, bu
     tree = ClearanceTree(arm, [start], clearance)
     goal_clear = clearance(goals)
     touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
-    best_goal, best_cost = -1, math.inf
+    best_goal = -1
     while not budget.spent():
         target = _targets(arm, goals, goal_bias, rng, 1)[0]
         i = tree.nearest(target)
@@ -199,13 +199,14 @@ def _grow(arm, goals, obstacles, step, goal_bias, goal_threshold, gamma, rng, bu
         dg = arm.joint_delta(tree.nodes[new], goals)
         g = int(np.argmin(squared_norms(dg)))
         gd = float(np.sqrt(squared_norms(dg[g])))
+        # Against the best goal node's cost now: rewiring may have lowered it since.
+        best_cost = math.inf if best_goal < 0 else float(tree.cost[best_goal])
         if gd <= goal_threshold and tree.cost[new] + gd < best_cost:
             if gd == 0.0:
-                best_goal, best_cost = new, float(tree.cost[new])
+                best_goal = new
             elif certify(tree.nodes[new][None], (tree.nodes[new] + dg[g])[None],
                          tree.clear[new][None], goal_clear[g][None])[0]:
                 best_goal = tree.add(goals[g], new, float(tree.cost[new] + gd), goal_clear[g])
-                best_cost = float(tree.cost[best_goal])
     return tree.nodes.copy(), tree.parent.copy(), best_goal
 
 

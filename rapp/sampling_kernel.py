@@ -633,6 +633,9 @@ def _star(targets, step, gamma, goal_threshold, goals, goal_clear, lengths, limi
                 g = h
         _delta(goals[g], nodes[new], limited, d)
         gd = math.sqrt(best_s)
+        # Against the best goal node's cost now: rewiring may have lowered it since.
+        if best[0] >= 0:
+            best_cost[0] = cost[best[0]]
         if gd <= goal_threshold and cost[new] + gd < best_cost[0]:
             if gd == 0.0:
                 best[0] = new
