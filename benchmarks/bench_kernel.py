@@ -6,10 +6,10 @@ discs and a rectangle):
 * ``rapp.collides`` for one configuration: the compiled kernel (``rapp.collision_kernel``)
   against the numpy version it replaced (``rapp.reference.collides``), alternately; also a
   batch of 10,000 configurations, and ``segment_collision_free`` for one short edge.
-* ``rrt_connect`` and ``prm`` over 20 seeds: with the kernel (and PRM's compiled Dijkstra)
-  and with the numpy versions and PRM's Python Dijkstra (switched off as when numba is
-  missing), the same seeds growing the same trees
-  (checked node by node); ratio of the summed times.
+* ``rrt_connect``, ``prm`` and ``rrt_star`` over 20 seeds: compiled (the collision kernel,
+  the planners' compiled loops of ``rapp.sampling_kernel`` and PRM's compiled Dijkstra) and
+  with the numpy versions and PRM's Python Dijkstra (switched off as when numba is missing),
+  the same seeds growing the same trees (checked node by node); ratio of the summed times.
 * Start-up: ``python -m rapp plan`` (the default scenario) against ``python -c "import
   numpy"``, alternately, CPU seconds (user + sys) of each finished process, median of 7, with
   bytecode caches written (as an installed package has them; ``PYTHONDONTWRITEBYTECODE``
@@ -40,6 +40,7 @@ from rapp import collision_kernel, reference
 from rapp.collision import segment_collision_free
 from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect
+from rapp.rrt_star import rrt_star
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_core import LINKS3, OBSTACLES3, START3, GOAL3  # noqa: E402  the problem, defined once
@@ -101,7 +102,7 @@ def single_checks(arm, obstacles):
 
 def planners(arm, obstacles):
     out = {}
-    for planner in (rrt_connect, prm):
+    for planner in (rrt_connect, prm, rrt_star):
         times = {"kernel": [], "numpy": []}
         solved = 0
         for seed in range(SEEDS):

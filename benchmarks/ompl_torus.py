@@ -12,7 +12,33 @@ import numpy as np
 import rapp
 
 
-def torus_setup(arm, obstacles, seed: int):
+def kernel_validity(arm, obstacles):
+    """OMPL's state validity checker as a thin callable around rapp's compiled collision kernel.
+
+    The state's angles are copied into one preallocated array and the kernel's ``collides``
+    is called on it directly: no argument checks, no ``rapp.collides`` wrapper, the least
+    Python a checker called from OMPL's C++ can cost. The same answers as ``rapp.collides``.
+    """
+    from rapp import collision_kernel
+    from rapp.arm import MAX_ANGLE
+
+    kernel = collision_kernel.kernels()
+    if kernel is None:
+        raise RuntimeError("numba is not installed: no compiled checker to give OMPL")
+    packed, lengths, n = collision_kernel.pack(list(obstacles)), arm.lengths, arm.n
+    q = np.zeros((1, n))
+    row = q[0]
+    collides = kernel.collides
+
+    def valid(state):
+        for i in range(n):
+            row[i] = state[i].value
+        return not collides(lengths, q, *packed, MAX_ANGLE)[0][0]
+
+    return valid
+
+
+def torus_setup(arm, obstacles, seed: int, valid=None):
     """A ``SimpleSetup`` on SO(2)^n for ``arm``, OMPL's random generator seeded.
 
     Parameters
@@ -23,6 +49,9 @@ def torus_setup(arm, obstacles, seed: int):
         check the very same collisions.
     seed : int
         OMPL's generator gets ``seed + 1`` (it refuses 0).
+    valid : callable, optional
+        The state validity checker (e.g. :func:`kernel_validity`); by default one that calls
+        ``rapp.collides``.
 
     Returns
     -------
@@ -38,10 +67,12 @@ def torus_setup(arm, obstacles, seed: int):
         space.addSubspace(ob.SO2StateSpace(), 1.0)
     q = np.empty(arm.n)
 
-    def valid(state):
+    def checked(state):
         for i in range(arm.n):
             q[i] = state[i].value
         return not bool(rapp.collides(arm, q, obstacles))
+
+    valid = checked if valid is None else valid
 
     ou.RNG.setSeed(seed + 1)
     ss = og.SimpleSetup(space)

@@ -5,7 +5,11 @@ toward it, and the other tree then *connects*: it steps toward the new node agai
 until it reaches it or is blocked. The trees swap roles every iteration. Every edge is certified
 collision-free (:func:`rapp.collision.segment_collision_free`), so the returned path is; a
 connect attempt certifies its whole chain of steps in one vectorized call and keeps the longest
-free prefix, the same tree as stepping one edge at a time.
+free prefix, the same tree as stepping one edge at a time. An edge whose end clearances prove it
+free (:func:`rapp.sampling.endpoint_certified`) needs no bisection.
+
+With numba the whole iteration runs compiled (:mod:`rapp.sampling_kernel`) on samples drawn by
+the same generator, and grows the same trees bit for bit; the numpy loop is the fallback.
 
 References
 ----------
@@ -14,17 +18,23 @@ Kuffner and LaValle (2000), RRT-Connect: an efficient approach to single-query p
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 
 from rapp import progress
 from rapp.checks import finite_number
-from rapp.collision import reach_matrix, link_clearances, segment_collision_free
-from rapp import collision_kernel
+from rapp.collision import reach_matrix, link_clearances
+from rapp import collision_kernel, sampling_kernel
+from rapp.collision import MAX_PENDING_INTERVALS
+from rapp.collision_kernel import pack
 from rapp.obstacles import Circle
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import PlannerResult, tree_result
 from rapp.rrt import MAX_STEP, MIN_STEP
-from rapp.sampling import Budget, Tree, check_start_and_goals, uniform_samples, unwrapped_chain
+from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals,
+                           endpoint_certified, motion_bounds_of, squared_norms, uniform_samples,
+                           unwrapped_chain)
 
 __all__ = ["rrt_connect", "MAX_NODES", "MIN_STEP", "MAX_STEP", "smallest_step"]
 
@@ -51,28 +61,6 @@ def smallest_step(distance: float) -> float:
     0.0001
     """
     return max(MIN_STEP, float(distance) / MAX_NODES)
-
-
-class _Tree(Tree):
-    """A :class:`Tree` that also keeps every node's link clearances ``(m, n)``.
-
-    Certifying an edge needs the clearances at its two ends, and the start of every new edge
-    is a node already in the tree: stored once, they are never computed twice.
-    """
-
-    def __init__(self, arm, roots, clearance):
-        self._clear = np.empty((max(256, 2 * len(np.atleast_2d(roots))), arm.n))
-        super().__init__(arm, roots)
-        self.clear[:] = clearance(self.nodes)
-
-    clear = property(lambda self: self._clear[: self.m], doc="Link clearances of every node.")
-
-    def add(self, q, parent_index: int, cost: float = 0.0, clearance=None) -> int:
-        if self.m == len(self._clear):
-            self._clear = np.concatenate((self._clear, np.empty_like(self._clear)))
-        if clearance is not None:
-            self._clear[self.m] = clearance
-        return super().add(q, parent_index, cost)
 
 
 class _Clearance:
@@ -131,21 +119,7 @@ class _Clearance:
         return lower
 
 
-def _endpoint_certified(c0, c1, bounds, touch):
-    """Edges certified free by their end clearances alone: ``c0 + c1 > B`` on every link.
-
-    Along a straight joint-space edge every point of link ``j`` moves at most ``B_j t`` from
-    where it is at the start (parameter ``t``) and ``B_j (1 - t)`` from where it is at the end
-    (:func:`rapp.collision.motion_bounds`), and a clearance changes no faster than the points
-    move. So link ``j`` is free at ``t`` when ``c0_j > B_j t`` or ``c1_j > B_j (1 - t)``, and
-    both intervals of ``t`` together cover ``[0, 1]`` exactly when ``c0_j + c1_j > B_j``. The
-    same lemma as the bisection of :func:`rapp.collision.segment_collision_free`, applied at the
-    ends, where the clearances are already known: most short edges need nothing more.
-    """
-    return ((c0 + c1 > bounds) & (c0 > touch) & (c1 > touch)).all(axis=-1)
-
-
-def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, clearance,
+def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reach, clearance,
             room: int = MAX_NODES):
     """Step from the node nearest ``target`` toward it: one step, or (``chain``) until blocked
     or ``room`` nodes were added.
@@ -157,7 +131,7 @@ def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, cle
     i = tree.nearest(target)
     base = tree.nodes[i]
     d = arm.joint_delta(base, target)
-    dist = float(np.sqrt(d @ d))
+    dist = float(np.sqrt(squared_norms(d)))
     if dist == 0.0:
         return i, True
     k = min(int(np.ceil(dist / step)), room) if chain else 1
@@ -175,11 +149,11 @@ def _extend(tree: _Tree, target, step: float, obstacles, chain: bool, reach, cle
     free = np.zeros(reach_k, dtype=bool)
     if reach_k:
         c0 = np.vstack((tree.clear[i], clear[: reach_k - 1]))
-        bounds = np.abs(points[:reach_k] - prev[:reach_k]) @ reach
-        free = _endpoint_certified(c0, clear[:reach_k], bounds, touch)
+        bounds = motion_bounds_of(points[:reach_k] - prev[:reach_k], reach)
+        free = endpoint_certified(c0, clear[:reach_k], bounds, touch)
         todo = np.flatnonzero(~free)
         if todo.size:  # the rest are bisected, as every edge was before
-            free[todo] = segment_collision_free(arm, prev[todo], points[todo], obstacles)
+            free[todo] = certify(prev[todo], points[todo])
     ok = int(np.argmin(free)) if not free.all() else reach_k  # the free prefix
     last = -1
     parent = i
@@ -247,33 +221,20 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     rng = np.random.default_rng(seed)
     reach = reach_matrix(arm)
     # Clearances this small cannot be told from touching (as in segment_collision_free).
-    clearance = _Clearance(arm, obstacles, 16 * np.finfo(float).eps * float(np.sum(arm.lengths)))
-    trees = [_Tree(arm, [start], clearance), _Tree(arm, goals, clearance)]
-    meet = None
-    # The start may already see a goal along one straight chain.
-    room = lambda: min(chain_room, MAX_NODES - trees[0].m - trees[1].m)  # noqa: E731
-    j, reached = _extend(trees[1], start, step, obstacles, True, reach, clearance, room())
-    if reached:
-        meet = (0, j)
-    full = False
-    while meet is None and not budget.spent():
-        if trees[0].m + trees[1].m >= MAX_NODES:
-            full = True
-            break
-        if budget.iterations % 64 == 0:
-            progress.report("RRT-Connect", budget.iterations, budget.max_iterations)
-        a, b = trees if budget.iterations % 2 else trees[::-1]
-        q_rand = uniform_samples(arm, rng, 1)[0]
-        new, _ = _extend(a, q_rand, step, obstacles, False, reach, clearance)
-        if new < 0:
-            continue
-        other, reached = _extend(b, a.nodes[new], step, obstacles, True, reach, clearance,
-                                 room())
-        if reached:
-            meet = (new, other) if a is trees[0] else (other, new)
+    touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
+    loops = sampling_kernel.kernels() if collision_kernel.loaded() is not None else None
+    grown = None
+    if loops is not None:
+        grown = _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach,
+                               touch, chain_room)
+    if grown is None:  # no numba, or an edge beyond the kernel's interval limit (numpy raises)
+        rng = np.random.default_rng(seed)
+        budget = Budget(max_iterations, time_budget)
+        grown = _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_room)
+    trees, meet, full = grown
     nodes = np.vstack((trees[0].nodes, trees[1].nodes))
     parent = np.concatenate((trees[0].parent, np.where(trees[1].parent >= 0,
-                                                      trees[1].parent + trees[0].m, -1)))
+                                                      trees[1].parent + len(trees[0].nodes), -1)))
     if meet is None:
         if raise_on_failure:
             if full:
@@ -285,6 +246,86 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     walk = _root_chain(trees[0], meet[0])[::-1] + _root_chain(trees[1], meet[1])[1:]
     path = unwrapped_chain(arm, np.array(walk), start)
     return tree_result(arm, path, nodes, parent, budget.iterations)
+
+
+def _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_room):
+    """The numpy loop: ``(trees, meet, full)``, ``meet`` the two nodes that met or None."""
+    clearance = _Clearance(arm, obstacles, touch)
+    certify = EdgeCertifier(arm, obstacles)
+    trees = [ClearanceTree(arm, [start], clearance), ClearanceTree(arm, goals, clearance)]
+    meet = None
+    # The start may already see a goal along one straight chain.
+    room = lambda: min(chain_room, MAX_NODES - trees[0].m - trees[1].m)  # noqa: E731
+    j, reached = _extend(trees[1], start, step, certify, True, reach, clearance, room())
+    if reached:
+        meet = (0, j)
+    full = False
+    while meet is None and not budget.spent():
+        if trees[0].m + trees[1].m >= MAX_NODES:
+            full = True
+            break
+        if budget.iterations % 64 == 0:
+            progress.report("RRT-Connect", budget.iterations, budget.max_iterations)
+        a, b = trees if budget.iterations % 2 else trees[::-1]
+        q_rand = uniform_samples(arm, rng, 1)[0]
+        new, _ = _extend(a, q_rand, step, certify, False, reach, clearance)
+        if new < 0:
+            continue
+        other, reached = _extend(b, a.nodes[new], step, certify, True, reach, clearance,
+                                 room())
+        if reached:
+            meet = (new, other) if a is trees[0] else (other, new)
+    return trees, meet, full
+
+
+#: Iterations the compiled loop runs between two looks at the clock (and the progress line).
+BATCH = 64
+
+
+def _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach, touch,
+                   chain_room):
+    """:func:`_grow` in the compiled loops of :mod:`rapp.sampling_kernel`, the same trees;
+    None when an edge needs more bisection intervals than allowed (numpy says so then)."""
+    n = arm.n
+    cap = MAX_NODES + len(goals) + 2
+    nodes, clear = np.empty((2, cap, n)), np.empty((2, cap, n))
+    parent, cost = np.empty((2, cap), dtype=np.int64), np.empty((2, cap))
+    m = np.zeros(2, dtype=np.int64)
+    for t, roots in enumerate((start[None], goals)):
+        k = len(roots)
+        nodes[t, :k] = arm.wrap(roots)
+        clear[t, :k] = link_clearances(arm, nodes[t, :k], obstacles)
+        parent[t, :k], cost[t, :k], m[t] = -1, 0.0, k
+    geometry = (arm.lengths, np.asarray(arm.limited, dtype=np.bool_), reach, *pack(obstacles),
+                touch, 1e-9, MAX_PENDING_INTERVALS, nodes, parent, cost, clear, m)
+    meet = None
+    room = int(min(chain_room, MAX_NODES - m[0] - m[1]))
+    j, reached, status = loops.extend(1, start, True, room, step, *geometry,
+                                      np.empty((7, n)))
+    if status == sampling_kernel.CONNECT_LIMIT:
+        return None
+    if reached:
+        meet = (0, j)
+    full = False
+    met = np.full(2, -1, dtype=np.int64)
+    while meet is None:
+        k = budget.grant(BATCH)
+        if not k:
+            break
+        progress.report("RRT-Connect", budget.iterations, budget.max_iterations)
+        samples = uniform_samples(arm, rng, k)
+        status, ran = loops.connect(samples, budget.iterations, MAX_NODES, chain_room, step,
+                                    *geometry, met)
+        budget.iterations += int(ran)
+        if status == sampling_kernel.CONNECT_MEET:
+            meet = (int(met[0]), int(met[1]))
+        elif status == sampling_kernel.CONNECT_FULL:
+            full = True
+            break
+        elif status == sampling_kernel.CONNECT_LIMIT:
+            return None
+    trees = [SimpleNamespace(nodes=nodes[t, :m[t]], parent=parent[t, :m[t]]) for t in (0, 1)]
+    return trees, meet, full
 
 
 def _root_chain(tree: Tree, i: int) -> list:

@@ -108,7 +108,7 @@ LAYERS = {
     "core": {"arm", "obstacles", "collision", "collision_kernel", "cspace", "cspace_kernel", "search", "ik", "ik_kernel", "symbolic", "trajectory",
              "heap", "jit", "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
              "reference"},
-    "planners": {"sampling", "grid_route", "rrt", "rrt_connect", "rrt_star", "prm", "planners",
+    "planners": {"sampling", "sampling_kernel", "grid_route", "rrt", "rrt_connect", "rrt_star", "prm", "planners",
                  "progress"},
     "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "recorded",
                  "baseline", "traceability"},
