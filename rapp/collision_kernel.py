@@ -35,8 +35,9 @@ from collections import namedtuple
 import numpy as np
 
 from rapp.obstacles import Circle, Polygon
+from rapp.jit import jit, numba_available
 
-__all__ = ["pack", "by_identity", "kernels", "loaded", "njit", "Kernels", "LOAD_FROM"]
+__all__ = ["pack", "by_identity", "kernels", "loaded", "Kernels", "LOAD_FROM"]
 
 #: The compiled functions (see :func:`kernels`).
 Kernels = namedtuple("Kernels", "collides clearances certify")
@@ -322,17 +323,6 @@ def loaded(work: int = 0):
     return None
 
 
-def njit(f):
-    """``f`` compiled by numba (``nogil``, cached on disk; compiled on every run where no cache
-    directory can be written). It imports numba: call it only once numba is wanted."""
-    import numba
-
-    try:
-        return numba.njit(cache=True, nogil=True)(f)
-    except RuntimeError:  # no writable cache directory
-        return numba.njit(nogil=True)(f)
-
-
 @functools.cache
 def kernels():
     """The compiled :class:`Kernels` (numba, cached on disk), or None without numba.
@@ -341,11 +331,8 @@ def kernels():
     compiles it once, some seconds); :mod:`rapp.collision` calls it on its first
     check, so a command that checks nothing never pays it.
     """
-    try:
-        import numba  # noqa: F401
-    except ImportError:
+    if not numba_available():
         return None
-    jit = njit
     g = globals()
     # The helpers are compiled first, so that the kernels calling them find compiled functions.
     for name in ("_fk", "_point_distance", "_hits_polygon", "_polygon_distance", "_link_hits",

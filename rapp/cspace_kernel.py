@@ -49,6 +49,7 @@ from collections import namedtuple
 import numpy as np
 
 from rapp.collision_kernel import by_identity
+from rapp.jit import jit, numba_available
 from rapp.obstacles import Circle, Polygon
 
 __all__ = ["pack", "levels", "run", "paint", "intervals", "one_per_cell", "kernels", "Kernels",
@@ -528,17 +529,8 @@ def kernels():
     loaded numba. Without a cache (a new install, or this file changed) it compiles
     them, some seconds (``benchmarks/bench_occupancy.py`` records both).
     """
-    try:
-        import numba
-    except ImportError:
+    if not numba_available():
         return None
-
-    def jit(f, **kw):
-        try:
-            return numba.njit(cache=True, nogil=True, **kw)(f)
-        except RuntimeError:  # no writable cache directory: compile on every run
-            return numba.njit(nogil=True, **kw)(f)
-
     g = globals()
     # The helpers are compiled first, so that the kernels calling them find compiled functions.
     # They are inlined: a call passing arrays costs a reference count per array, more than

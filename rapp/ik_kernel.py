@@ -42,6 +42,8 @@ from collections import namedtuple
 
 import numpy as np
 
+from rapp.jit import jit, numba_available
+
 __all__ = ["Kernels", "solver", "loaded", "LOAD_FROM", "SIGMA_FLOOR", "LAMBDA_MAX", "NOT_OK", "OK", "UNSURE",
            "NO_START"]
 
@@ -420,20 +422,14 @@ def solver():
     The first call imports numba and loads the compiled code from its cache (or compiles
     it once, some seconds).
     """
-    try:
-        import numba
-    except ImportError:
+    if not numba_available():
         return None
-
     g = globals()
     # Every function is replaced before the first call compiles them: _solve then finds
     # the compiled helpers.
     for name in ("_atan2", "_arm_constants", "_closed_form", "_project", "_dls", "_newton", "_tip_error",
                  "_start_error", "_start_errors", "_solve"):
-        try:
-            g[name] = numba.njit(cache=True, nogil=True, error_model="numpy")(g[name])
-        except RuntimeError:  # no writable cache directory: compile on every run
-            g[name] = numba.njit(nogil=True, error_model="numpy")(g[name])
+        g[name] = jit(g[name], error_model="numpy")
     return Kernels(g["_solve"], g["_start_errors"], g["_atan2"])
 
 

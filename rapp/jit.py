@@ -16,16 +16,29 @@ Examples
 
 from __future__ import annotations
 
-__all__ = ["jit"]
+__all__ = ["jit", "numba_available"]
 
 
-def jit(f):
-    """``f`` compiled by numba (``njit``, ``nogil``, cached on disk), or None without numba."""
+def numba_available() -> bool:
+    """Whether numba can be imported (importing it, the first time: about half a second)."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def jit(f, **options):
+    """``f`` compiled by numba (``njit``, ``nogil``, cached on disk), or None without numba.
+
+    ``options`` go to ``numba.njit`` as they are (``inline="always"``, ``error_model="numpy"``).
+    Where no cache directory can be written, ``f`` is compiled on every run instead.
+    """
     try:
         import numba
     except ImportError:
         return None
     try:
-        return numba.njit(cache=True, nogil=True)(f)
+        return numba.njit(cache=True, nogil=True, **options)(f)
     except RuntimeError:  # no writable cache directory: compile on every run
-        return numba.njit(nogil=True)(f)
+        return numba.njit(nogil=True, **options)(f)

@@ -27,10 +27,9 @@ import time
 
 import numpy as np
 
-from rapp import collision_kernel, heap, progress, sampling_kernel
+from rapp import heap, progress, sampling_kernel
 from rapp.checks import positive_integer
-from rapp.collision import MAX_PENDING_INTERVALS
-from rapp.collision import collides, segment_collision_free
+from rapp.collision import MAX_PENDING_INTERVALS, collides
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.jit import jit
 from rapp.paths import PlannerResult, tree_result
@@ -512,4 +511,4 @@ def _compiled_lazy():
     g = globals()
     g["_dijkstra_compiled"], g["_bisect_compiled"], g["_wrap_compiled"] = (
         dijkstra, loops.bisect, loops.wrap)
-    return collision_kernel.njit(_lazy_searches)
+    return jit(_lazy_searches)

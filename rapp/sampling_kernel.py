@@ -39,6 +39,7 @@ from collections import namedtuple
 import numpy as np
 
 from rapp import collision_kernel
+from rapp.jit import jit
 
 __all__ = ["kernels", "Loops", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
 
@@ -689,7 +690,6 @@ def _compile():
     if ck is None:
         return None
 
-    jit = collision_kernel.njit
     g = globals()
     g["_clearances"], g["_certify"] = ck.clearances, ck.certify
     g["_wrap"] = jit(_wrap)
