@@ -30,7 +30,7 @@ pytestmark = pytest.mark.skipif(sampling_kernel.kernels() is None, reason="numba
 # The 3-link problem of the benchmarks, defined once in benchmarks/bench_core.py.
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 from bench_core import LINKS3, OBSTACLES3  # noqa: E402
-from test_sampling_planners import dense_free  # noqa: E402  the independent dense check
+from test_sampling_planners import dense_free, scattered_obstacles  # noqa: E402  the dense check, the scenes
 
 
 def both(monkeypatch, *args, planner=rrt_connect, **kw):
@@ -84,16 +84,7 @@ def problems(draw):
     limited = draw(st.lists(st.booleans(), min_size=n, max_size=n))
     arm = rapp.Arm(lengths, [(-2.5, 2.5) if lim else None for lim in limited])
     reach = sum(lengths)
-    obstacles = []
-    for _ in range(draw(st.integers(0, 4))):
-        r = draw(st.floats(0.3, 1.1)) * reach
-        a = draw(st.floats(-np.pi, np.pi))
-        c = (r * np.cos(a), r * np.sin(a))
-        if draw(st.booleans()):
-            obstacles.append(rapp.Circle(c, draw(st.floats(0.05, 0.4))))
-        else:
-            obstacles.append(rapp.Polygon.rectangle(c, draw(st.floats(0.1, 0.5)),
-                                                    draw(st.floats(0.1, 0.5)), a))
+    obstacles = scattered_obstacles(draw, reach, count=(0, 4), near=(0.3, 1.1), radius=(0.05, 0.4), side=(0.1, 0.5))
     angles = st.lists(st.floats(-2.4, 2.4), min_size=n, max_size=n)
     start = np.array(draw(angles))
     goals = np.array(draw(st.lists(angles, min_size=1, max_size=3)))

@@ -38,21 +38,26 @@ def dense_free(arm, path, obstacles, per_rad=400):
     return True
 
 
+def scattered_obstacles(draw, reach, *, count, near, radius, side) -> list:
+    """Discs and turned rectangles around the base, at ``near`` times the arm's reach."""
+    obstacles = []
+    for _ in range(draw(st.integers(*count))):
+        r = draw(st.floats(*near)) * reach
+        a = draw(st.floats(-np.pi, np.pi))
+        c = (r * np.cos(a), r * np.sin(a))
+        if draw(st.booleans()):
+            obstacles.append(rapp.Circle(c, draw(st.floats(*radius))))
+        else:
+            obstacles.append(rapp.Polygon.rectangle(c, draw(st.floats(*side)), draw(st.floats(*side)), a))
+    return obstacles
+
+
 @st.composite
 def problems(draw):
     n = draw(st.integers(2, 3))
     arm = rapp.Arm(draw(st.lists(st.floats(0.4, 1.0), min_size=n, max_size=n)))
     reach = sum(arm.link_lengths)
-    obstacles = []
-    for _ in range(draw(st.integers(1, 3))):
-        r = draw(st.floats(0.5, 1.1)) * reach
-        a = draw(st.floats(-np.pi, np.pi))
-        c = (r * np.cos(a), r * np.sin(a))
-        if draw(st.booleans()):
-            obstacles.append(rapp.Circle(c, draw(st.floats(0.1, 0.3))))
-        else:
-            obstacles.append(rapp.Polygon.rectangle(c, draw(st.floats(0.1, 0.4)),
-                                                    draw(st.floats(0.1, 0.4)), a))
+    obstacles = scattered_obstacles(draw, reach, count=(1, 3), near=(0.5, 1.1), radius=(0.1, 0.3), side=(0.1, 0.4))
     start = np.array(draw(st.lists(st.floats(-3, 3), min_size=n, max_size=n)))
     goal = np.array(draw(st.lists(st.floats(-3, 3), min_size=n, max_size=n)))
     return arm, obstacles, start, goal
