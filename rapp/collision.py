@@ -57,6 +57,9 @@ __all__ = [
 MAX_PENDING_INTERVALS = 1 << 14
 
 
+#: The answers of the one-configuration kernel (0 free, 1 collides) as numpy's own booleans.
+_ANSWER = (np.False_, np.True_)
+
 #: Multiplying a row vector (x, y) by this gives (-y, x): a quarter turn, exactly.
 _QUARTER_TURN = np.array([[0.0, 1.0], [-1.0, 0.0]])
 _QUARTER_TURN.setflags(write=False)
@@ -333,13 +336,21 @@ def collides(arm, q, obstacles) -> np.ndarray:
     >>> collides(arm, [[0.4, 0.0], [np.pi / 2, 0.0], [-2.4, 0.0]], obs).tolist()
     [True, False, True]
     """
-    k = collision_kernel.loaded(np.size(q) // arm.n)
+    n = arm.n
+    if type(q) is np.ndarray and q.shape == (n,) and q.dtype == np.float64:
+        # One configuration, as the sampling planners ask: the shortest way to the kernel.
+        k = collision_kernel.loaded(1)
+        if k is not None:
+            hit = k.collides_one(arm.lengths, q, *pack(obstacles), MAX_ANGLE)
+            if hit < 0:  # the kernel checks the angles' range; the message is check_q's
+                arm.check_q(q)
+            return _ANSWER[hit]
+    k = collision_kernel.loaded(np.size(q) // n)
     if k is None:
         from rapp import reference
 
         return reference.collides(arm, q, obstacles)
     packed = pack(obstacles)
-    n = arm.n
     if type(q) is not np.ndarray or q.dtype != np.float64 or not q.ndim or q.shape[-1] != n:
         q = arm.check_q(q)
     hit, ok = k.collides(arm.lengths, q.reshape(-1, n), *packed, MAX_ANGLE)

@@ -40,7 +40,7 @@ from rapp.jit import jit, numba_available
 __all__ = ["pack", "by_identity", "kernels", "loaded", "Kernels", "LOAD_FROM"]
 
 #: The compiled functions (see :func:`kernels`).
-Kernels = namedtuple("Kernels", "collides clearances certify")
+Kernels = namedtuple("Kernels", "collides collides_one clearances certify")
 
 
 def pack(obstacles) -> tuple:
@@ -76,11 +76,11 @@ def by_identity(cache: dict, obstacles, build):
     >>> by_identity(cache, obs, len), by_identity(cache, obs, lambda o: 1 / 0)
     (1, 1)
     """
-    obstacles = tuple(obstacles)
     key = tuple(map(id, obstacles))
     hit = cache.get(key)
     if hit is not None:
         return hit[1]
+    obstacles = tuple(obstacles)
     out = build(obstacles)
     if len(cache) >= 64:
         cache.clear()
@@ -221,6 +221,22 @@ def _collides(lengths, q, circles, pv, pn, pr, offsets, max_abs):
     return out, True
 
 
+def _collides_one(lengths, q, circles, pv, pn, pr, offsets, max_abs):
+    """:func:`_collides` for one configuration ``q`` ``(n,)``: 1 collides, 0 free, -1 an angle
+    is not finite or beyond ``max_abs``. A number, not arrays: the call of a planner's inner
+    loop then costs no allocation on the way back."""
+    n = q.shape[0]
+    for j in range(n):
+        if not abs(q[j]) <= max_abs:  # also False for NaN
+            return -1
+    pts = np.empty((n + 1, 2))
+    _fk(lengths, q, pts)
+    for j in range(n):
+        if _link_hits(pts[j, 0], pts[j, 1], pts[j + 1, 0], pts[j + 1, 1], circles, pv, pn, pr, offsets):
+            return 1
+    return 0
+
+
 def _clearances(lengths, q, circles, pv, pn, pr, offsets):
     """Link clearances of every configuration of ``q`` ``(m, n)``: ``(m, n)``."""
     m, n = q.shape
@@ -338,4 +354,4 @@ def kernels():
     for name in ("_fk", "_point_distance", "_hits_polygon", "_polygon_distance", "_link_hits",
                  "_link_clearance"):
         g[name] = jit(g[name])
-    return Kernels(jit(_collides), jit(_clearances), jit(_certify))
+    return Kernels(jit(_collides), jit(_collides_one), jit(_clearances), jit(_certify))
