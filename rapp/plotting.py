@@ -614,7 +614,10 @@ def plot_plan(plan, scenario=None, *, fig=None, ghosts=6, unit="m", expanded=Non
                   label="goal", zorder=6)
     _workspace_frame(ax_w, arm, unit)
     ax_w.set_title("workspace", fontsize="medium")
-    _legend(ax_w, loc="upper right")
+    # Below each panel, where no legend can hide the path, the obstacles or the goal.
+    for ax in (ax_c, ax_w):
+        if ax.get_legend_handles_labels()[0]:
+            _legend(ax, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=3)
     return fig
 
 
