@@ -68,9 +68,10 @@ the first thing that goes wrong along the line and its ``s``: the line leaves
 the workspace annulus, passes a singularity (the arm stretched or folded
 straight: within :data:`SINGULAR_MARGIN` of a boundary circle of the annulus,
 or, for three or more links, a configuration the continuation cannot get
-past), a joint leaves its limits, or the arm hits an obstacle. Joints and
-obstacles are numbered from 0, as in ``arm.joint_limits[j]`` and
-``obstacles[i]``. Units: lengths in metres (those of the arm), angles in
+past), a joint leaves its limits, or the arm hits an obstacle. A joint is
+named by its angle, numbered from 1 as in the book, and by its index in
+``arm.joint_limits`` (``θ2 (joint_limits[1])``); an obstacle by its index in
+``obstacles``, from 0. Units: lengths in metres (those of the arm), angles in
 radians.
 """
 
@@ -338,7 +339,7 @@ def line_path(arm: Arm, q_start, goal_xy, obstacles=(), *, tolerance: float = 1e
     PathNotFollowable
         One line naming the first failure along the line and its ``s``:
         ``the line leaves the workspace at s=...``, ``the line passes a
-        singularity at s=...``, ``joint j leaves its limits at s=...``, ``the
+        singularity at s=...``, ``θj (joint_limits[j-1]) leaves its limits ... at s=...``, ``the
         arm hits obstacle i at s=...``. ``reason`` and ``s`` are attributes.
     ValueError
         Malformed arguments, or ``q_start`` outside the joint limits.
@@ -509,5 +510,5 @@ def _march(arm, q0, p0, d, goal, obstacles, tolerance, max_step, gain=0.0):
 def _raise_limit(arm: Arm, j: int, s: float, p0, d):
     lo, hi = arm.joint_limits[j]
     raise PathNotFollowable(
-        f"joint {j} leaves its limits [{lo:.4g}, {hi:.4g}] rad at s={s:.3f}, "
+        f"θ{j + 1} (joint_limits[{j}]) leaves its limits [{lo:.4g}, {hi:.4g}] rad at s={s:.3f}, "
         f"tip (x, y)={_fmt_point(p0 + s * d)}", reason="joint limits", s=s)

@@ -193,7 +193,7 @@ def test_two_link_joint_limit_is_reported_with_the_joint_and_s():
     arm = Arm([1.0, 1.0], [None, (0.3, 2.0)])
     q0 = np.array([0.0, 1.0])
     a, goal = arm.end_effector(q0), np.array([1.99, 0.0])
-    with pytest.raises(PathNotFollowable, match=r"^joint 1 leaves its limits") as info:
+    with pytest.raises(PathNotFollowable, match=r"^θ2 \(joint_limits\[1\]\) leaves its limits") as info:
         line_path(arm, q0, goal)
     # q2 = 0.3 where |tip| = sqrt(2 + 2 cos 0.3).
     s_true = _crossing(a, goal, np.sqrt(2 + 2 * np.cos(0.3)), first=False)
@@ -203,7 +203,7 @@ def test_two_link_joint_limit_is_reported_with_the_joint_and_s():
 
 def test_three_link_joint_limit_is_reported():
     arm = Arm([1.0, 0.8, 0.5], [None, (-1.0, 1.0), (-0.5, 0.5)])
-    with pytest.raises(PathNotFollowable, match=r"^joint [12] leaves its limits .* at s=0\.\d+"):
+    with pytest.raises(PathNotFollowable, match=r"^θ[23] \(joint_limits\[[12]\]\) leaves its limits .* at s=0\.\d+"):
         line_path(arm, [0.0, 0.5, 0.3], (0.3, 0.3))  # folding in needs more bend than allowed
 
 

@@ -46,7 +46,7 @@ NOT_FOLLOWABLE = {
                     "the line passes a singularity at s="),
     "joint limits": ({"arm": {"link_lengths": [1.0, 1.0], "joint_limits": [[-0.5, 2.0], None]},
                       "start": [0.3, 1.2], "goal": {"position": [1.2, -0.4], "path": "line"}},
-                     "joint 0 leaves its limits"),
+                     "θ1 (joint_limits[0]) leaves its limits"),
     "obstacle": ({"arm": {"link_lengths": [1.0, 1.0]},
                   "obstacles": [{"type": "circle", "center": [1.15, 0.1], "radius": 0.05}],
                   "start": [0.3, 1.2], "goal": {"position": [1.2, -0.4], "path": "line"}},
