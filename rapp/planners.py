@@ -82,6 +82,8 @@ class Setting:
         The echo's row label.
     nullable : bool
         ``null`` is accepted (and means no limit).
+    null_text : str
+        What the echo shows for ``null`` (``"none"``: no limit).
     warns_when_ignored : bool
         Given to a planner that does not read it, the loader warns (A*'s own settings and
         ``seed`` do not: a file that switches algorithm keeps them harmlessly).
@@ -98,6 +100,7 @@ class Setting:
     unit: str = ""
     label: str = ""
     nullable: bool = False
+    null_text: str = "none"
     warns_when_ignored: bool = True
     description: str = ""
 
@@ -153,7 +156,7 @@ STEP = Setting("step", "number", 0.1, MIN_STEP, MAX_STEP, range_text=f"[{MIN_STE
                unit="rad", label="step", description="joint-space step of each extension")
 RADIUS = Setting("radius", "number", None, MIN_STEP, MAX_STEP,
                  range_text=f"[{MIN_STEP:g}, pi] rad", unit="rad", label="radius", nullable=True,
-                 description="largest rewiring radius; null: the step")
+                 null_text="the step", description="largest rewiring radius; null: the step")
 GOAL_BIAS = Setting("goal_bias", "number", 0.1, 0.0, 1.0, range_text="[0, 1]", label="goal bias",
                     description="probability of sampling the goal")
 GOAL_THRESHOLD = Setting(
