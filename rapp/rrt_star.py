@@ -113,7 +113,7 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: fl
         step (Karaman and Frazzoli's rule, and OMPL's, whose cap is its range). A cap of a few
         steps lets a new node choose a parent, and rewire nodes, beyond one step: straighter
         paths for the same samples (on the 3-link benchmark of ``benchmarks/bench_planners.py``,
-        twice the step gives paths about 15 % shorter for 5000 samples, for about a fifth more
+        twice the step gives paths about 15 % shorter for 5000 samples, for at most a fifth more
         time).
     goal_bias : float
         Probability of sampling a goal.
