@@ -20,7 +20,14 @@ What each side gets, so that the comparison is fair:
 * **The same budget rules.** RRT-Connect and PRM stop at their first path (OMPL's PRM does by
   itself: its path-length objective is met by any path), within 30 s. RRT* is anytime: both
   run the same number of iterations (OMPL's stopped by a condition on its iteration counter),
-  rewiring within a radius (OMPL's k-nearest variant off).
+  rewiring within a radius (OMPL's k-nearest variant off: it gives the same trees here, since
+  OMPL joins no edge longer than its range either way).
+* **RRT*'s rewiring radius.** OMPL caps its radius ``gamma (log m / m)^(1/d)`` at its range, the
+  steering step; rapp caps it at ``radius``, here twice the step (``RRT_STAR_RADIUS``): parents
+  and rewired edges up to two steps long, for straighter paths from the same samples. Two more
+  rows keep that honest: rapp with the radius capped at the step like OMPL
+  (``rapp_step_radius``), and OMPL with its range 1.5 x rapp's radius (``ompl_long_range``: its
+  edges as long as rapp's longest, its steps longer too).
 * **The same lengths.** Every path's length is measured in rapp's metric (Euclidean joint-space
   length of the unwrapped path), OMPL's raw path (no simplification) like rapp's; median and
   mean (lengths cluster by the way round the obstacles a path goes, so the median of one set of
@@ -63,21 +70,23 @@ START, GOAL, STEP, TOLERANCE, SEEDS = (0.0, 0.0, 0.0), (-2.0, 0.5, 0.5), 0.1, 0.
 #: OMPL's range per unit of rapp's step: the mean L1 / L2 norm of a random direction in 3-D.
 RANGE_FACTOR = 1.5
 RRT_STAR_STEP, RRT_STAR_ITERATIONS = 0.2, 5000
+#: rapp's largest rewiring radius (rad): two steps.
+RRT_STAR_RADIUS = 2 * RRT_STAR_STEP
 TIME_LIMIT = 30.0
 
 RAPP = {
     "rrt_connect": lambda arm, obs, seed: rrt_connect(arm, START, GOAL, obs, step=STEP, seed=seed,
                                                       raise_on_failure=False),
     "prm": lambda arm, obs, seed: prm(arm, START, GOAL, obs, seed=seed, raise_on_failure=False),
-    "rrt_star": lambda arm, obs, seed: rrt_star(arm, START, GOAL, obs, step=RRT_STAR_STEP,
-                                                seed=seed, max_iterations=RRT_STAR_ITERATIONS,
-                                                raise_on_failure=False),
+    "rrt_star": lambda arm, obs, seed, radius=RRT_STAR_RADIUS: rrt_star(
+        arm, START, GOAL, obs, step=RRT_STAR_STEP, radius=radius, seed=seed,
+        max_iterations=RRT_STAR_ITERATIONS, raise_on_failure=False),
 }
 
 
-def run_rapp(name, arm, obstacles, seed):
+def run_rapp(name, arm, obstacles, seed, **options):
     t0 = time.perf_counter()
-    res = RAPP[name](arm, obstacles, seed)
+    res = RAPP[name](arm, obstacles, seed, **options)
     elapsed = time.perf_counter() - t0
     if not res.success:
         return elapsed, False, np.nan, False
@@ -86,7 +95,7 @@ def run_rapp(name, arm, obstacles, seed):
     return elapsed, True, path_length(res.path), certified
 
 
-def run_ompl(name, arm, obstacles, seed, factor=RANGE_FACTOR):
+def run_ompl(name, arm, obstacles, seed, factor=RANGE_FACTOR, rrt_star_range=RRT_STAR_STEP):
     from ompl import base as ob, geometric as og
 
     ss, space = torus_setup(arm, obstacles, seed, kernel_validity(arm, obstacles))
@@ -99,7 +108,7 @@ def run_ompl(name, arm, obstacles, seed, factor=RANGE_FACTOR):
         planner = og.PRM(si)
     else:
         planner = og.RRTstar(si)
-        planner.setRange(factor * RRT_STAR_STEP)
+        planner.setRange(factor * rrt_star_range)
         planner.setKNearest(False)
     ss.setPlanner(planner)
     ss.setup()
@@ -131,17 +140,26 @@ def summary(runs):
             "certified": sum(r[3] for r in runs)}
 
 
+#: The rows of each planner (those it runs), in the order the table prints them.
+SIDES = ("rapp", "ompl", "ompl_same_range", "rapp_step_radius", "ompl_long_range")
+
+
 def compare(arm, obstacles):
     out = {}
     for name in RAPP:
         run_rapp(name, arm, obstacles, 0)  # load the compiled loops (numba's disk cache)
         run_ompl(name, arm, obstacles, 0)
-        runs = {"rapp": [], "ompl": [], "ompl_same_range": []}
+        runs = {side: [] for side in SIDES}
         for seed in range(SEEDS):
             runs["rapp"].append(run_rapp(name, arm, obstacles, seed))
             runs["ompl"].append(run_ompl(name, arm, obstacles, seed))
             if name != "prm":  # PRM has no range
                 runs["ompl_same_range"].append(run_ompl(name, arm, obstacles, seed, 1.0))
+            if name == "rrt_star":
+                runs["rapp_step_radius"].append(run_rapp(name, arm, obstacles, seed,
+                                                         radius=RRT_STAR_STEP))
+                runs["ompl_long_range"].append(run_ompl(name, arm, obstacles, seed,
+                                                        rrt_star_range=RRT_STAR_RADIUS))
         out[name] = {side: summary(r) for side, r in runs.items() if r}
         out[name]["ratio_ompl_over_rapp"] = out[name]["ompl"]["median_s"] / out[name]["rapp"]["median_s"]
     return out
@@ -180,6 +198,8 @@ def main() -> None:
                     "goal_tolerance": TOLERANCE, "seeds": SEEDS,
                     "ompl_range": RANGE_FACTOR * STEP, "rrt_star_step": RRT_STAR_STEP,
                     "ompl_rrt_star_range": RANGE_FACTOR * RRT_STAR_STEP,
+                    "rrt_star_radius": RRT_STAR_RADIUS,
+                    "ompl_long_range": RANGE_FACTOR * RRT_STAR_RADIUS,
                     "rrt_star_iterations": RRT_STAR_ITERATIONS, "time_limit_s": TIME_LIMIT},
         "collides_single_us": collides_us,
         "ompl_validity_call_us": validity_us,
@@ -194,7 +214,7 @@ def main() -> None:
     print(f"{'planner':12s} {'side':16s} {'median s':>9s} {'max s':>8s} {'solved':>6s} "
           f"{'length':>7s} {'mean':>6s} {'certified':>9s}")
     for name, sides in planners.items():
-        for side in ("rapp", "ompl", "ompl_same_range"):
+        for side in SIDES:
             if side in sides:
                 s = sides[side]
                 length, mean = ("-", "-") if s["median_length"] is None else (

@@ -70,7 +70,8 @@ class Setting:
         ``"cells"`` is an integer or one per joint (its default and limit depend on the arm;
         the loader handles it).
     default
-        Value when the file does not set it; ``None`` means "no limit" where ``nullable``.
+        Value when the file does not set it; ``None`` means "no limit" where ``nullable``
+        (``radius``: the step).
     low, high : float
         The accepted range; ``low_open`` makes it ``(low, high]``.
     range_text : str
@@ -81,6 +82,8 @@ class Setting:
         The echo's row label.
     nullable : bool
         ``null`` is accepted (and means no limit).
+    null_text : str
+        What the echo shows for ``null`` (``"none"``: no limit).
     warns_when_ignored : bool
         Given to a planner that does not read it, the loader warns (A*'s own settings and
         ``seed`` do not: a file that switches algorithm keeps them harmlessly).
@@ -97,6 +100,7 @@ class Setting:
     unit: str = ""
     label: str = ""
     nullable: bool = False
+    null_text: str = "none"
     warns_when_ignored: bool = True
     description: str = ""
 
@@ -150,6 +154,9 @@ MAX_EXPANSIONS = Setting("max_expansions", "integer", None, 1, math.inf, label="
                          description="expansions at most; null: no limit")
 STEP = Setting("step", "number", 0.1, MIN_STEP, MAX_STEP, range_text=f"[{MIN_STEP:g}, pi] rad",
                unit="rad", label="step", description="joint-space step of each extension")
+RADIUS = Setting("radius", "number", None, MIN_STEP, MAX_STEP,
+                 range_text=f"[{MIN_STEP:g}, pi] rad", unit="rad", label="radius", nullable=True,
+                 null_text="the step", description="largest rewiring radius; null: the step")
 GOAL_BIAS = Setting("goal_bias", "number", 0.1, 0.0, 1.0, range_text="[0, 1]", label="goal bias",
                     description="probability of sampling the goal")
 GOAL_THRESHOLD = Setting(
@@ -171,8 +178,8 @@ SEED = Setting("seed", "integer", 0, 0, 2**63 - 1, label="seed", warns_when_igno
 
 #: The settings shared by the planners below, in the order the loader checks them and the echo
 #: shows them.
-SETTINGS = (CELLS, HEURISTIC_WEIGHT, MAX_EXPANSIONS, STEP, GOAL_BIAS, GOAL_THRESHOLD, SAMPLES,
-            NEIGHBOURS, MAX_ITERATIONS, TIME_BUDGET, SEED)
+SETTINGS = (CELLS, HEURISTIC_WEIGHT, MAX_EXPANSIONS, STEP, RADIUS, GOAL_BIAS, GOAL_THRESHOLD,
+            SAMPLES, NEIGHBOURS, MAX_ITERATIONS, TIME_BUDGET, SEED)
 
 
 def _iterations(default: int) -> Setting:
@@ -188,8 +195,8 @@ PLANNERS: Mapping[str, Planner] = MappingProxyType({
                    "a rapidly-exploring random tree from the start", check=check_reachable),
     "rrt_connect": Planner("rrt_connect", rrt_connect, (STEP, _iterations(20000), SEED, TIME_BUDGET),
                            "two trees, from the start and the goals, grown toward each other"),
-    "rrt_star": Planner("rrt_star", rrt_star, (STEP, GOAL_BIAS, GOAL_THRESHOLD, _iterations(3000),
-                                               SEED, TIME_BUDGET),
+    "rrt_star": Planner("rrt_star", rrt_star, (STEP, RADIUS, GOAL_BIAS, GOAL_THRESHOLD,
+                                               _iterations(3000), SEED, TIME_BUDGET),
                         "RRT with rewiring: runs its whole budget, shortening the path"),
     "prm": Planner("prm", prm, (SAMPLES, NEIGHBOURS, _iterations(500), SEED, TIME_BUDGET),
                    "a lazy probabilistic roadmap; its iterations are path searches"),

@@ -498,7 +498,7 @@ def _unlink(i, parent, first_child, next_sib, prev_sib):
         prev_sib[next_sib[i]] = prev_sib[i]
 
 
-def _star(targets, step, gamma, goal_threshold, goals, goal_clear, lengths, limited, reach,
+def _star(targets, step, rcap, gamma, goal_threshold, goals, goal_clear, lengths, limited, reach,
           circles, pv, pn, pr, offsets, touch, min_interval, cap, nodes, clear, parent, cost,
           first_child, next_sib, prev_sib, m, best, best_cost, near, dn, dist, key, stack,
           lo, width, shape, head, nxt, indexed):
@@ -536,7 +536,7 @@ def _star(targets, step, gamma, goal_threshold, goals, goal_clear, lengths, limi
                 blocked = True
         if blocked:  # no edge to it is free
             continue
-        radius = min(step, gamma * (math.log(mm + 1) / (mm + 1)) ** (1 / n))
+        radius = min(rcap, gamma * (math.log(mm + 1) / (mm + 1)) ** (1 / n))
         r2 = radius * radius
         k = 0
         has_i = False

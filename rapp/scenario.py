@@ -1043,7 +1043,7 @@ def _fmt(v, digits=4) -> str:
 def _echo_setting(spec, value) -> str:
     """A planner setting as the echo shows it (:class:`rapp.planners.Setting`)."""
     if value is None:
-        return "none"
+        return spec.null_text
     if spec.kind == "cells":
         return " x ".join(map(str, value)) + f" = {math.prod(value)}"
     if spec.kind == "integer":

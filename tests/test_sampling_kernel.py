@@ -50,10 +50,16 @@ def both(monkeypatch, *args, planner=rrt_connect, **kw):
 
 #: Each planner with settings small enough for a property test (and RRT*'s goal region wide
 #: enough that it often succeeds).
+LOOPS = [rrt_connect, rrt_star, prm]
 SMALL = {
-    rrt_connect: lambda step: {"step": step, "max_iterations": 300},
-    rrt_star: lambda step: {"step": step, "max_iterations": 300, "goal_threshold": 0.3},
-    prm: lambda step: {"samples": 60, "max_iterations": 40},
+    "rrt_connect": (rrt_connect, lambda step: {"step": step, "max_iterations": 300}),
+    "rrt_star": (rrt_star, lambda step: {"step": step, "max_iterations": 300, "goal_threshold": 0.3}),
+    # a rewiring radius beyond the step (the grid's cells widen with it), and one below it
+    "rrt_star_radius": (rrt_star, lambda step: {"step": step, "radius": 2.5 * step,
+                                                "max_iterations": 300, "goal_threshold": 0.3}),
+    "rrt_star_small_radius": (rrt_star, lambda step: {"step": step, "radius": 0.5 * step,
+                                                      "max_iterations": 300, "goal_threshold": 0.3}),
+    "prm": (prm, lambda step: {"samples": 60, "max_iterations": 40}),
 }
 
 
@@ -92,14 +98,15 @@ def problems(draw):
     return arm, obstacles, start, goals, step
 
 
-@pytest.mark.parametrize("planner", list(SMALL), ids=lambda p: p.__name__)
+@pytest.mark.parametrize("name", list(SMALL))
 @settings(max_examples=25, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(problem=problems(), seed=st.integers(0, 2**32 - 1))
-def test_the_compiled_loops_grow_the_numpy_trees(planner, problem, seed, monkeypatch):
+def test_the_compiled_loops_grow_the_numpy_trees(name, problem, seed, monkeypatch):
     arm, obstacles, start, goals, step = problem
+    planner, settings_of = SMALL[name]
     fast, slow = both(monkeypatch, arm, start, goals, obstacles, planner=planner, seed=seed,
-                      raise_on_failure=False, **SMALL[planner](step))
+                      raise_on_failure=False, **settings_of(step))
     assert_same(fast, slow)
     if not isinstance(fast, Exception) and fast.success:
         assert_verified(arm, fast, start, goals, obstacles)
@@ -107,7 +114,7 @@ def test_the_compiled_loops_grow_the_numpy_trees(planner, problem, seed, monkeyp
 
 BENCHMARK = {  # the settings of benchmarks/bench_planners.py
     rrt_connect: {"step": 0.1},
-    rrt_star: {"step": 0.2, "max_iterations": 5000},
+    rrt_star: {"step": 0.2, "radius": 0.4, "max_iterations": 5000},
     prm: {},
 }
 
@@ -129,6 +136,18 @@ def test_the_benchmark_problem_same_trees_and_verified_paths(planner, seeds, mon
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("radius", [None, 0.1])
+def test_rrt_star_on_the_benchmark_with_the_step_as_radius_and_below(radius, monkeypatch):
+    # Thousands of nodes: near sets come from the grid, whose cells are a step wide here.
+    arm = rapp.Arm(LINKS3)
+    fast, slow = both(monkeypatch, arm, (0, 0, 0), (-2, 0.5, 0.5), OBSTACLES3, planner=rrt_star,
+                      seed=3, step=0.2, radius=radius, max_iterations=3000, raise_on_failure=False)
+    assert_same(fast, slow)
+    assert fast.success
+    assert_verified(arm, fast, np.zeros(3), [(-2, 0.5, 0.5)], OBSTACLES3)
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("algorithm", ["rrt_connect", "prm", "rrt_star"])
 def test_plans_with_the_compiled_loops_pass_rapp_verify_over_many_seeds(algorithm):
     d = rapp.load_scenario("three_link").to_dict()
@@ -138,7 +157,7 @@ def test_plans_with_the_compiled_loops_pass_rapp_verify_over_many_seeds(algorith
         assert plan.report.ok, (seed, str(plan.report))
 
 
-@pytest.mark.parametrize("planner", list(SMALL), ids=lambda p: p.__name__)
+@pytest.mark.parametrize("planner", LOOPS, ids=lambda p: p.__name__)
 def test_budgets_are_those_of_the_numpy_loop(planner, monkeypatch):
     s = rapp.load_scenario("no_solution")   # no path exists: the budget decides
     kw = {"samples": 30} if planner is prm else {}
@@ -165,7 +184,7 @@ def test_the_node_limit_is_that_of_the_numpy_loop(monkeypatch):
     assert_same(fast, slow)
 
 
-@pytest.mark.parametrize("planner", list(SMALL), ids=lambda p: p.__name__)
+@pytest.mark.parametrize("planner", LOOPS, ids=lambda p: p.__name__)
 def test_the_certification_limit_is_raised_with_the_numpy_message(planner, monkeypatch):
     # Links of 1e6 beside a clearance of 1: an edge needs 2**18 pieces.
     arm = rapp.Arm([1e6, 1e6])

@@ -103,6 +103,18 @@ def test_joint_limits_in_degrees_and_start_outside_them():
     assert e.value.field == "start[0]"
 
 
+def test_rrt_stars_radius_null_is_the_step_and_a_number_is_checked():
+    d = dict(BASE, planner={"algorithm": "rrt_star", "step": 0.2})
+    s = load_scenario(d)
+    assert s.planner.radius is None and "radius       the step" in echo(s)
+    s = load_scenario(dict(d, planner={"algorithm": "rrt_star", "radius": 0.4}))
+    assert s.planner.values()["radius"] == 0.4 and "radius       0.4 rad" in echo(s)
+    assert load_scenario(s.to_dict()) == s
+    with pytest.raises(InvalidValue) as info:
+        load_scenario(dict(d, planner={"algorithm": "rrt_star", "radius": 0.0}))
+    assert info.value.field == "planner.radius"
+
+
 def test_echo_shows_every_input_with_units_and_the_warnings():
     d = mutate(("arm", "link_lengths"), [2.5, 1.0])
     d["obstacles"][0]["radius"] = 0.7
