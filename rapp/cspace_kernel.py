@@ -365,21 +365,23 @@ def _circle_args(px, py, L, cx, cy, r):
     vy = cy - py
     d2 = vx * vx + vy * vy
     d = math.sqrt(d2)
+    if L < d - r:
+        return NONE, 0.0, 1.0, 0.0, 1.0
+    if d2 <= r * r:
+        return IN_DISC, vy, vx, 0.0, 1.0
     t = math.sqrt(max((d - r) * (d + r), 0.0))
-    # Used only when d > r (TIP), where d + L - r > 0: no guard against a zero is needed.
+    if L >= t:
+        return TANGENT, vy, vx, r, t
+    # d > r here, so d + L - r > 0: no guard against a zero denominator is needed.
     z = math.sqrt(max(L + r - d, 0.0) * max(d + r - L, 0.0) / ((d + L + r) * (d + L - r)))
-    tangent = L >= t
-    kind = TANGENT if tangent else TIP
-    kind = IN_DISC if d2 <= r * r else kind
-    kind = NONE if L < d - r else kind
-    return kind, vy, vx, r if tangent else z, t if tangent else 1.0
+    return TIP, vy, vx, z, 1.0
 
 
 def _polygon_args(px, py, L, v, e, ee, slack, etol, s0, s1, tol):
     """``rapp.cspace``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``, up to its
     trigonometry: ``kind, ay, ax, by, bx, cy, cx``, the interval running from
-    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``. ``slack`` and
-    ``etol`` are numpy's ``tol / sqrt(ee)`` and ``-tol * sqrt(ee)`` per edge.
+    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``. ``slack`` is
+    numpy's ``tol / sqrt(ee)`` per edge.
 
     When the base point is in the polygon every direction hits (IN_POLYGON). Otherwise
     the candidates are numpy's (vertices within reach, each edge's crossings with the
@@ -392,69 +394,65 @@ def _polygon_args(px, py, L, v, e, ee, slack, etol, s0, s1, tol):
     (by numpy, from these arguments), instead of one per candidate.
     """
     inside = True
-    seen = False
+    n_seen = 0
     lox = loy = hix = hiy = 0.0
-    # The first vertex, first root and second root found (numpy's order picks among them).
-    hv = h1 = h2 = False
+    # The first vertex, first root and second root found; which of them came first in
+    # numpy's order (0: a vertex, 1: a first root, 2: a second root, 3: none yet).
     vx = vy = r1x = r1y = r2x = r2y = 0.0
+    first = 3
     reach2 = (L + tol) ** 2
     for j in range(s0, s1):
-        ex = e[j, 0]
-        ey = e[j, 1]
         wx = v[j, 0] - px
         wy = v[j, 1] - py
-        inside &= ey * wx - ex * wy >= etol[j]
+        if not (e[j, 1] * wx - e[j, 0] * wy >= etol[j]):
+            inside = False
         w2 = wx * wx + wy * wy
-        ok = w2 <= reach2
-        take = ok & (not hv)
-        vx = wx if take else vx
-        vy = wy if take else vy
-        hv |= ok
-        seen, lox, loy, hix, hiy = _extremes(seen, ok, wx, wy, lox, loy, hix, hiy)
-        b = wx * ex + wy * ey
+        if w2 <= reach2:
+            if first > 0:
+                first = 0
+                vx = wx
+                vy = wy
+            n_seen, lox, loy, hix, hiy = _extremes(n_seen, wx, wy, lox, loy, hix, hiy)
+        b = wx * e[j, 0] + wy * e[j, 1]
         disc = b * b - ee[j] * (w2 - L * L)
-        root = math.sqrt(max(disc, 0.0))
-        lo_s = -slack[j]
-        hi_s = 1 + slack[j]
-        s = (-b + -1.0 * root) / ee[j]
-        ok = (disc >= 0) & (s >= lo_s) & (s <= hi_s)
-        s = min(max(s, 0.0), 1.0)
-        x = wx + s * ex
-        y = wy + s * ey
-        take = ok & (not h1)
-        r1x = x if take else r1x
-        r1y = y if take else r1y
-        h1 |= ok
-        seen, lox, loy, hix, hiy = _extremes(seen, ok, x, y, lox, loy, hix, hiy)
-        s = (-b + 1.0 * root) / ee[j]
-        ok = (disc >= 0) & (s >= lo_s) & (s <= hi_s)
-        s = min(max(s, 0.0), 1.0)
-        x = wx + s * ex
-        y = wy + s * ey
-        take = ok & (not h2)
-        r2x = x if take else r2x
-        r2y = y if take else r2y
-        h2 |= ok
-        seen, lox, loy, hix, hiy = _extremes(seen, ok, x, y, lox, loy, hix, hiy)
+        if not disc >= 0:
+            continue
+        root = math.sqrt(disc)
+        for stage in range(1, 3):
+            s = (-b + (-1.0 if stage == 1 else 1.0) * root) / ee[j]
+            if not (s >= -slack[j] and s <= 1 + slack[j]):
+                continue
+            s = min(max(s, 0.0), 1.0)
+            x = wx + s * e[j, 0]
+            y = wy + s * e[j, 1]
+            if stage == 1 and first > 1:
+                first = 1
+                r1x = x
+                r1y = y
+            elif stage == 2 and first > 2:
+                first = 2
+                r2x = x
+                r2y = y
+            n_seen, lox, loy, hix, hiy = _extremes(n_seen, x, y, lox, loy, hix, hiy)
     if inside:
         return IN_POLYGON, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
-    if not seen:
+    if n_seen == 0:
         return NONE, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0
-    rx = vx if hv else (r1x if h1 else r2x)
-    ry = vy if hv else (r1y if h1 else r2y)
+    rx, ry = (vx, vy) if first == 0 else ((r1x, r1y) if first == 1 else (r2x, r2y))
     return (POLYGON, ry, rx, rx * loy - ry * lox, rx * lox + ry * loy,
             rx * hiy - ry * hix, rx * hix + ry * hiy)
 
 
-def _extremes(seen, ok, x, y, lox, loy, hix, hiy):
+def _extremes(n_seen, x, y, lox, loy, hix, hiy):
     """The most clockwise and counter-clockwise of the directions seen so far and ``(x, y)``
-    if ``ok`` (all within an arc narrower than ``pi``): ``seen, lox, loy, hix, hiy``."""
-    cw = x * loy - y * lox > 0.0          # clockwise of the lowest so far
-    ccw = hix * y - hiy * x > 0.0         # counter-clockwise of the highest so far
-    lo = ok & ((not seen) | cw)
-    hi = ok & ((not seen) | ((not cw) & ccw))
-    return (seen | ok, x if lo else lox, y if lo else loy, x if hi else hix,
-            y if hi else hiy)
+    (all within an arc narrower than ``pi``): ``n_seen + 1, lox, loy, hix, hiy``."""
+    if n_seen == 0:
+        return 1, x, y, x, y
+    if x * loy - y * lox > 0.0:      # clockwise of the lowest so far
+        return n_seen + 1, x, y, hix, hiy
+    if hix * y - hiy * x > 0.0:      # counter-clockwise of the highest so far
+        return n_seen + 1, lox, loy, x, y
+    return n_seen + 1, lox, loy, hix, hiy
 
 
 def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, offsets,
