@@ -5,23 +5,29 @@
 of its own joint angle, and the intervals are painted onto joint ``i``'s axis. The numpy
 version (:func:`rapp.cspace.occupancy_numpy`) computes every interval of a link into arrays,
 paints them into a difference array, sums it up and ORs the result, broadcast, into the
-grid. Here each level (link) takes three steps, :func:`run`:
+grid. Here each level (link) takes four steps, :func:`run`:
 
 * :func:`_collect`, compiled, one row at a time: a row whose prefix already collides (an
   earlier link hits there) is filled with True and nothing is computed for it; any other
   row is cleared, its base point and angle are computed (by the operations of
-  :func:`rapp.cspace.prefix_grid`), far obstacles are rejected, and for each obstacle in
+  :func:`rapp.cspace.prefix_grid`), obstacles out of reach are rejected (first for a whole
+  parent cell, then per row, a polygon by its bounding box), and for each obstacle in
   reach the closed form of ``rapp.cspace``'s ``_circle_hits`` or ``_polygon_hits`` is
   evaluated, operation by operation, up to its trigonometry (:func:`_circle_args`,
-  :func:`_polygon_args`); the arguments are appended to a buffer;
-* :func:`intervals`, numpy: every angle of the batch by one vectorized ``arctan2`` (the
-  same numpy function the numpy version calls, so the two agree to the bit);
-* :func:`_paint`, compiled: each interval cut into cell ranges and set in its row.
+  :func:`_polygon_args`); the arguments of the ``atan2`` and ``atan`` it needs are
+  appended to buffers;
+* numpy: all of them at once, one vectorized ``np.arctan2`` and one ``np.arctan`` (the
+  same numpy functions the numpy version calls, so the two agree to the bit; numpy's are
+  vectorized and several times faster than the C library's, which compiled code calls);
+* :func:`_found`, compiled: each interval's start and width from its angles;
+* :func:`_paint`, compiled: each interval cut into cell ranges and set in its row (the
+  very function the benchmark's floor times).
 
 Level ``i`` writes the array of shape ``cells[:i + 1]`` once, and level ``i + 1`` reads it as
 its rows' "already collides" flags, so the last level writes the result once and the
 only other arrays are the shorter levels (``M**2`` bytes for a 3-link ``M**3`` grid), the
-parent level's geometry and the buffer (at most :data:`BATCH` intervals).
+parent level's geometry (cached with the tolerances and reaches, per grid and scene:
+:func:`levels`) and the buffers (at most :data:`BATCH` intervals, kept between calls).
 
 The grids agree cell for cell with the numpy version's (tested on random scenes); a
 difference could only come from the one step done differently, the choice of a polygon's
@@ -148,6 +154,8 @@ def levels(grid, per_link) -> list:
     """
     per_link = tuple(tuple(obs) for obs in per_link)
     key = (grid, tuple(tuple(map(id, obs)) for obs in per_link))
+    # A JointGrid is equal to another of the same arm (by identity: arms are immutable)
+    # and cells; obstacles are immutable too.
     hit = _LEVELS.get(key)
     if hit is None:
         if len(_LEVELS) >= 16:
@@ -347,9 +355,6 @@ def one_per_cell(lv, kept) -> list:
 
 
 # ---------------------------------------------------------------- the loops, compiled by kernels()
-# Their per-row decisions are written as selects of values computed either way, not as
-# branches: which case applies depends on the square roots just computed and flips from row
-# to row, and a branch mispredicted there costs more than computing both sides.
 
 def _mod(a, b):
     """``numpy.mod(a, b)``: Python's float remainder, which numpy's follows step by step
@@ -380,8 +385,8 @@ def _circle_args(px, py, L, cx, cy, r):
 def _polygon_args(px, py, L, v, e, ee, slack, etol, s0, s1, tol):
     """``rapp.cspace``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``, up to its
     trigonometry: ``kind, ay, ax, by, bx, cy, cx``, the interval running from
-    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``. ``slack`` is
-    numpy's ``tol / sqrt(ee)`` per edge.
+    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``. ``slack`` and
+    ``etol`` are numpy's ``tol / sqrt(ee)`` and ``-tol * sqrt(ee)`` per edge.
 
     When the base point is in the polygon every direction hits (IN_POLYGON). Otherwise
     the candidates are numpy's (vertices within reach, each edge's crossings with the
@@ -632,8 +637,8 @@ def kernels():
     g = globals()
     # The helpers are compiled first, so that the kernels calling them find compiled functions.
     # They are inlined: a call passing arrays costs a reference count per array, more than
-    # rejecting a far obstacle does. numpy's error model: a division by zero in a value
-    # computed but not selected (a case that does not apply) must not raise.
+    # rejecting a far obstacle does. numpy's error model: no divisor here can be zero (see
+    # _circle_args; an edge's squared length is positive), so no test for one is compiled.
     for name in ("_mod", "_circle_args", "_extremes", "_polygon_args", "_cell_range",
                  "_paint_one"):
         g[name] = jit(g[name], inline="always", error_model="numpy")
