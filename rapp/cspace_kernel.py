@@ -189,7 +189,7 @@ def _levels(grid, per_link) -> list:
             packed[key] = pack(per_link[i])
         circles, polys = packed[key]
         L = float(arm.link_lengths[i])
-        tol, slack, etol = _tolerances(polys, L, parent, axp, cap, sap, Lp)
+        tol, slack, etol = _tolerances(polys, L, grid, i, parent, axp, cap, sap, Lp)
         # Each obstacle's reach: base points farther from its centre cannot touch it (a
         # polygon's is its bounding disc's, grown by twice its tolerance).
         ox = np.concatenate([circles[:, 0], polys.centre[:, 0]])
@@ -208,23 +208,42 @@ def _levels(grid, per_link) -> list:
 
 def _boxes(polys):
     """Each polygon's bounding box, ``(p, 4)``: ``xmin, xmax, ymin, ymax``."""
-    parts = np.split(polys.v, polys.offsets[1:-1])
-    return np.array([(v[:, 0].min(), v[:, 0].max(), v[:, 1].min(), v[:, 1].max())
-                     for v in parts if v.size], dtype=float).reshape(-1, 4)
+    if polys.offsets.size == 1:
+        return np.zeros((0, 4))
+    first = polys.offsets[:-1]
+    x, y = polys.v[:, 0], polys.v[:, 1]
+    return np.stack([np.minimum.reduceat(x, first), np.maximum.reduceat(x, first),
+                     np.minimum.reduceat(y, first), np.maximum.reduceat(y, first)], axis=-1)
 
 
-def _tolerances(polys, L, parent, axp, cap, sap, Lp):
-    """``rapp.cspace``'s ``_polygon_hits`` tolerances on a level: ``tol`` per polygon (``1e-12``
-    of the largest of 1, ``L``, its coordinates and the level's base points', computed by
-    the same operations), ``slack = tol / |edge|`` and ``etol = -tol * |edge|`` per edge."""
+def _tolerances(polys, L, grid, i, parent, axp, cap, sap, Lp):
+    """``rapp.cspace``'s ``_polygon_hits`` tolerances on level ``i``: ``tol`` per polygon
+    (``1e-12`` of the largest of 1, ``L``, its coordinates and the level's base points'),
+    ``slack = tol / |edge|`` and ``etol = -tol * |edge|`` per edge.
+
+    The base points' largest coordinate matters only when it may exceed the others: it is
+    below the sum of the links before ``i`` (up to rounding); when it may not be, it is
+    computed, by the operations of :func:`rapp.cspace.prefix_grid`, once per grid."""
     if polys.offsets.size == 1:
         return np.zeros(0), np.zeros(0), np.zeros(0)
-    from rapp.cspace import prefix_step
-    P = prefix_step(*parent, axp, cap, sap, Lp)[0]
-    pmax = float(np.abs(P).max(initial=0.0))
-    tol = np.array([1e-12 * max(1.0, L, float(x), pmax) for x in polys.extent])
+    bound = float(np.sum(grid.arm.link_lengths[:i])) * (1 + 1e-9)
+    own = np.maximum(np.maximum(1.0, L), polys.extent)
+    if np.all(own >= bound):
+        tol = 1e-12 * own
+    else:
+        pmax = _PMAX.get((grid, i))
+        if pmax is None:
+            from rapp.cspace import prefix_step
+            pmax = float(np.abs(prefix_step(*parent, axp, cap, sap, Lp)[0]).max(initial=0.0))
+            if len(_PMAX) >= 64:
+                _PMAX.clear()
+            _PMAX[(grid, i)] = pmax
+        tol = 1e-12 * np.maximum(own, pmax)
     per_edge = np.repeat(tol, np.diff(polys.offsets))
     return tol, per_edge / polys.norm, -per_edge * polys.norm
+
+
+_PMAX: dict = {}
 
 
 #: Kinds of a collected interval (:func:`_collect`), and how many ``atan2`` each needs.
