@@ -154,11 +154,11 @@ def levels(grid, per_link) -> list:
     """
     per_link = tuple(tuple(obs) for obs in per_link)
     key = (grid, tuple(tuple(map(id, obs)) for obs in per_link))
-    # A JointGrid is equal to another of the same arm (by identity: arms are immutable)
-    # and cells; obstacles are immutable too.
+    # Grids (their arm and cells) compare by value, obstacles by identity: both immutable.
+    # A few entries: a fine grid's parent geometry takes megabytes.
     hit = _LEVELS.get(key)
     if hit is None:
-        if len(_LEVELS) >= 16:
+        if len(_LEVELS) >= 8:
             _LEVELS.clear()
         # The entry holds the obstacles, so no other object can take one of their ids.
         hit = _LEVELS[key] = (per_link, _levels(grid, per_link))
