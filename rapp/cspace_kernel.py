@@ -316,17 +316,19 @@ def _run(k, lv, keep, buffers, size):
         while r < rows:
             r, n, m, mz = k.collect(r, blocked, *x[:21], out, rowof, meta, phis, Y, X, Z,
                                       size)
+            if n == 0:
+                continue
             np.arctan2(Y[:m], X[:m], out=A[:m])
-            np.arctan(Z[:mz], out=AZ[:mz])
+            if mz:
+                np.arctan(Z[:mz], out=AZ[:mz])
             found = (rowof[:n], starts[:n], widths[:n])
             k.found(n, meta, phis, A, AZ, found[1], found[2])
             k.paint(blocked, *found, x.ax, x.step, x.periods, out)
             if keep:
                 parts.append(tuple(f.copy() for f in found))
         if keep:
-            kept.append(tuple(np.concatenate(p) if p else np.zeros(0, t)
-                              for p, t in zip(zip(*parts) if parts else ((), (), ()),
-                                              (np.int64, float, float))))
+            kept.append(tuple(np.concatenate(p) if p else np.zeros(0, t) for p, t in
+                              zip(zip(*parts) if parts else ((), (), ()), (np.int64, float, float))))
         blocked = out.reshape(-1)
     return (blocked, kept) if keep else blocked
 
