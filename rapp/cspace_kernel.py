@@ -70,8 +70,9 @@ Kernels = namedtuple("Kernels", "collect found paint rows")
 #: Convex polygons as arrays: polygon ``p`` owns rows ``offsets[p]:offsets[p + 1]`` of
 #: ``v`` (vertices, counter-clockwise), ``e`` (edge vectors ``v[j+1] - v[j]``), ``ee``
 #: (their squared lengths) and ``norm`` (their lengths); ``centre``, ``radius`` (a disc
-#: holding the polygon) and ``extent`` (its largest ``|coordinate|``) are one per polygon.
-Polygons = namedtuple("Polygons", "v e ee norm offsets centre radius extent")
+#: holding the polygon), ``extent`` (its largest ``|coordinate|``) and ``box`` (its bounding
+#: box, ``xmin, xmax, ymin, ymax``) are one per polygon.
+Polygons = namedtuple("Polygons", "v e ee norm offsets centre radius extent box")
 
 
 def pack(obstacles) -> tuple:
@@ -116,8 +117,8 @@ def _pack(obstacles) -> tuple:
         np.concatenate(es) if polys else np.zeros((0, 2)),
         ee, np.sqrt(ee), np.array(off, dtype=np.int64),
         np.array(cs, dtype=float).reshape(-1, 2), np.array(rads, dtype=float),
-        np.array(ext, dtype=float))
-    return out
+        np.array(ext, dtype=float), None)
+    return out[0], out[1]._replace(box=_boxes(out[1]))
 
 
 _PACKED: dict = {}
@@ -169,13 +170,38 @@ _LEVELS: dict = {}
 
 
 def _levels(grid, per_link) -> list:
-    """:func:`levels`, uncached."""
+    """:func:`levels`, uncached (but for the grid's part, :func:`_rows_geometry`)."""
+    packed, out = {}, []
+    for i, (parent, axp, cap, sap, Lp, L, ax, step, periods) in enumerate(_rows_geometry(grid)):
+        key = tuple(map(id, per_link[i]))
+        if key not in packed:
+            packed[key] = pack(per_link[i])
+        circles, polys = packed[key]
+        tol, slack, etol = _tolerances(polys, L, grid, i, parent, axp, cap, sap, Lp)
+        # Each obstacle's reach: base points farther from its centre cannot touch it (a
+        # polygon's is its bounding disc's, grown by twice its tolerance).
+        ox = np.concatenate([circles[:, 0], polys.centre[:, 0]])
+        oy = np.concatenate([circles[:, 1], polys.centre[:, 1]])
+        rho = np.concatenate([L + circles[:, 2], L + polys.radius + 2 * tol])
+        out.append(Level(*parent, axp, cap, sap, Lp, L, circles, polys.v, polys.e, polys.ee,
+                         polys.offsets, slack, etol, tol, polys.box, ox, oy, rho, ax, step,
+                         periods))
+    return out
+
+
+def _rows_geometry(grid) -> list:
+    """The part of each :data:`Level` that depends on the grid alone: ``parent`` (``Pp``,
+    ``phip``, ``cp``, ``sp``, flat), ``axp, cap, sap, Lp, L, ax, step, periods``; cached for
+    the last few grids (a new scene on the same grid reuses it)."""
+    hit = _GRIDS.get(grid)
+    if hit is not None:
+        return hit
     from rapp.cspace import prefix_step
     arm, axes, steps = grid.arm, grid.axes, grid.step
     trig = [(np.cos(ax), np.sin(ax)) for ax in axes]
     # The prefix grid of joints 0..i-2 (level i's parent), starting from the base alone.
     base = pre = (np.zeros(2), np.zeros(()), np.ones(()), np.zeros(()))
-    packed, out = {}, []
+    out = []
     for i in range(arm.n):
         if i == 0:
             # Level 0's parent: the base, on a one-cell axis at angle 0 with no link.
@@ -184,26 +210,19 @@ def _levels(grid, per_link) -> list:
             if i >= 2:
                 pre = prefix_step(*pre, axes[i - 2], *trig[i - 2], arm.link_lengths[i - 2])
             parent, axp, (cap, sap), Lp = pre, axes[i - 1], trig[i - 1], arm.link_lengths[i - 1]
-        key = tuple(map(id, per_link[i]))
-        if key not in packed:
-            packed[key] = pack(per_link[i])
-        circles, polys = packed[key]
-        L = float(arm.link_lengths[i])
-        tol, slack, etol = _tolerances(polys, L, grid, i, parent, axp, cap, sap, Lp)
-        # Each obstacle's reach: base points farther from its centre cannot touch it (a
-        # polygon's is its bounding disc's, grown by twice its tolerance).
-        ox = np.concatenate([circles[:, 0], polys.centre[:, 0]])
-        oy = np.concatenate([circles[:, 1], polys.centre[:, 1]])
-        rho = np.concatenate([L + circles[:, 2], L + polys.radius + 2 * tol])
         ax = axes[i]
         periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
         P, phi, c, s = parent
-        out.append(Level(np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
-                         s.reshape(-1), axp, cap, sap, float(Lp), L, circles, polys.v, polys.e,
-                         polys.ee, polys.offsets, slack, etol, tol, _boxes(polys), ox, oy, rho, ax,
-                         float(steps[i]),
-                         periods))
+        out.append(((np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
+                     s.reshape(-1)), axp, cap, sap, float(Lp), float(arm.link_lengths[i]), ax,
+                    float(steps[i]), periods))
+    if len(_GRIDS) >= 8:
+        _GRIDS.clear()
+    _GRIDS[grid] = out
     return out
+
+
+_GRIDS: dict = {}
 
 
 def _boxes(polys):
