@@ -5,23 +5,29 @@
 of its own joint angle, and the intervals are painted onto joint ``i``'s axis. The numpy
 version (:func:`rapp.cspace.occupancy_numpy`) computes every interval of a link into arrays,
 paints them into a difference array, sums it up and ORs the result, broadcast, into the
-grid. Here each level (link) takes three steps, :func:`run`:
+grid. Here each level (link) takes four steps, :func:`run`:
 
 * :func:`_collect`, compiled, one row at a time: a row whose prefix already collides (an
   earlier link hits there) is filled with True and nothing is computed for it; any other
   row is cleared, its base point and angle are computed (by the operations of
-  :func:`rapp.cspace.prefix_grid`), far obstacles are rejected, and for each obstacle in
+  :func:`rapp.cspace.prefix_grid`), obstacles out of reach are rejected (first for a whole
+  parent cell, then per row, a polygon by its bounding box), and for each obstacle in
   reach the closed form of ``rapp.cspace``'s ``_circle_hits`` or ``_polygon_hits`` is
   evaluated, operation by operation, up to its trigonometry (:func:`_circle_args`,
-  :func:`_polygon_args`); the arguments are appended to a buffer;
-* :func:`intervals`, numpy: every angle of the batch by one vectorized ``arctan2`` (the
-  same numpy function the numpy version calls, so the two agree to the bit);
-* :func:`_paint`, compiled: each interval cut into cell ranges and set in its row.
+  :func:`_polygon_args`); the arguments of the ``atan2`` and ``atan`` it needs are
+  appended to buffers;
+* numpy: all of them at once, one vectorized ``np.arctan2`` and one ``np.arctan`` (the
+  same numpy functions the numpy version calls, so the two agree to the bit; numpy's are
+  vectorized and several times faster than the C library's, which compiled code calls);
+* :func:`_found`, compiled: each interval's start and width from its angles;
+* :func:`_paint`, compiled: each interval cut into cell ranges and set in its row (the
+  very function the benchmark's floor times).
 
 Level ``i`` writes the array of shape ``cells[:i + 1]`` once, and level ``i + 1`` reads it as
 its rows' "already collides" flags, so the last level writes the result once and the
 only other arrays are the shorter levels (``M**2`` bytes for a 3-link ``M**3`` grid), the
-parent level's geometry and the buffer (at most :data:`BATCH` intervals).
+parent level's geometry (cached with the tolerances and reaches, per grid and scene:
+:func:`levels`) and the buffers (at most :data:`BATCH` intervals, kept between calls).
 
 The grids agree cell for cell with the numpy version's (tested on random scenes); a
 difference could only come from the one step done differently, the choice of a polygon's
@@ -44,6 +50,7 @@ from __future__ import annotations
 
 import functools
 import math
+import threading
 from collections import namedtuple
 
 import numpy as np
@@ -52,18 +59,20 @@ from rapp.collision_kernel import by_identity
 from rapp.jit import jit, numba_available
 from rapp.obstacles import Circle, Polygon
 
-__all__ = ["pack", "levels", "run", "paint", "intervals", "one_per_cell", "kernels", "Kernels",
+__all__ = ["pack", "levels", "run", "paint", "one_per_cell", "kernels", "Kernels",
            "Polygons", "Level", "BATCH", "NONE", "TANGENT", "TIP", "IN_DISC", "POLYGON",
            "IN_POLYGON"]
 
-#: The compiled functions (see :func:`kernels`): :func:`_collect`, :func:`_paint`, :func:`_rows`.
-Kernels = namedtuple("Kernels", "collect paint rows")
+#: The compiled functions (see :func:`kernels`): :func:`_collect`, :func:`_found`,
+#: :func:`_paint`, :func:`_rows`.
+Kernels = namedtuple("Kernels", "collect found paint rows")
 
 #: Convex polygons as arrays: polygon ``p`` owns rows ``offsets[p]:offsets[p + 1]`` of
 #: ``v`` (vertices, counter-clockwise), ``e`` (edge vectors ``v[j+1] - v[j]``), ``ee``
 #: (their squared lengths) and ``norm`` (their lengths); ``centre``, ``radius`` (a disc
-#: holding the polygon) and ``extent`` (its largest ``|coordinate|``) are one per polygon.
-Polygons = namedtuple("Polygons", "v e ee norm offsets centre radius extent")
+#: holding the polygon), ``extent`` (its largest ``|coordinate|``) and ``box`` (its bounding
+#: box, ``xmin, xmax, ymin, ymax``) are one per polygon.
+Polygons = namedtuple("Polygons", "v e ee norm offsets centre radius extent box")
 
 
 def pack(obstacles) -> tuple:
@@ -93,7 +102,7 @@ def _pack(obstacles) -> tuple:
     vs, es, ees, cs, rads, ext, off = [], [], [], [], [], [], [0]
     for ob in polys:
         v = ob.array
-        e = np.roll(v, -1, axis=0) - v
+        e = np.concatenate((v[1:], v[:1])) - v   # np.roll(v, -1, axis=0) - v, faster
         c = v.mean(axis=0)
         vs.append(v)
         es.append(e)
@@ -108,8 +117,8 @@ def _pack(obstacles) -> tuple:
         np.concatenate(es) if polys else np.zeros((0, 2)),
         ee, np.sqrt(ee), np.array(off, dtype=np.int64),
         np.array(cs, dtype=float).reshape(-1, 2), np.array(rads, dtype=float),
-        np.array(ext, dtype=float))
-    return out
+        np.array(ext, dtype=float), None)
+    return out[0], out[1]._replace(box=_boxes(out[1]))
 
 
 _PACKED: dict = {}
@@ -117,12 +126,14 @@ _PACKED: dict = {}
 
 #: The geometry of one level (link ``i`` on the grid of joints ``0..i-1``): the rows (the
 #: parent level's prefix cells ``Pp``, ``phip``, ``cp``, ``sp`` times joint ``i - 1``'s cells
-#: ``axp``, ``cap``, ``sap``, link ``Lp``), the link ``L`` and its obstacles (:func:`pack`,
-#: with ``vext``, each polygon's largest ``|coordinate|``, for its tolerance), and joint
-#: ``i``'s axis ``ax`` (``step``, and the
-#: number of ``2 pi`` pieces an interval is cut into, ``periods``).
-Level = namedtuple("Level", "Pp phip cp sp axp cap sap Lp L circles v e ee norm offsets centre "
-                            "radius vext ax step periods")
+#: ``axp``, ``cap``, ``sap``, link ``Lp``), the link ``L`` and its obstacles (:func:`pack`;
+#: ``slack`` and ``etol`` per polygon edge and ``tol`` per polygon are ``rapp.cspace``'s
+#: ``_polygon_hits`` tolerances: ``tol / |edge|``, ``-tol * |edge|``, ``tol``; ``box``, each
+#: polygon's bounding box ``xmin, xmax, ymin, ymax``), each obstacle's centre ``ox``, ``oy`` and reach ``rho`` (beyond which a base
+#: point cannot touch it), and joint ``i``'s axis ``ax`` (``step``, and the number of
+#: ``2 pi`` pieces an interval is cut into, ``periods``).
+Level = namedtuple("Level", "Pp phip cp sp axp cap sap Lp L circles v e ee offsets slack etol "
+                            "tol box ox oy rho ax step periods")
 
 
 def levels(grid, per_link) -> list:
@@ -131,7 +142,9 @@ def levels(grid, per_link) -> list:
     Each level's rows are its parent's prefix cells times joint ``i - 1``'s cells;
     the parent's geometry is built as :func:`rapp.cspace.prefix_grid` builds it
     (:func:`rapp.cspace.prefix_step`), on the grid of joints ``0..i-2``: ``M**(i-1)``
-    cells, the last level's own ``M**i`` are never built.
+    cells, the last level's own ``M**i`` are never kept. The levels depend only on the
+    grid and the obstacles (all immutable): they are cached for the last few of them, so
+    a grid recomputed for the same scene starts at once.
 
     Examples
     --------
@@ -140,12 +153,55 @@ def levels(grid, per_link) -> list:
     >>> [(x.Pp.shape[0] * x.axp.size, x.ax.size) for x in lv]   # rows x cells per level
     [(1, 8), (8, 8)]
     """
+    per_link = tuple(tuple(obs) for obs in per_link)
+    key = (grid, tuple(tuple(map(id, obs)) for obs in per_link))
+    # Grids (their arm and cells) compare by value, obstacles by identity: both immutable.
+    # A few entries: a fine grid's parent geometry takes megabytes.
+    hit = _LEVELS.get(key)
+    if hit is None:
+        if len(_LEVELS) >= 8:
+            _LEVELS.clear()
+        # The entry holds the obstacles, so no other object can take one of their ids.
+        hit = _LEVELS[key] = (per_link, _levels(grid, per_link))
+    return hit[1]
+
+
+_LEVELS: dict = {}
+
+
+def _levels(grid, per_link) -> list:
+    """:func:`levels`, uncached (but for the grid's part, :func:`_rows_geometry`)."""
+    packed, out = {}, []
+    for i, (parent, axp, cap, sap, Lp, L, ax, step, periods) in enumerate(_rows_geometry(grid)):
+        key = tuple(map(id, per_link[i]))
+        if key not in packed:
+            packed[key] = pack(per_link[i])
+        circles, polys = packed[key]
+        tol, slack, etol = _tolerances(polys, L, grid, i, parent, axp, cap, sap, Lp)
+        # Each obstacle's reach: base points farther from its centre cannot touch it (a
+        # polygon's is its bounding disc's, grown by twice its tolerance).
+        ox = np.concatenate([circles[:, 0], polys.centre[:, 0]])
+        oy = np.concatenate([circles[:, 1], polys.centre[:, 1]])
+        rho = np.concatenate([L + circles[:, 2], L + polys.radius + 2 * tol])
+        out.append(Level(*parent, axp, cap, sap, Lp, L, circles, polys.v, polys.e, polys.ee,
+                         polys.offsets, slack, etol, tol, polys.box, ox, oy, rho, ax, step,
+                         periods))
+    return out
+
+
+def _rows_geometry(grid) -> list:
+    """The part of each :data:`Level` that depends on the grid alone: ``parent`` (``Pp``,
+    ``phip``, ``cp``, ``sp``, flat), ``axp, cap, sap, Lp, L, ax, step, periods``; cached for
+    the last few grids (a new scene on the same grid reuses it)."""
+    hit = _GRIDS.get(grid)
+    if hit is not None:
+        return hit
     from rapp.cspace import prefix_step
     arm, axes, steps = grid.arm, grid.axes, grid.step
     trig = [(np.cos(ax), np.sin(ax)) for ax in axes]
     # The prefix grid of joints 0..i-2 (level i's parent), starting from the base alone.
     base = pre = (np.zeros(2), np.zeros(()), np.ones(()), np.zeros(()))
-    packed, out = {}, []
+    out = []
     for i in range(arm.n):
         if i == 0:
             # Level 0's parent: the base, on a one-cell axis at angle 0 with no link.
@@ -154,57 +210,90 @@ def levels(grid, per_link) -> list:
             if i >= 2:
                 pre = prefix_step(*pre, axes[i - 2], *trig[i - 2], arm.link_lengths[i - 2])
             parent, axp, (cap, sap), Lp = pre, axes[i - 1], trig[i - 1], arm.link_lengths[i - 1]
-        key = id(per_link[i])
-        if key not in packed:
-            packed[key] = pack(per_link[i])
-        circles, polys = packed[key]
         ax = axes[i]
         periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
         P, phi, c, s = parent
-        out.append(Level(np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
-                         s.reshape(-1), axp, cap, sap, float(Lp), float(arm.link_lengths[i]),
-                         circles, polys.v, polys.e, polys.ee, polys.norm, polys.offsets,
-                         polys.centre, polys.radius, polys.extent, ax, float(steps[i]), periods))
+        out.append(((np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
+                     s.reshape(-1)), axp, cap, sap, float(Lp), float(arm.link_lengths[i]), ax,
+                    float(steps[i]), periods))
+    if len(_GRIDS) >= 8:
+        _GRIDS.clear()
+    _GRIDS[grid] = out
     return out
 
 
-#: Kinds of a collected interval (row 2 of the buffer of :func:`_collect`).
+_GRIDS: dict = {}
+
+
+def _boxes(polys):
+    """Each polygon's bounding box, ``(p, 4)``: ``xmin, xmax, ymin, ymax``."""
+    if polys.offsets.size == 1:
+        return np.zeros((0, 4))
+    first = polys.offsets[:-1]
+    x, y = polys.v[:, 0], polys.v[:, 1]
+    return np.stack([np.minimum.reduceat(x, first), np.maximum.reduceat(x, first),
+                     np.minimum.reduceat(y, first), np.maximum.reduceat(y, first)], axis=-1)
+
+
+def _tolerances(polys, L, grid, i, parent, axp, cap, sap, Lp):
+    """``rapp.cspace``'s ``_polygon_hits`` tolerances on level ``i``: ``tol`` per polygon
+    (``1e-12`` of the largest of 1, ``L``, its coordinates and the level's base points'),
+    ``slack = tol / |edge|`` and ``etol = -tol * |edge|`` per edge.
+
+    The base points' largest coordinate matters only when it may exceed the others: it is
+    below the sum of the links before ``i`` (up to rounding); when it may not be, it is
+    computed, by the operations of :func:`rapp.cspace.prefix_grid`, once per grid."""
+    if polys.offsets.size == 1:
+        return np.zeros(0), np.zeros(0), np.zeros(0)
+    bound = sum(grid.arm.link_lengths[:i]) * (1 + 1e-9)
+    own = np.maximum(polys.extent, max(1.0, L))
+    if own.min() >= bound:
+        tol = 1e-12 * own
+    else:
+        pmax = _PMAX.get((grid, i))
+        if pmax is None:
+            from rapp.cspace import prefix_step
+            pmax = float(np.abs(prefix_step(*parent, axp, cap, sap, Lp)[0]).max(initial=0.0))
+            if len(_PMAX) >= 64:
+                _PMAX.clear()
+            _PMAX[(grid, i)] = pmax
+        tol = 1e-12 * np.maximum(own, pmax)
+    per_edge = np.repeat(tol, np.diff(polys.offsets))
+    return tol, per_edge / polys.norm, -per_edge * polys.norm
+
+
+_PMAX: dict = {}
+
+
+#: Kinds of a collected interval (:func:`_collect`), and how many ``atan2`` each needs.
 NONE, TANGENT, TIP, IN_DISC, POLYGON, IN_POLYGON = 0, 1, 2, 3, 4, 5
 
-#: Intervals collected per batch: the buffer is ``9 x BATCH`` floats (1.2 MB).
+#: Intervals collected per batch (:func:`run`).
 BATCH = 1 << 14
 
 
-def intervals(buf, n):
-    """The intervals collected in ``buf[:, :n]`` (:func:`_collect`): ``rows, starts, widths``.
-
-    Their angles are computed here in bulk by numpy, by the formulas of
-    ``rapp.cspace``'s ``_circle_hits`` and ``_polygon_hits``, so that both versions take
-    them from the same (vectorized) ``arctan2`` and ``arctan``.
-    """
-    b = buf[:, :n]
-    kind = b[2]
-    a = np.arctan2(b[3], b[4])
-    lo = np.arctan2(b[5], b[6])
-    # Discs: half-width h; the arguments of the kinds that do not use a value are (0, 1).
-    h = np.where(kind == TIP, 2.0 * np.arctan(b[5]), lo)
-    h[kind == IN_DISC] = 2 * np.pi
-    polygon = kind >= POLYGON
-    start = np.where(polygon, a + lo, a - np.minimum(h, np.pi))
-    width = np.where(polygon, np.arctan2(b[7], b[8]) - lo, 2.0 * h)
-    width[kind == IN_POLYGON] = 2 * np.pi
-    start -= b[1]
-    return b[0].astype(np.int64), start, width
+def _buffers(size):
+    """The batch buffers of :func:`_collect`: rows, kinds and where their arguments are
+    ``(size, 3)``, angles of the
+    rows' prefix, the ``atan2`` arguments (up to three per interval), the ``atan`` ones
+    (one per interval at most), and the outputs of both."""
+    return [np.empty(size, dtype=np.int64), np.empty((size, 3), dtype=np.int64), np.empty(size),
+            np.empty(3 * size),
+            np.empty(3 * size), np.empty(size), np.empty(3 * size), np.empty(size),
+            np.empty(size), np.empty(size)]
 
 
 def run(k, lv, *, keep=False):
     """The occupancy by the compiled :data:`Kernels` ``k`` over the levels ``lv`` (:func:`levels`),
     flat over the last level's rows (reshape it to ``grid.shape``).
 
-    Per level: :func:`_collect` clears or fills every row and gathers the arguments of
-    each interval's angles, :func:`intervals` computes them, :func:`_paint` paints them
-    (in batches of :data:`BATCH` intervals). With ``keep=True`` it returns also, per
-    level, the intervals it painted ``(rows, starts, widths)`` (for :func:`paint`).
+    Per level, in batches of at most :data:`BATCH` intervals: :func:`_collect` clears or
+    fills every row and gathers the arguments of each interval's ``atan2`` and ``atan``;
+    numpy computes them, in one vectorized call each (the functions
+    :func:`rapp.cspace.occupancy_numpy` calls, so that both versions agree to the bit);
+    :func:`_paint_found` turns them into intervals and paints them. With ``keep=True`` it
+    returns also, per level, the intervals it painted ``(rows, starts, widths)`` (for
+    :func:`paint`), computed by :func:`_found`, and painted by :func:`_paint`.
 
     Examples
     --------
@@ -214,27 +303,51 @@ def run(k, lv, *, keep=False):
     >>> k is None or bool((paint(k, lv, run(k, lv, keep=True)[1]) == run(k, lv)).all())
     True
     """
+    nobs = max([x.ox.size for x in lv] + [1])
+    most = max([x.Pp.shape[0] * x.axp.size for x in lv] + [1]) * nobs
+    # The buffers hold a batch (at least one row's intervals), or every interval of the
+    # largest level if fewer. They are kept for the next call (fresh pages cost more to
+    # touch than the kernel spends on them), unless another thread is using them.
+    size = max(min(BATCH, most), nobs)
+    if not _BUFFERS_LOCK.acquire(blocking=False):
+        return _run(k, lv, keep, _buffers(size), size)
+    try:
+        if _BUFFERS[0].shape[0] < size:
+            _BUFFERS[:] = _buffers(size)
+        return _run(k, lv, keep, _BUFFERS, size)
+    finally:
+        _BUFFERS_LOCK.release()
+
+
+_BUFFERS: list = [np.empty(0)]
+_BUFFERS_LOCK = threading.Lock()
+
+
+def _run(k, lv, keep, buffers, size):
+    """:func:`run` with the batch buffers given, ``size`` intervals a batch."""
+    rowof, meta, phis, Y, X, Z, A, AZ, starts, widths = buffers
     blocked = np.zeros(1, dtype=bool)
     kept = []
-    # The buffer holds a batch (at least one row's intervals), or every interval of the
-    # largest level if fewer.
-    nobs = max([x.circles.shape[0] + x.offsets.size - 1 for x in lv] + [1])
-    most = max([x.Pp.shape[0] * x.axp.size for x in lv] + [1]) * nobs
-    buf = np.empty((9, max(min(BATCH, most), nobs)))
     for x in lv:
         rows = x.Pp.shape[0] * x.axp.size
         out = np.empty((rows, x.ax.size), dtype=bool)
         r, parts = 0, []
         while r < rows:
-            r, n = k.collect(r, blocked, *x[:18], out, buf)
-            if n == 0 and not keep:
+            r, n, m, mz = k.collect(r, blocked, *x[:21], out, rowof, meta, phis, Y, X, Z,
+                                      size)
+            if n == 0:
                 continue
-            found = intervals(buf, n)
+            np.arctan2(Y[:m], X[:m], out=A[:m])
+            if mz:
+                np.arctan(Z[:mz], out=AZ[:mz])
+            found = (rowof[:n], starts[:n], widths[:n])
+            k.found(n, meta, phis, A, AZ, found[1], found[2])
             k.paint(blocked, *found, x.ax, x.step, x.periods, out)
             if keep:
-                parts.append(found)
+                parts.append(tuple(f.copy() for f in found))
         if keep:
-            kept.append(tuple(np.concatenate(p) for p in zip(*parts)))
+            kept.append(tuple(np.concatenate(p) if p else np.zeros(0, t) for p, t in
+                              zip(zip(*parts) if parts else ((), (), ()), (np.int64, float, float))))
         blocked = out.reshape(-1)
     return (blocked, kept) if keep else blocked
 
@@ -271,7 +384,7 @@ def one_per_cell(lv, kept) -> list:
     """
     out = []
     for x, (rows, starts, widths) in zip(lv, kept):
-        nobs = x.circles.shape[0] + x.offsets.size - 1
+        nobs = x.ox.size
         total = x.Pp.shape[0] * x.axp.size * nobs
         # The rows come in order: an interval's slot is its rank among its row's.
         slot = rows * nobs + (np.arange(rows.size) - np.searchsorted(rows, rows))
@@ -309,11 +422,11 @@ def _circle_args(px, py, L, cx, cy, r):
     return TIP, vy, vx, z, 1.0
 
 
-def _polygon_args(px, py, L, v, e, ee, norm, slack, s0, s1, tol):
+def _polygon_args(px, py, L, v, e, ee, slack, etol, s0, s1, tol):
     """``rapp.cspace``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``, up to its
     trigonometry: ``kind, ay, ax, by, bx, cy, cx``, the interval running from
-    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``. ``slack`` is
-    numpy's ``tol / sqrt(ee)`` per edge.
+    ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``. ``slack`` and
+    ``etol`` are numpy's ``tol / sqrt(ee)`` and ``-tol * sqrt(ee)`` per edge.
 
     When the base point is in the polygon every direction hits (IN_POLYGON). Otherwise
     the candidates are numpy's (vertices within reach, each edge's crossings with the
@@ -336,7 +449,7 @@ def _polygon_args(px, py, L, v, e, ee, norm, slack, s0, s1, tol):
     for j in range(s0, s1):
         wx = v[j, 0] - px
         wy = v[j, 1] - py
-        if not (e[j, 1] * wx - e[j, 0] * wy >= -tol * norm[j]):
+        if not (e[j, 1] * wx - e[j, 0] * wy >= etol[j]):
             inside = False
         w2 = wx * wx + wy * wy
         if w2 <= reach2:
@@ -387,96 +500,122 @@ def _extremes(n_seen, x, y, lox, loy, hix, hiy):
     return n_seen + 1, lox, loy, hix, hiy
 
 
-def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, norm,
-             offsets, centre, radius, vext, out, buf):
+def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, offsets,
+             slack, etol, tol, box, ox, oy, rho, out, rowof, meta, phis, Y, X, Z, cap_n):
     """Rows ``r0, r0 + 1, ...`` of one level (see :data:`Level`): each row of ``out`` filled
     (an earlier link already collides at that prefix cell, ``blocked[r]``) or cleared,
-    and the arguments of each of its intervals appended to ``buf`` (rows: prefix cell,
-    its absolute angle, kind, then those of :func:`_circle_args` / :func:`_polygon_args`).
+    and each of its intervals appended: its row and kind to ``meta``, its prefix angle to
+    ``phis``, the arguments of its ``atan2`` (those of :func:`_circle_args` /
+    :func:`_polygon_args`: one for IN_DISC and TIP, two for TANGENT, three for POLYGON,
+    none for IN_POLYGON) to ``Y``, ``X`` and that of its ``atan`` (TIP) to ``Z``.
 
-    Stops before a row whose intervals might not fit; returns ``(next row, count)``.
-    Each row's base point and angle are computed here by the operations of
-    ``rapp.cspace.prefix_grid``, so no array of the rows' geometry is built. The loops
-    are written out here: a call passing arrays costs reference counts per row, more than
-    rejecting a far obstacle does.
+    Stops before a row whose intervals might not fit in ``cap_n``; returns ``(next row, intervals,
+    atan2 arguments, atan arguments)``. Each row's base point and angle are computed here
+    by the operations of ``rapp.cspace.prefix_grid``, so no array of the rows' geometry is
+    built. An obstacle out of reach of a whole parent cell (its base point is ``Lp`` from
+    every row's) is skipped for all its rows at once.
     """
     nc = circles.shape[0]
-    nobs = nc + offsets.shape[0] - 1
+    nobs = ox.shape[0]
     mp = axp.shape[0]
-    cap_n = buf.shape[1]
-    n = 0
-    # The tolerance of _polygon_hits: 1e-12 of the largest of 1, L, the polygon's coordinates
-    # and the base points' (of every row of the level, as numpy takes them).
-    pmax = 0.0
-    if offsets.shape[0] > 1:
-        for r in range(Pp.shape[0] * mp):
-            rp = r // mp
-            j = r - rp * mp
-            pmax = max(pmax, abs(Pp[rp, 0] + Lp * (cp[rp] * cap[j] - sp[rp] * sap[j])),
-                       abs(Pp[rp, 1] + Lp * (sp[rp] * cap[j] + cp[rp] * sap[j])))
-    tol = np.empty(offsets.shape[0] - 1)
-    slack = np.empty(norm.shape[0])
-    for p in range(tol.shape[0]):
-        tol[p] = 1e-12 * max(1.0, L, vext[p], pmax)
-        for j in range(offsets[p], offsets[p + 1]):
-            slack[j] = tol[p] / norm[j]
-    # Each obstacle's centre and reach: rows whose base point is farther away are rejected.
-    ox = np.empty(nobs)
-    oy = np.empty(nobs)
-    rho = np.empty(nobs)
-    for k in range(nobs):
-        if k < nc:
-            ox[k] = circles[k, 0]
-            oy[k] = circles[k, 1]
-            rho[k] = L + circles[k, 2]
-        else:
-            ox[k] = centre[k - nc, 0]
-            oy[k] = centre[k - nc, 1]
-            rho[k] = L + radius[k - nc] + 2 * tol[k - nc]
-    for r in range(r0, Pp.shape[0] * mp):
-        if n + nobs > cap_n:
-            return r, n
-        if blocked[r]:
-            out[r, :] = True
-            continue
-        out[r, :] = False
-        rp = r // mp
-        j = r - rp * mp
-        phi = phip[rp] + axp[j]
-        c = cp[rp] * cap[j] - sp[rp] * sap[j]
-        s = sp[rp] * cap[j] + cp[rp] * sap[j]
-        px = Pp[rp, 0] + Lp * c
-        py = Pp[rp, 1] + Lp * s
+    rows = Pp.shape[0] * mp
+    n = m = mz = 0
+    near = np.empty(nobs, dtype=np.int64)
+    rp = r0 // mp
+    j0 = r0 - rp * mp
+    while rp < Pp.shape[0]:
+        # The obstacles within reach of some row of this parent cell (a margin far above
+        # rounding: the exact tests come after).
+        nn = 0
         for k in range(nobs):
-            # Most rows are far from any one obstacle: a test without a square root (with
-            # a margin far above rounding) rejects them before the exact one. (A polygon's
-            # reach is its bounding disc's: rows farther than L from it cannot touch it.)
-            dx = ox[k] - px
-            dy = oy[k] - py
-            if dx * dx + dy * dy > rho[k] * rho[k] * (1.0 + 1e-9):
+            dx = ox[k] - Pp[rp, 0]
+            dy = oy[k] - Pp[rp, 1]
+            reach = rho[k] + Lp
+            if dx * dx + dy * dy <= reach * reach * (1.0 + 1e-9):
+                near[nn] = k
+                nn += 1
+        for j in range(j0, mp):
+            r = rp * mp + j
+            if n + nobs > cap_n:
+                return r, n, m, mz
+            if blocked[r]:
+                out[r, :] = True
                 continue
-            if k < nc:
-                kind, ay, ax, by, bx = _circle_args(px, py, L, circles[k, 0], circles[k, 1],
-                                                    circles[k, 2])
-                cy = 0.0
-                cx = 1.0
-            else:
-                p = k - nc
-                kind, ay, ax, by, bx, cy, cx = _polygon_args(
-                    px, py, L, v, e, ee, norm, slack, offsets[p], offsets[p + 1], tol[p])
-            if kind == NONE:
+            out[r, :] = False
+            if nn == 0:
                 continue
-            buf[0, n] = r
-            buf[1, n] = phi
-            buf[2, n] = kind
-            buf[3, n] = ay
-            buf[4, n] = ax
-            buf[5, n] = by
-            buf[6, n] = bx
-            buf[7, n] = cy
-            buf[8, n] = cx
-            n += 1
-    return Pp.shape[0] * mp, n
+            phi = phip[rp] + axp[j]
+            c = cp[rp] * cap[j] - sp[rp] * sap[j]
+            s = sp[rp] * cap[j] + cp[rp] * sap[j]
+            px = Pp[rp, 0] + Lp * c
+            py = Pp[rp, 1] + Lp * s
+            for q in range(nn):
+                k = near[q]
+                # Most rows are far from any one obstacle: a test without a square root
+                # rejects them before the exact one.
+                dx = ox[k] - px
+                dy = oy[k] - py
+                if dx * dx + dy * dy > rho[k] * rho[k] * (1.0 + 1e-9):
+                    continue
+                if k < nc:
+                    kind, ay, ax, by, bx = _circle_args(px, py, L, circles[k, 0],
+                                                        circles[k, 1], circles[k, 2])
+                    cy = 0.0
+                    cx = 1.0
+                else:
+                    p = k - nc
+                    # Farther than L from the polygon's box (with a margin above its
+                    # tolerances): no vertex or edge within reach, and not inside.
+                    gx = max(box[p, 0] - px, px - box[p, 1], 0.0)
+                    gy = max(box[p, 2] - py, py - box[p, 3], 0.0)
+                    lim = L + 2 * tol[p]
+                    if gx * gx + gy * gy > lim * lim * (1.0 + 1e-9):
+                        continue
+                    kind, ay, ax, by, bx, cy, cx = _polygon_args(
+                        px, py, L, v, e, ee, slack, etol, offsets[p], offsets[p + 1], tol[p])
+                if kind == NONE:
+                    continue
+                rowof[n] = r
+                meta[n, 0] = kind
+                meta[n, 1] = m
+                meta[n, 2] = mz
+                phis[n] = phi
+                n += 1
+                # Written whether used or not; the counts advance by what the kind uses.
+                Y[m] = ay
+                X[m] = ax
+                Y[m + 1] = by
+                X[m + 1] = bx
+                Y[m + 2] = cy
+                X[m + 2] = cx
+                Z[mz] = by
+                m += 0 if kind == IN_POLYGON else (
+                    1 if kind == IN_DISC or kind == TIP else (2 if kind == TANGENT else 3))
+                mz += 1 if kind == TIP else 0
+        rp += 1
+        j0 = 0
+    return rows, n, m, mz
+
+
+def _found(n, meta, phis, A, AZ, starts, widths):
+    """The intervals of the ``n`` collected entries (:func:`_collect`), into ``starts``,
+    ``widths``, from their angles (``A[c:]``, ``AZ[cz]``, ``c, cz = meta[i, 1:]``) by the
+    formulas of ``rapp.cspace``'s ``_circle_hits`` and ``_polygon_hits``."""
+    two_pi = 2 * math.pi
+    for i in range(n):
+        kind = meta[i, 0]
+        c = meta[i, 1]
+        a = A[c]
+        b = A[c + 1]
+        # A disc's half-width h; the entries a kind does not use are read but not selected.
+        h = 2.0 * AZ[meta[i, 2]] if kind == TIP else b
+        h = two_pi if kind == IN_DISC else h
+        polygon = kind == POLYGON
+        start = a + b if polygon else a - min(h, math.pi)
+        width = A[c + 2] - b if polygon else 2.0 * h
+        start = 0.0 if kind == IN_POLYGON else start
+        starts[i] = start - phis[i]
+        widths[i] = two_pi if kind == IN_POLYGON else width
 
 
 def _cell_range(a, width, step, m):
@@ -487,30 +626,34 @@ def _cell_range(a, width, step, m):
     return first, last
 
 
+def _paint_one(out, r, s, w, ax, step, periods, m):
+    """Set the cells of row ``r`` of ``out`` (one joint axis of ``m`` cells, angles ``ax``) whose
+    angle lies in ``[s, s + w]`` mod ``2 pi``, by the index arithmetic of ``rapp.cspace``'s
+    ``_paint``."""
+    two_pi = 2.0 * math.pi
+    if periods > m:
+        # A limited joint spanning more turns than it has cells: each cell tested.
+        for jj in range(m):
+            if _mod(ax[jj] - s, two_pi) <= w:
+                out[r, jj] = True
+    else:
+        f = _mod(s - ax[0], two_pi)
+        for piece in range(-1, periods - 1):
+            first, last = _cell_range(f + piece * two_pi, w, step, m)
+            for jj in range(first, last + 1):
+                out[r, jj] = True
+
+
 def _paint(blocked, rows, starts, widths, ax, step, periods, out):
     """Set the cells of row ``rows[i]`` of ``out`` (one joint axis, angles ``ax``) whose angle
-    lies in ``[starts[i], starts[i] + widths[i]]`` mod ``2 pi``, by the index arithmetic of
-    ``rapp.cspace``'s ``_paint``; skipped where ``widths[i] < 0`` (no hit) or the row is
-    ``blocked`` (already full)."""
+    lies in ``[starts[i], starts[i] + widths[i]]`` mod ``2 pi`` (:func:`_paint_one`);
+    skipped where ``widths[i] < 0`` (no hit) or the row is ``blocked`` (already full)."""
     m = ax.shape[0]
-    two_pi = 2.0 * math.pi
     for i in range(rows.shape[0]):
         r = rows[i]
-        s = starts[i]
-        w = widths[i]
-        if w < 0.0 or blocked[r]:
+        if widths[i] < 0.0 or blocked[r]:
             continue
-        if periods > m:
-            # A limited joint spanning more turns than it has cells: each cell tested.
-            for jj in range(m):
-                if _mod(ax[jj] - s, two_pi) <= w:
-                    out[r, jj] = True
-        else:
-            f = _mod(s - ax[0], two_pi)
-            for piece in range(-1, periods - 1):
-                first, last = _cell_range(f + piece * two_pi, w, step, m)
-                for jj in range(first, last + 1):
-                    out[r, jj] = True
+        _paint_one(out, r, starts[i], widths[i], ax, step, periods, m)
 
 
 def _rows(blocked, out):
@@ -534,7 +677,10 @@ def kernels():
     g = globals()
     # The helpers are compiled first, so that the kernels calling them find compiled functions.
     # They are inlined: a call passing arrays costs a reference count per array, more than
-    # rejecting a far obstacle does.
-    for name in ("_mod", "_circle_args", "_extremes", "_polygon_args", "_cell_range"):
-        g[name] = jit(g[name], inline="always")
-    return Kernels(jit(_collect), jit(_paint), jit(_rows))
+    # rejecting a far obstacle does. numpy's error model: no divisor here can be zero (see
+    # _circle_args; an edge's squared length is positive), so no test for one is compiled.
+    for name in ("_mod", "_circle_args", "_extremes", "_polygon_args", "_cell_range",
+                 "_paint_one"):
+        g[name] = jit(g[name], inline="always", error_model="numpy")
+    return Kernels(*(jit(f, error_model="numpy")
+                     for f in (_collect, _found, _paint, _rows)))

@@ -78,6 +78,41 @@ def test_painting_the_kernels_own_intervals_gives_the_same_grid(scene):
     assert np.array_equal(cspace_kernel.paint(k, lv, cspace_kernel.one_per_cell(lv, kept)), occ)
 
 
+@settings(max_examples=100, deadline=None)
+@given(interval_scenes())
+def test_each_levels_polygon_tolerance_is_the_numpy_versions(scene):
+    # _polygon_hits' tol: 1e-12 of the largest of 1, the link, the polygon's coordinates and
+    # the level's base points (the kernel skips computing the last where it cannot matter).
+    grid, obstacles = scene
+    polys = [ob for ob in obstacles if isinstance(ob, Polygon)]
+    for i, x in enumerate(cspace_kernel.levels(grid, [obstacles] * grid.n)):
+        pmax = float(np.abs(cspace.prefix_grid(grid, i)[0]).max(initial=0.0))
+        want = [1e-12 * max(1.0, grid.arm.link_lengths[i], float(np.abs(p.array).max()), pmax)
+                for p in polys]
+        assert x.tol.tolist() == want
+
+
+def test_levels_are_cached_per_grid_and_obstacles():
+    arm = Arm(LINKS3)
+    lv = cspace_kernel.levels(JointGrid(arm, 12), [OBSTACLES3] * 3)
+    assert cspace_kernel.levels(JointGrid(arm, 12), [list(OBSTACLES3)] * 3) is lv
+    assert cspace_kernel.levels(JointGrid(arm, 13), [OBSTACLES3] * 3) is not lv
+    # Arms are equal by value: an equal arm's grid has the same levels.
+    assert cspace_kernel.levels(JointGrid(Arm(LINKS3), 12), [OBSTACLES3] * 3) is lv
+    assert cspace_kernel.levels(JointGrid(Arm([1.0, 0.8, 0.6]), 12), [OBSTACLES3] * 3) is not lv
+    other = cspace_kernel.levels(JointGrid(arm, 12), [OBSTACLES3[:2]] + [OBSTACLES3] * 2)
+    assert other is not lv and other[0].ox.size == 2 and other[1].ox.size == 5
+
+
+def test_a_call_while_the_buffers_are_in_use_gets_its_own():
+    # Another thread holding the kept buffers: this call allocates fresh ones, same grid.
+    arm = Arm(LINKS3)
+    grid = JointGrid(arm, 24)
+    whole = compiled(arm, OBSTACLES3, grid)
+    with cspace_kernel._BUFFERS_LOCK:
+        assert np.array_equal(compiled(arm, OBSTACLES3, grid), whole)
+
+
 def test_batches_of_intervals_paint_the_same_grid(monkeypatch):
     arm = Arm(LINKS3)
     grid = JointGrid(arm, (24, 20, 16))
