@@ -92,7 +92,9 @@ def test_each_levels_polygon_tolerance_is_the_numpy_versions(scene):
         assert x.tol.tolist() == want
 
 
-def test_levels_are_cached_per_grid_and_obstacles():
+def test_levels_are_cached_per_grid_and_obstacles(monkeypatch):
+    # An empty cache: what other tests left in it must not evict an entry mid-test.
+    monkeypatch.setattr(cspace_kernel, "_LEVELS", {})
     arm = Arm(LINKS3)
     lv = cspace_kernel.levels(JointGrid(arm, 12), [OBSTACLES3] * 3)
     assert cspace_kernel.levels(JointGrid(arm, 12), [list(OBSTACLES3)] * 3) is lv
