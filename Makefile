@@ -21,6 +21,8 @@ export PIP_DISABLE_PIP_VERSION_CHECK := 1
 # Byte-code caches on: pytest then keeps each test module's rewritten assertions in
 # __pycache__ instead of rewriting ~200 modules in every worker of every run (~5 CPU-s each).
 unexport PYTHONDONTWRITEBYTECODE
+# Loaded before nbval: spares every test process jsonschema's IRI parser (tests/pytest_fast_start.py).
+PYTEST_START := -p tests.pytest_fast_start
 export NO_COLOR := 1
 
 .PHONY: setup setup-python setup-js book test check notebooks clean student-book
@@ -57,10 +59,10 @@ student-book: setup
 	$(PY) scripts/check_student_book.py _build/student/_build/html
 
 test: setup-python
-	$(PY) -m pytest
+	$(PY) -m pytest $(PYTEST_START)
 
 check: setup-python
-	$(PY) -m pytest -m "not slow"
+	$(PY) -m pytest $(PYTEST_START) -m "not slow"
 
 notebooks: setup-python
 	$(PY) scripts/execute_notebooks.py

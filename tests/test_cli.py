@@ -160,6 +160,7 @@ def test_out_round_trips_and_keeps_the_old_result_on_a_crash(capsys, tmp_path, m
     assert out_path.read_bytes() == before
 
 
+@pytest.mark.slow
 def test_plot_and_animate(capsys, tmp_path, monkeypatch):
     import rapp.plotting as plotting
 

@@ -153,7 +153,7 @@ def test_prm_compiled_dijkstra_is_its_python_loop(n, seed):
     assert np.array_equal(fast_parent, parent)
 
 
-@pytest.mark.parametrize("planner", [rrt_connect, prm, rrt, rrt_star])
+@pytest.mark.parametrize("planner", [rrt_connect, prm, pytest.param(rrt, marks=pytest.mark.slow), rrt_star])
 def test_same_seeds_grow_the_same_trees(planner, monkeypatch):
     arm = rapp.Arm(LINKS3)
     kw = {"max_iterations": 300} if planner is rrt_star else {}

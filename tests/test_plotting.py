@@ -387,6 +387,7 @@ def test_workspace_frame_holds_obstacles_beyond_the_reach():
     plt.close(ax.figure)
 
 
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None)
 @given(width=st.floats(2.0, 16.0), height=st.floats(1.5, 6.0), size=st.floats(6.0, 14.0))
 def test_book_png_fits_the_column_and_records_its_smallest_text(width, height, size):

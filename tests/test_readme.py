@@ -36,5 +36,7 @@ def test_readme_names_the_two_commands_ci_runs():
 def test_readme_documents_the_fast_tier_that_make_check_runs():
     makefile = (Path(__file__).resolve().parents[1] / "Makefile").read_text(encoding="utf-8")
     recipe = re.search(r"^check:.*\n\t(.*)$", makefile, re.M)
-    assert recipe and recipe.group(1).endswith('-m pytest -m "not slow"')
-    assert "make check" in README and 'pytest -m "not slow"' in README
+    assert recipe and recipe.group(1).endswith('-m pytest $(PYTEST_START) -m "not slow"')
+    start = re.search(r"^PYTEST_START := (.*)$", makefile, re.M)
+    assert start and start.group(1) == "-p tests.pytest_fast_start"  # only a faster start: see the module
+    assert "make check" in README and 'pytest -m "not slow"' in README and "tests.pytest_fast_start" in README

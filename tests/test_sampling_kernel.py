@@ -98,7 +98,8 @@ def problems(draw):
     return arm, obstacles, start, goals, step
 
 
-@pytest.mark.parametrize("name", list(SMALL))
+@pytest.mark.parametrize("name", [pytest.param(name, marks=pytest.mark.slow) if name.endswith("radius") else name
+                                  for name in SMALL])  # the radius variants: seconds, make test
 @settings(max_examples=25, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(problem=problems(), seed=st.integers(0, 2**32 - 1))

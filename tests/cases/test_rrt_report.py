@@ -95,6 +95,7 @@ def test_printed_jacobian_is_wrong_and_exactly_where():
     assert sp.simplify(J[1, 1] + l[1] * sp.sin(t[0] + t[1]) + l[2] * sp.sin(t[0] + t[1] + t[2])) == 0
 
 
+@pytest.mark.slow
 @settings(max_examples=50, deadline=None)
 @given(theta=angles3, lengths=lengths3)
 def test_true_report_jacobian_matches_finite_differences_and_rapp(theta, lengths):

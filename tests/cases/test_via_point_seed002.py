@@ -159,6 +159,7 @@ def test_task2_tangent_construction_and_why_the_grid_differs():
     assert segment_point_distance(B, finer.point, OBS.center) < OBS.radius  # straight BD cuts the disc
 
 
+@pytest.mark.slow
 def test_task3_search_and_seed_D():
     d = search_via_point(B, C, OBS, v_start=VB, arm_lengths=(9, 9))
     assert np.round(d.point, 2).tolist() == [9.87, 5.32]

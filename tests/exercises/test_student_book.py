@@ -49,6 +49,7 @@ def _build(tmp: Path, hide: bool) -> str:
     return (out / "index.html").read_text()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("hide", [True, False], ids=["student", "teacher"])
 def test_a_chapters_exercises_built_with_and_without_solutions(tmp_path, hide):
     html = _build(tmp_path, hide)
