@@ -549,6 +549,24 @@ def _silence(stream) -> None:
         pass
 
 
+def command() -> None:
+    """The ``rapp`` command and ``python -m rapp``: :func:`main`, then the process ends at once.
+
+    The interpreter's own shut-down would give Ctrl-C back its default action (death by
+    SIGINT, no line) after the run has answered; instead the streams are flushed with the
+    signals held back and the process exits with :func:`main`'s code, so a Ctrl-C that
+    comes after the answer changes nothing.
+    """
+    code = main()
+    with interrupts.deferred():
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):  # a closed pipe: nothing more can be said on it
+                pass
+        os._exit(code)
+
+
 def main(argv=None) -> int:
     """Run the command line; returns the exit code (see the module notes).
 

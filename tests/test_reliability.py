@@ -551,3 +551,18 @@ def test_a_signal_while_the_gif_is_written_keeps_every_previous_output(tmp_path,
     else:
         assert proc.returncode == (143 if sig == signal.SIGTERM else 130)
         assert _outputs(tmp_path) == old
+
+
+@pytest.mark.slow
+def test_a_ctrl_c_after_the_answer_changes_nothing():
+    """The run has printed its answer and is ending: a Ctrl-C then must not turn into the
+    interpreter's default death by SIGINT (exit -2, no line) while it shuts down."""
+    for _ in range(12):
+        proc = _rapp("check", "default")
+        for line in proc.stdout:
+            if line.endswith(b"scenario is valid\n"):
+                break
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=60)
+        assert proc.returncode in (0, 130), (proc.returncode, err)
+        assert err == (b"" if proc.returncode == 0 else b"rapp: interrupted\n")
