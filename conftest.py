@@ -33,6 +33,11 @@ SLOW_DOCTESTS = {
 }
 
 
+#: The longest test files of `make test`, longest first (measured with --durations).
+LONG_FILES = ("test_jupyterlab.py", "test_grading.py", "test_sampling_kernel.py", "test_reliability.py",
+              "test_live.py", "test_sandbox.py")
+
+
 @pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection reads the marks
 def pytest_collection_modifyitems(config, items):
     """Mark the slow tiers, then put the longest files first, so that two workers finish together.
@@ -42,17 +47,17 @@ def pytest_collection_modifyitems(config, items):
     them. Other slow tests carry ``@pytest.mark.slow`` themselves.
 
     pytest-xdist (``--dist loadfile --no-loadscope-reorder``) hands out whole files in this
-    order. The JupyterLab tests (two minutes in one file) and the notebooks (a kernel each)
-    go first; a long file dealt out last would keep one worker busy while the other idles.
-    Within a file the order is untouched: a notebook's cells must run in order.
+    order. The files of ``LONG_FILES`` (from a minute or two down to twenty seconds each: the
+    JupyterLab tests, a class of 30 graded, the compiled planners against the numpy loops, ...)
+    and the notebooks (a kernel each) go first; a long file dealt out last would keep one worker
+    busy while the other idles. Within a file the order is untouched: a notebook's cells must
+    run in order.
     """
     def weight(item):
-        path = str(item.fspath)
-        if path.endswith("test_jupyterlab.py"):
-            return 0
-        if path.endswith(".ipynb"):
-            return 1
-        return 2
+        name = Path(str(item.fspath)).name
+        if name in LONG_FILES:
+            return LONG_FILES.index(name)
+        return len(LONG_FILES) + (0 if name.endswith(".ipynb") else 1)
 
     slow = pytest.mark.slow
     for item in items:

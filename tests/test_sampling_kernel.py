@@ -124,7 +124,7 @@ BENCHMARK = {  # the settings of benchmarks/bench_planners.py
     (rrt_connect, range(6)), (prm, range(6)), (rrt_star, range(1)),
     pytest.param(rrt_connect, range(6, 40), marks=pytest.mark.slow),
     pytest.param(prm, range(6, 40), marks=pytest.mark.slow),
-    pytest.param(rrt_star, range(1, 20), marks=pytest.mark.slow),
+    pytest.param(rrt_star, range(1, 7), marks=pytest.mark.slow),
 ], ids=lambda x: x.__name__ if callable(x) else f"seeds{len(x)}")
 def test_the_benchmark_problem_same_trees_and_verified_paths(planner, seeds, monkeypatch):
     arm = rapp.Arm(LINKS3)
