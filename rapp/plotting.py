@@ -535,7 +535,7 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
 
 
 #: Size (inches) of :func:`plot_plan`'s figure; ``python -m rapp plan --plot`` draws at 100 dpi.
-PLAN_FIGSIZE = (10.5, 5.0)
+PLAN_FIGSIZE = (10.5, 4.7)
 
 
 def plot_plan(plan, scenario=None, *, fig=None, ghosts=6, unit="m", expanded=None, axes=None):
