@@ -641,7 +641,7 @@ def plot_profiles(plan, *, fig=None, unit="m"):
     [2, 2, 2, 2]
     >>> plt.close(fig)
     """
-    fig = _figure(fig, (7.5, 8.0))
+    fig = _figure(fig, (7.5, 7.0))
     fig.clear()
     axs = subplots(fig, 4, 1, sharex=True)
     t = np.asarray(plan.t, dtype=float)
