@@ -12,14 +12,17 @@ import warnings
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from rapp.time_scaling import minimum_duration, peak_rates, trapezoidal, trapezoidal_path
 from rapp.trajectory import PiecewisePolynomial, time_path, via_points
 
 REL = 1e-9          # "reached" and "respected": relative to the limit
-SLACK = 1 + 1e-12   # rounding allowance of a respected limit
+# Rounding allowance of a respected limit. A cubic spline's accelerations come from a linear
+# solve whose rounding grows with uneven segments: waypoints 2, -1, 0, 0.001, -1, 2.25 (a step
+# of 0.001 among steps of 1 to 3) at their minimum duration are 1.2e-12 over the limit.
+SLACK = 1 + 1e-11
 POLY = ("cubic", "quintic", "spline")
 
 limit_st = st.floats(0.1, 10.0)
@@ -245,6 +248,7 @@ def test_trapezoidal_path_drops_repeated_waypoints_and_unwraps():
 
 @settings(max_examples=60, deadline=None)
 @given(paths(), st.sampled_from(POLY))
+@example((np.array([[2.0], [-1.0], [0.0], [1e-3], [-1.0], [2.25]]), 1.0, 1.0), "cubic")  # found by CI
 def test_minimum_duration_of_time_path_is_tight(case, profile):
     w, vmax, amax = case
     T = minimum_duration(w, profile, vmax, amax)
