@@ -76,6 +76,8 @@ def by_identity(cache: dict, obstacles, build):
     >>> by_identity(cache, obs, len), by_identity(cache, obs, lambda o: 1 / 0)
     (1, 1)
     """
+    if not isinstance(obstacles, (list, tuple)):  # an iterator is read once, here
+        obstacles = tuple(obstacles)
     key = tuple(map(id, obstacles))
     hit = cache.get(key)
     if hit is not None:
@@ -206,35 +208,33 @@ def _collides(lengths, q, circles, pv, pn, pr, offsets, max_abs):
     angle is finite and at most ``max_abs`` in magnitude (else the answer means nothing)."""
     m, n = q.shape
     out = np.zeros(m, dtype=np.bool_)
-    for i in range(m):
-        for j in range(n):
-            if not abs(q[i, j]) <= max_abs:  # also False for NaN
-                return out, False
     pts = np.empty((n + 1, 2))
     for i in range(m):
-        _fk(lengths, q[i], pts)
-        for j in range(n):
-            if _link_hits(pts[j, 0], pts[j, 1], pts[j + 1, 0], pts[j + 1, 1],
-                          circles, pv, pn, pr, offsets):
-                out[i] = True
-                break
+        hit = _hits(lengths, q[i], pts, circles, pv, pn, pr, offsets, max_abs)
+        if hit < 0:
+            return out, False
+        out[i] = hit == 1
     return out, True
 
 
-def _collides_one(lengths, q, circles, pv, pn, pr, offsets, max_abs):
-    """:func:`_collides` for one configuration ``q`` ``(n,)``: 1 collides, 0 free, -1 an angle
-    is not finite or beyond ``max_abs``. A number, not arrays: the call of a planner's inner
-    loop then costs no allocation on the way back."""
+def _hits(lengths, q, pts, circles, pv, pn, pr, offsets, max_abs):
+    """One configuration ``q`` ``(n,)``, its joints written into ``pts``: 1 collides, 0 free,
+    -1 an angle is not finite or beyond ``max_abs``."""
     n = q.shape[0]
     for j in range(n):
         if not abs(q[j]) <= max_abs:  # also False for NaN
             return -1
-    pts = np.empty((n + 1, 2))
     _fk(lengths, q, pts)
     for j in range(n):
         if _link_hits(pts[j, 0], pts[j, 1], pts[j + 1, 0], pts[j + 1, 1], circles, pv, pn, pr, offsets):
             return 1
     return 0
+
+
+def _collides_one(lengths, q, circles, pv, pn, pr, offsets, max_abs):
+    """:func:`_hits` for one configuration, with its own joint buffer. A number, not arrays:
+    the call of a planner's inner loop then costs no allocation on the way back."""
+    return _hits(lengths, q, np.empty((q.shape[0] + 1, 2)), circles, pv, pn, pr, offsets, max_abs)
 
 
 def _clearances(lengths, q, circles, pv, pn, pr, offsets):
@@ -352,6 +352,6 @@ def kernels():
     g = globals()
     # The helpers are compiled first, so that the kernels calling them find compiled functions.
     for name in ("_fk", "_point_distance", "_hits_polygon", "_polygon_distance", "_link_hits",
-                 "_link_clearance"):
+                 "_link_clearance", "_hits"):
         g[name] = jit(g[name])
     return Kernels(jit(_collides), jit(_collides_one), jit(_clearances), jit(_certify))

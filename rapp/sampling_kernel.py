@@ -152,7 +152,7 @@ def _extend(t, target, chain, room, step, lengths, limited, reach, circles, pv, 
                 hit = True
         if hit:
             break
-        # The end-point certificate (rapp.rrt_connect._endpoint_certified), else the bisection.
+        # The end-point certificate (rapp.sampling.endpoint_certified), else the bisection.
         ok = True
         for j in range(n):
             dq[0, j] = p[j] - prev[j]
