@@ -134,11 +134,17 @@ def catching():
 
 @contextmanager
 def deferred():
-    """Within: SIGINT and SIGTERM wait (blocked); they are delivered when the block ends.
+    """Within: SIGINT and SIGTERM wait; they are delivered when the block ends.
 
     For a few system calls that must happen together (creating a temporary file and
     recording it; renaming a run's outputs into place): an interrupt then lands before or
     after them, never between.
+
+    Blocking the signals in this thread is not enough: a signal sent to the process goes
+    to any other thread that does not block it (numpy's BLAS threads, say), and Python
+    then runs the handler in the main thread all the same. So the handlers are swapped
+    for one that only remembers the signal, and the first one remembered is raised again
+    once the previous handlers are back.
 
     Examples
     --------
@@ -147,12 +153,47 @@ def deferred():
     >>> x
     1
     """
-    try:
-        old = signal.pthread_sigmask(signal.SIG_BLOCK, _SIGNALS)
-    except (AttributeError, OSError, ValueError):  # not POSIX: nothing to block
-        yield
+    if threading.current_thread() is not threading.main_thread():
+        yield  # Python runs signal handlers in the main thread alone: nothing lands here
         return
+    before = {s: signal.getsignal(s) for s in _SIGNALS}
+    held = []
+    holding = [True]
+
+    def hold(signum, frame):
+        if holding[0]:
+            held.append(signum)
+        else:  # the block has ended but this handler is still installed: act as the previous one
+            _deliver(signum, frame, before[signum])
+
+    old = None
     try:
+        # ``hold`` first: from then on nothing raises here (an interrupt between the two
+        # installs meets the previous handler, and the ``finally`` puts both back).
+        for s in _SIGNALS:
+            signal.signal(s, hold)
+        try:
+            old = signal.pthread_sigmask(signal.SIG_BLOCK, _SIGNALS)
+        except (AttributeError, OSError, ValueError):  # not POSIX: the handlers alone hold them
+            pass
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        if old is not None:
+            # A signal kept blocked here arrives now and is held like the others.
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        # One store ends the holding, so an interrupt while the handlers are put back (a new
+        # signal) meets either the previous handler or ``hold`` acting as it: never a mix.
+        holding[0] = False
+        for s, h in before.items():
+            signal.signal(s, h if h is not None else signal.SIG_DFL)
+        if held:
+            signal.raise_signal(held[0])
+
+
+def _deliver(signum, frame, handler) -> None:
+    """What ``handler`` (as :func:`signal.getsignal` gave it) does with the signal."""
+    if callable(handler):
+        handler(signum, frame)
+    elif handler != signal.SIG_IGN:  # the default action (or none known): take it
+        signal.signal(signum, signal.SIG_DFL)
+        signal.raise_signal(signum)

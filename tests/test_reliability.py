@@ -566,3 +566,40 @@ def test_a_ctrl_c_after_the_answer_changes_nothing():
         out, err = proc.communicate(timeout=60)
         assert proc.returncode in (0, 130), (proc.returncode, err)
         assert err == (b"" if proc.returncode == 0 else b"rapp: interrupted\n")
+
+
+_DEFERRED_PROBE = r"""
+import os, signal, sys, threading, time
+from rapp.interrupts import catching, deferred
+gate = threading.Event()
+threading.Thread(target=gate.wait, daemon=True).start()   # a thread that can take the signal
+reached = []
+try:
+    with catching():
+        with deferred():
+            os.kill(os.getpid(), int(sys.argv[1]))
+            time.sleep(0.05)
+            reached.append("end of the block")
+        reached.append("after the block")
+except KeyboardInterrupt as e:
+    print(type(e).__name__, reached)
+try:
+    with catching():
+        os.kill(os.getpid(), int(sys.argv[1]))
+        time.sleep(0.05)
+except KeyboardInterrupt as e:
+    print("again", type(e).__name__)
+"""
+
+
+@pytest.mark.parametrize("sig, name", [(signal.SIGTERM, "Terminated"),
+                                       (signal.SIGINT, "KeyboardInterrupt")])
+def test_a_signal_sent_to_the_process_waits_for_the_end_of_a_deferred_block(sig, name):
+    """The cause of a temporary GIF once left behind: with a second thread alive, the kernel
+    gives a signal the main thread blocks to that thread, and Python ran the handler in the
+    middle of the block all the same. Now it lands when the block ends, and the previous
+    handlers are back (a second signal raises at once)."""
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    out = subprocess.run([sys.executable, "-c", _DEFERRED_PROBE, str(int(sig))], env=env,
+                         capture_output=True, text=True, timeout=60)
+    assert out.stdout.splitlines() == [f"{name} ['end of the block']", f"again {name}"], out
