@@ -64,8 +64,9 @@ __all__ = ["pack", "levels", "run", "paint", "one_per_cell", "kernels", "Kernels
            "IN_POLYGON"]
 
 #: The compiled functions (see :func:`kernels`): :func:`_collect`, :func:`_found`,
-#: :func:`_paint`, :func:`_rows`.
-Kernels = namedtuple("Kernels", "collect found paint rows")
+#: :func:`_paint`, :func:`_rows`, and the scene's set-up, :func:`_polygons` and
+#: :func:`_reaches`.
+Kernels = namedtuple("Kernels", "collect found paint rows polygons reaches")
 
 #: Convex polygons as arrays: polygon ``p`` owns rows ``offsets[p]:offsets[p + 1]`` of
 #: ``v`` (vertices, counter-clockwise), ``e`` (edge vectors ``v[j+1] - v[j]``), ``ee``
@@ -95,30 +96,82 @@ def pack(obstacles) -> tuple:
 
 
 def _pack(obstacles) -> tuple:
-    """:func:`pack`, uncached."""
+    """:func:`pack`, uncached: the obstacles gathered into two arrays, the rest by
+    :func:`_polygons` (compiled when numba is, one call for every polygon)."""
     circles = [(ob.center[0], ob.center[1], ob.radius)
                for ob in obstacles if isinstance(ob, Circle)]
-    polys = [ob for ob in obstacles if isinstance(ob, Polygon)]
-    vs, es, ees, cs, rads, ext, off = [], [], [], [], [], [], [0]
-    for ob in polys:
-        v = ob.array
-        e = np.concatenate((v[1:], v[:1])) - v   # np.roll(v, -1, axis=0) - v, faster
-        c = v.mean(axis=0)
-        vs.append(v)
-        es.append(e)
-        ees.append(np.einsum("ij,ij->i", e, e))
-        cs.append(c)
-        rads.append(np.sqrt(((v - c) ** 2).sum(axis=1).max()))
-        ext.append(float(np.abs(v).max()))
+    verts = [ob.array for ob in obstacles if isinstance(ob, Polygon)]
+    off = [0]
+    for v in verts:
         off.append(off[-1] + len(v))
-    ee = np.concatenate(ees) if polys else np.zeros(0)
-    out = np.array(circles, dtype=float).reshape(-1, 3), Polygons(
-        np.concatenate(vs) if polys else np.zeros((0, 2)),
-        np.concatenate(es) if polys else np.zeros((0, 2)),
-        ee, np.sqrt(ee), np.array(off, dtype=np.int64),
-        np.array(cs, dtype=float).reshape(-1, 2), np.array(rads, dtype=float),
-        np.array(ext, dtype=float), None)
-    return out[0], out[1]._replace(box=_boxes(out[1]))
+    v = np.concatenate(verts) if verts else np.zeros((0, 2))
+    offsets = np.array(off, dtype=np.int64)
+    k = kernels()
+    e, ee, norm, centre, radius, extent, box = (k.polygons if k else _polygons)(v, offsets)
+    return (np.array(circles, dtype=float).reshape(-1, 3),
+            Polygons(v, e, ee, norm, offsets, centre, radius, extent, box))
+
+
+def _polygons(v, offsets):
+    """Each edge's vector ``e``, squared length ``ee`` and length ``norm``, and each polygon's
+    ``centre``, ``radius``, ``extent`` and ``box`` (see :data:`Polygons`), polygon ``p`` being
+    rows ``offsets[p]:offsets[p + 1]`` of ``v``.
+
+    By the operations of ``rapp.cspace``'s ``_polygon_hits``, one element at a time, so
+    the numbers are numpy's to the bit: ``e = np.roll(v, -1, axis=0) - v``, ``ee`` its
+    ``einsum("ij,ij->i", e, e)`` (``ex * ex + ey * ey``), ``norm = sqrt(ee)``, the centre
+    ``v.mean(axis=0)`` (a sum row after row, divided by the count) and the radius
+    ``sqrt(((v - c) ** 2).sum(axis=1).max())``.
+    """
+    nv = v.shape[0]
+    npoly = offsets.shape[0] - 1
+    e = np.empty((nv, 2))
+    ee = np.empty(nv)
+    norm = np.empty(nv)
+    centre = np.empty((npoly, 2))
+    radius = np.empty(npoly)
+    extent = np.empty(npoly)
+    box = np.empty((npoly, 4))
+    for p in range(npoly):
+        s0 = offsets[p]
+        s1 = offsets[p + 1]
+        sx = v[s0, 0]
+        sy = v[s0, 1]
+        ext = max(abs(v[s0, 0]), abs(v[s0, 1]))
+        lox = hix = v[s0, 0]
+        loy = hiy = v[s0, 1]
+        for j in range(s0, s1):
+            nxt = j + 1 if j + 1 < s1 else s0
+            ex = v[nxt, 0] - v[j, 0]
+            ey = v[nxt, 1] - v[j, 1]
+            e[j, 0] = ex
+            e[j, 1] = ey
+            ee[j] = ex * ex + ey * ey
+            norm[j] = math.sqrt(ee[j])
+            if j > s0:
+                sx += v[j, 0]
+                sy += v[j, 1]
+                ext = max(ext, abs(v[j, 0]), abs(v[j, 1]))
+                lox = min(lox, v[j, 0])
+                hix = max(hix, v[j, 0])
+                loy = min(loy, v[j, 1])
+                hiy = max(hiy, v[j, 1])
+        cx = sx / (s1 - s0)
+        cy = sy / (s1 - s0)
+        far = 0.0
+        for j in range(s0, s1):
+            dx = v[j, 0] - cx
+            dy = v[j, 1] - cy
+            far = max(far, dx * dx + dy * dy)
+        centre[p, 0] = cx
+        centre[p, 1] = cy
+        radius[p] = math.sqrt(far)
+        extent[p] = ext
+        box[p, 0] = lox
+        box[p, 1] = hix
+        box[p, 2] = loy
+        box[p, 3] = hiy
+    return e, ee, norm, centre, radius, extent, box
 
 
 _PACKED: dict = {}
@@ -126,14 +179,18 @@ _PACKED: dict = {}
 
 #: The geometry of one level (link ``i`` on the grid of joints ``0..i-1``): the rows (the
 #: parent level's prefix cells ``Pp``, ``phip``, ``cp``, ``sp`` times joint ``i - 1``'s cells
-#: ``axp``, ``cap``, ``sap``, link ``Lp``), the link ``L`` and its obstacles (:func:`pack`;
-#: ``slack`` and ``etol`` per polygon edge and ``tol`` per polygon are ``rapp.cspace``'s
-#: ``_polygon_hits`` tolerances: ``tol / |edge|``, ``-tol * |edge|``, ``tol``; ``box``, each
-#: polygon's bounding box ``xmin, xmax, ymin, ymax``), each obstacle's centre ``ox``, ``oy`` and reach ``rho`` (beyond which a base
-#: point cannot touch it), and joint ``i``'s axis ``ax`` (``step``, and the number of
-#: ``2 pi`` pieces an interval is cut into, ``periods``).
-Level = namedtuple("Level", "Pp phip cp sp axp cap sap Lp L circles v e ee offsets slack etol "
-                            "tol box ox oy rho ax step periods")
+#: ``axp``, ``cap``, ``sap``, ``stepp``, ``periodsp``, link ``Lp``), the link ``L`` and its
+#: obstacles (:func:`pack`; ``slack`` and ``etol`` per polygon edge and ``tol`` per polygon
+#: are ``rapp.cspace``'s ``_polygon_hits`` tolerances: ``tol / |edge|``, ``-tol * |edge|``,
+#: ``tol``; ``box``, each polygon's bounding box ``xmin, xmax, ymin, ymax``), each
+#: obstacle's centre ``ox``, ``oy`` and reach ``rho`` (beyond which a base point cannot
+#: touch it), and joint ``i``'s axis ``ax`` (``step``, and the number of ``2 pi`` pieces an
+#: interval is cut into, ``periods``).
+Level = namedtuple("Level", "Pp phip cp sp axp cap sap stepp periodsp Lp L circles v e ee "
+                            "offsets slack etol tol box ox oy rho ax step periods")
+
+#: How many leading fields of a :data:`Level` :func:`_collect` takes.
+_COLLECTED = 23
 
 
 def levels(grid, per_link) -> list:
@@ -170,29 +227,31 @@ _LEVELS: dict = {}
 
 
 def _levels(grid, per_link) -> list:
-    """:func:`levels`, uncached (but for the grid's part, :func:`_rows_geometry`)."""
+    """:func:`levels`, uncached (but for the grid's part, :func:`_rows_geometry`, and the
+    packed obstacles, :func:`pack`)."""
+    k = kernels()
+    reaches = k.reaches if k else _reaches
     packed, out = {}, []
-    for i, (parent, axp, cap, sap, Lp, L, ax, step, periods) in enumerate(_rows_geometry(grid)):
+    for i, (parent, axp, cap, sap, stepp, periodsp, Lp, L, ax, step, periods) in enumerate(
+            _rows_geometry(grid)):
         key = tuple(map(id, per_link[i]))
         if key not in packed:
             packed[key] = pack(per_link[i])
         circles, polys = packed[key]
-        tol, slack, etol = _tolerances(polys, L, grid, i, parent, axp, cap, sap, Lp)
-        # Each obstacle's reach: base points farther from its centre cannot touch it (a
-        # polygon's is its bounding disc's, grown by twice its tolerance).
-        ox = np.concatenate([circles[:, 0], polys.centre[:, 0]])
-        oy = np.concatenate([circles[:, 1], polys.centre[:, 1]])
-        rho = np.concatenate([L + circles[:, 2], L + polys.radius + 2 * tol])
-        out.append(Level(*parent, axp, cap, sap, Lp, L, circles, polys.v, polys.e, polys.ee,
-                         polys.offsets, slack, etol, tol, polys.box, ox, oy, rho, ax, step,
-                         periods))
+        tol, slack, etol, ox, oy, rho = reaches(circles, polys.centre, polys.radius,
+                                                polys.extent, polys.norm, polys.offsets, L,
+                                                _pmax(polys, L, grid, i, parent, axp, cap, sap,
+                                                      Lp))
+        out.append(Level(*parent, axp, cap, sap, stepp, periodsp, Lp, L, circles, polys.v,
+                         polys.e, polys.ee, polys.offsets, slack, etol, tol, polys.box, ox, oy,
+                         rho, ax, step, periods))
     return out
 
 
 def _rows_geometry(grid) -> list:
     """The part of each :data:`Level` that depends on the grid alone: ``parent`` (``Pp``,
-    ``phip``, ``cp``, ``sp``, flat), ``axp, cap, sap, Lp, L, ax, step, periods``; cached for
-    the last few grids (a new scene on the same grid reuses it)."""
+    ``phip``, ``cp``, ``sp``, flat), ``axp, cap, sap, stepp, periodsp, Lp, L, ax, step,
+    periods``; cached for the last few grids (a new scene on the same grid reuses it)."""
     hit = _GRIDS.get(grid)
     if hit is not None:
         return hit
@@ -206,16 +265,16 @@ def _rows_geometry(grid) -> list:
         if i == 0:
             # Level 0's parent: the base, on a one-cell axis at angle 0 with no link.
             parent, axp, cap, sap, Lp = base, np.zeros(1), np.ones(1), np.zeros(1), 0.0
+            stepp = 2 * np.pi
         else:
             if i >= 2:
                 pre = prefix_step(*pre, axes[i - 2], *trig[i - 2], arm.link_lengths[i - 2])
             parent, axp, (cap, sap), Lp = pre, axes[i - 1], trig[i - 1], arm.link_lengths[i - 1]
-        ax = axes[i]
-        periods = int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
+            stepp = steps[i - 1]
         P, phi, c, s = parent
         out.append(((np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
-                     s.reshape(-1)), axp, cap, sap, float(Lp), float(arm.link_lengths[i]), ax,
-                    float(steps[i]), periods))
+                     s.reshape(-1)), axp, cap, sap, float(stepp), _periods(axp), float(Lp),
+                    float(arm.link_lengths[i]), axes[i], float(steps[i]), _periods(axes[i])))
     if len(_GRIDS) >= 8:
         _GRIDS.clear()
     _GRIDS[grid] = out
@@ -225,41 +284,64 @@ def _rows_geometry(grid) -> list:
 _GRIDS: dict = {}
 
 
-def _boxes(polys):
-    """Each polygon's bounding box, ``(p, 4)``: ``xmin, xmax, ymin, ymax``."""
+def _periods(ax) -> int:
+    """How many ``2 pi`` pieces an interval is cut into on the axis ``ax`` (:func:`_paint_one`)."""
+    return int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
+
+
+def _pmax(polys, L, grid, i, parent, axp, cap, sap, Lp) -> float:
+    """The largest coordinate of level ``i``'s base points where it may decide a polygon's
+    tolerance (see :func:`_reaches`), else 0.
+
+    The tolerance is ``1e-12`` of the largest of 1, ``L``, the polygon's coordinates and
+    the base points'; the last are below the sum of the links before ``i`` (up to
+    rounding), so they are computed, by the operations of :func:`rapp.cspace.prefix_grid`,
+    once per grid, only when some polygon's own scale may be smaller."""
     if polys.offsets.size == 1:
-        return np.zeros((0, 4))
-    first = polys.offsets[:-1]
-    x, y = polys.v[:, 0], polys.v[:, 1]
-    return np.stack([np.minimum.reduceat(x, first), np.maximum.reduceat(x, first),
-                     np.minimum.reduceat(y, first), np.maximum.reduceat(y, first)], axis=-1)
-
-
-def _tolerances(polys, L, grid, i, parent, axp, cap, sap, Lp):
-    """``rapp.cspace``'s ``_polygon_hits`` tolerances on level ``i``: ``tol`` per polygon
-    (``1e-12`` of the largest of 1, ``L``, its coordinates and the level's base points'),
-    ``slack = tol / |edge|`` and ``etol = -tol * |edge|`` per edge.
-
-    The base points' largest coordinate matters only when it may exceed the others: it is
-    below the sum of the links before ``i`` (up to rounding); when it may not be, it is
-    computed, by the operations of :func:`rapp.cspace.prefix_grid`, once per grid."""
-    if polys.offsets.size == 1:
-        return np.zeros(0), np.zeros(0), np.zeros(0)
+        return 0.0
     bound = sum(grid.arm.link_lengths[:i]) * (1 + 1e-9)
-    own = np.maximum(polys.extent, max(1.0, L))
-    if own.min() >= bound:
-        tol = 1e-12 * own
-    else:
-        pmax = _PMAX.get((grid, i))
-        if pmax is None:
-            from rapp.cspace import prefix_step
-            pmax = float(np.abs(prefix_step(*parent, axp, cap, sap, Lp)[0]).max(initial=0.0))
-            if len(_PMAX) >= 64:
-                _PMAX.clear()
-            _PMAX[(grid, i)] = pmax
-        tol = 1e-12 * np.maximum(own, pmax)
-    per_edge = np.repeat(tol, np.diff(polys.offsets))
-    return tol, per_edge / polys.norm, -per_edge * polys.norm
+    if max(float(polys.extent.min()), 1.0, L) >= bound:
+        return 0.0
+    pmax = _PMAX.get((grid, i))
+    if pmax is None:
+        from rapp.cspace import prefix_step
+        pmax = float(np.abs(prefix_step(*parent, axp, cap, sap, Lp)[0]).max(initial=0.0))
+        if len(_PMAX) >= 64:
+            _PMAX.clear()
+        _PMAX[(grid, i)] = pmax
+    return pmax
+
+
+def _reaches(circles, centre, radius, extent, norm, offsets, L, pmax):
+    """A level's obstacle arrays for link length ``L``: ``rapp.cspace``'s ``_polygon_hits``
+    tolerances, ``tol = 1e-12 * max(1, L, extent, pmax)`` per polygon (``pmax``:
+    :func:`_pmax`), ``slack = tol / norm`` and ``etol = -tol * norm`` per edge (numpy's
+    operations, one element at a time); and each obstacle's centre ``ox``, ``oy`` and
+    reach ``rho``, beyond which a base point cannot touch it (a disc's ``L + r``, a
+    polygon's bounding disc's grown by twice its tolerance), circles first."""
+    nc = circles.shape[0]
+    npoly = offsets.shape[0] - 1
+    tol = np.empty(npoly)
+    slack = np.empty(norm.shape[0])
+    etol = np.empty(norm.shape[0])
+    ox = np.empty(nc + npoly)
+    oy = np.empty(nc + npoly)
+    rho = np.empty(nc + npoly)
+    own = max(1.0, L)
+    for c in range(nc):
+        ox[c] = circles[c, 0]
+        oy[c] = circles[c, 1]
+        rho[c] = L + circles[c, 2]
+    for p in range(npoly):
+        t = 1e-12 * max(max(extent[p], own), pmax)
+        tol[p] = t
+        for j in range(offsets[p], offsets[p + 1]):
+            slack[j] = t / norm[j]
+            etol[j] = -t * norm[j]
+        ox[nc + p] = centre[p, 0]
+        oy[nc + p] = centre[p, 1]
+        rho[nc + p] = L + radius[p] + 2 * t
+    return tol, slack, etol, ox, oy, rho
 
 
 _PMAX: dict = {}
@@ -291,9 +373,9 @@ def run(k, lv, *, keep=False):
     fills every row and gathers the arguments of each interval's ``atan2`` and ``atan``;
     numpy computes them, in one vectorized call each (the functions
     :func:`rapp.cspace.occupancy_numpy` calls, so that both versions agree to the bit);
-    :func:`_paint_found` turns them into intervals and paints them. With ``keep=True`` it
-    returns also, per level, the intervals it painted ``(rows, starts, widths)`` (for
-    :func:`paint`), computed by :func:`_found`, and painted by :func:`_paint`.
+    :func:`_found` turns them into intervals and :func:`_paint` paints them. With
+    ``keep=True`` it returns also, per level, the intervals it painted
+    ``(rows, starts, widths)``, in the order of the rows (for :func:`paint`).
 
     Examples
     --------
@@ -333,7 +415,7 @@ def _run(k, lv, keep, buffers, size):
         out = np.empty((rows, x.ax.size), dtype=bool)
         r, parts = 0, []
         while r < rows:
-            r, n, m, mz = k.collect(r, blocked, *x[:21], out, rowof, meta, phis, Y, X, Z,
+            r, n, m, mz = k.collect(r, blocked, *x[:_COLLECTED], out, rowof, meta, phis, Y, X, Z,
                                       size)
             if n == 0:
                 continue
@@ -346,8 +428,10 @@ def _run(k, lv, keep, buffers, size):
             if keep:
                 parts.append(tuple(f.copy() for f in found))
         if keep:
-            kept.append(tuple(np.concatenate(p) if p else np.zeros(0, t) for p, t in
-                              zip(zip(*parts) if parts else ((), (), ()), (np.int64, float, float))))
+            whole = [np.concatenate(p) if p else np.zeros(0, t) for p, t in
+                     zip(zip(*parts) if parts else ((), (), ()), (np.int64, float, float))]
+            order = np.argsort(whole[0], kind="stable")   # collected obstacle by obstacle
+            kept.append(tuple(w[order] for w in whole))
         blocked = out.reshape(-1)
     return (blocked, kept) if keep else blocked
 
@@ -500,8 +584,9 @@ def _extremes(n_seen, x, y, lox, loy, hix, hiy):
     return n_seen + 1, lox, loy, hix, hiy
 
 
-def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e, ee, offsets,
-             slack, etol, tol, box, ox, oy, rho, out, rowof, meta, phis, Y, X, Z, cap_n):
+def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, stepp, periodsp, Lp, L, circles, v,
+             e, ee, offsets, slack, etol, tol, box, ox, oy, rho, out, rowof, meta, phis, Y, X, Z,
+             cap_n):
     """Rows ``r0, r0 + 1, ...`` of one level (see :data:`Level`): each row of ``out`` filled
     (an earlier link already collides at that prefix cell, ``blocked[r]``) or cleared,
     and each of its intervals appended: its row and kind to ``meta``, its prefix angle to
@@ -509,92 +594,136 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, Lp, L, circles, v, e,
     :func:`_polygon_args`: one for IN_DISC and TIP, two for TANGENT, three for POLYGON,
     none for IN_POLYGON) to ``Y``, ``X`` and that of its ``atan`` (TIP) to ``Z``.
 
-    Stops before a row whose intervals might not fit in ``cap_n``; returns ``(next row, intervals,
-    atan2 arguments, atan arguments)``. Each row's base point and angle are computed here
-    by the operations of ``rapp.cspace.prefix_grid``, so no array of the rows' geometry is
-    built. An obstacle out of reach of a whole parent cell (its base point is ``Lp`` from
-    every row's) is skipped for all its rows at once.
+    The rows go by parent cell, in runs that fit ``cap_n`` intervals (``nobs`` per row at
+    most); it stops before a run that might not fit and returns ``(next row, intervals,
+    atan2 arguments, atan arguments)``. Within a run, obstacle after obstacle, only the
+    rows that may reach it are visited (:func:`_arc`); for each of them the row's base
+    point and angle are computed by the operations of ``rapp.cspace.prefix_grid`` and
+    the exact test of reach comes first. So the intervals of a run come obstacle by
+    obstacle, not row by row.
     """
     nc = circles.shape[0]
     nobs = ox.shape[0]
     mp = axp.shape[0]
     rows = Pp.shape[0] * mp
     n = m = mz = 0
-    near = np.empty(nobs, dtype=np.int64)
+    spans = np.empty((max(periodsp, 1), 2), dtype=np.int64)
     rp = r0 // mp
     j0 = r0 - rp * mp
     while rp < Pp.shape[0]:
-        # The obstacles within reach of some row of this parent cell (a margin far above
-        # rounding: the exact tests come after).
-        nn = 0
+        room = (cap_n - n) // nobs
+        if room == 0:
+            return rp * mp + j0, n, m, mz
+        j1 = min(mp, j0 + room)
+        base = rp * mp
+        for j in range(j0, j1):
+            out[base + j, :] = blocked[base + j]
         for k in range(nobs):
-            dx = ox[k] - Pp[rp, 0]
-            dy = oy[k] - Pp[rp, 1]
-            reach = rho[k] + Lp
-            if dx * dx + dy * dy <= reach * reach * (1.0 + 1e-9):
-                near[nn] = k
-                nn += 1
-        for j in range(j0, mp):
-            r = rp * mp + j
-            if n + nobs > cap_n:
-                return r, n, m, mz
-            if blocked[r]:
-                out[r, :] = True
-                continue
-            out[r, :] = False
-            if nn == 0:
-                continue
-            phi = phip[rp] + axp[j]
-            c = cp[rp] * cap[j] - sp[rp] * sap[j]
-            s = sp[rp] * cap[j] + cp[rp] * sap[j]
-            px = Pp[rp, 0] + Lp * c
-            py = Pp[rp, 1] + Lp * s
-            for q in range(nn):
-                k = near[q]
-                # Most rows are far from any one obstacle: a test without a square root
-                # rejects them before the exact one.
-                dx = ox[k] - px
-                dy = oy[k] - py
-                if dx * dx + dy * dy > rho[k] * rho[k] * (1.0 + 1e-9):
-                    continue
-                if k < nc:
-                    kind, ay, ax, by, bx = _circle_args(px, py, L, circles[k, 0],
-                                                        circles[k, 1], circles[k, 2])
-                    cy = 0.0
-                    cx = 1.0
-                else:
-                    p = k - nc
-                    # Farther than L from the polygon's box (with a margin above its
-                    # tolerances): no vertex or edge within reach, and not inside.
-                    gx = max(box[p, 0] - px, px - box[p, 1], 0.0)
-                    gy = max(box[p, 2] - py, py - box[p, 3], 0.0)
-                    lim = L + 2 * tol[p]
-                    if gx * gx + gy * gy > lim * lim * (1.0 + 1e-9):
+            ns = _arc(ox[k] - Pp[rp, 0], oy[k] - Pp[rp, 1], rho[k], Lp, phip[rp], axp[0],
+                      stepp, periodsp, mp, j0, j1, spans)
+            for q in range(ns):
+                for j in range(spans[q, 0], spans[q, 1]):
+                    r = base + j
+                    if blocked[r]:
                         continue
-                    kind, ay, ax, by, bx, cy, cx = _polygon_args(
-                        px, py, L, v, e, ee, slack, etol, offsets[p], offsets[p + 1], tol[p])
-                if kind == NONE:
-                    continue
-                rowof[n] = r
-                meta[n, 0] = kind
-                meta[n, 1] = m
-                meta[n, 2] = mz
-                phis[n] = phi
-                n += 1
-                # Written whether used or not; the counts advance by what the kind uses.
-                Y[m] = ay
-                X[m] = ax
-                Y[m + 1] = by
-                X[m + 1] = bx
-                Y[m + 2] = cy
-                X[m + 2] = cx
-                Z[mz] = by
-                m += 0 if kind == IN_POLYGON else (
-                    1 if kind == IN_DISC or kind == TIP else (2 if kind == TANGENT else 3))
-                mz += 1 if kind == TIP else 0
-        rp += 1
-        j0 = 0
+                    c = cp[rp] * cap[j] - sp[rp] * sap[j]
+                    s = sp[rp] * cap[j] + cp[rp] * sap[j]
+                    px = Pp[rp, 0] + Lp * c
+                    py = Pp[rp, 1] + Lp * s
+                    dx = ox[k] - px
+                    dy = oy[k] - py
+                    if dx * dx + dy * dy > rho[k] * rho[k] * (1.0 + 1e-9):
+                        continue
+                    if k < nc:
+                        kind, ay, ax, by, bx = _circle_args(px, py, L, circles[k, 0],
+                                                            circles[k, 1], circles[k, 2])
+                        cy = 0.0
+                        cx = 1.0
+                    else:
+                        p = k - nc
+                        # Farther than L from the polygon's box (with a margin above its
+                        # tolerances): no vertex or edge within reach, and not inside.
+                        gx = max(box[p, 0] - px, px - box[p, 1], 0.0)
+                        gy = max(box[p, 2] - py, py - box[p, 3], 0.0)
+                        lim = L + 2 * tol[p]
+                        if gx * gx + gy * gy > lim * lim * (1.0 + 1e-9):
+                            continue
+                        kind, ay, ax, by, bx, cy, cx = _polygon_args(
+                            px, py, L, v, e, ee, slack, etol, offsets[p], offsets[p + 1],
+                            tol[p])
+                    if kind == NONE:
+                        continue
+                    rowof[n] = r
+                    meta[n, 0] = kind
+                    meta[n, 1] = m
+                    meta[n, 2] = mz
+                    phis[n] = phip[rp] + axp[j]
+                    n += 1
+                    # Written whether used or not; the counts advance by what the kind uses.
+                    Y[m] = ay
+                    X[m] = ax
+                    Y[m + 1] = by
+                    X[m + 1] = bx
+                    Y[m + 2] = cy
+                    X[m + 2] = cx
+                    Z[mz] = by
+                    m += 0 if kind == IN_POLYGON else (
+                        1 if kind == IN_DISC or kind == TIP else (2 if kind == TANGENT else 3))
+                    mz += 1 if kind == TIP else 0
+        if j1 < mp:
+            j0 = j1
+        else:
+            rp += 1
+            j0 = 0
     return rows, n, m, mz
+
+
+def _arc(dx, dy, rho, Lp, phi, ax0, step, periods, m, j0, j1, spans):
+    """The cells ``j0 <= j < j1`` of joint ``i - 1``'s axis (``m`` cells from ``ax0``, ``step``
+    apart) whose row may have its base point within ``rho`` of an obstacle centred
+    ``(dx, dy)`` from the parent point (the row's base point is ``Lp`` from it, at the
+    angle ``phi`` plus the cell's): their ranges ``spans[q, 0] <= j < spans[q, 1]``,
+    ``q < `` the count returned.
+
+    The base point is within ``rho`` where the cosine of its angle to the centre's
+    direction is at least ``kappa = (D^2 + Lp^2 - rho^2) / (2 D Lp)`` (``D`` the centre's
+    distance): an arc of half-width ``acos(kappa)`` about that direction. It is taken
+    wider than that, by one cell and ``1e-7`` radians, with ``rho^2`` grown by ``1e-9``
+    of the squares in play (far above the rounding of the rows' base points and angles),
+    so it holds every row the exact test of :func:`_collect` accepts; the rows are cut
+    from it as :func:`_paint_one` cuts cells from an interval. Every row where that is
+    not possible (no link, the centre at the parent point, an arc of ``pi`` or more, an
+    axis of more turns than cells).
+    """
+    two_pi = 2.0 * math.pi
+    d2 = dx * dx + dy * dy
+    reach = rho + Lp
+    if d2 > reach * reach * (1.0 + 1e-9):
+        return 0
+    d = math.sqrt(d2)
+    half = math.pi
+    if d * Lp > 0.0:
+        grown = rho * rho * (1.0 + 1e-9) + 1e-9 * (rho * rho + d2 + Lp * Lp)
+        kappa = (d2 + Lp * Lp - grown) / (2.0 * d * Lp)
+        if kappa >= 1.0:
+            return 0
+        if kappa > -1.0:
+            half = math.acos(kappa) + step + 1e-7
+    if half >= math.pi or periods > m:
+        spans[0, 0] = j0
+        spans[0, 1] = j1
+        return 1
+    f = _mod(math.atan2(dy, dx) - phi - half - ax0, two_pi)
+    ns = 0
+    for piece in range(-1, periods - 1):
+        first, last = _cell_range(f + piece * two_pi, 2.0 * half, step, m)
+        first = max(first, j0)
+        last = min(last + 1, j1)
+        if first < last:
+            spans[ns, 0] = first
+            spans[ns, 1] = last
+            ns += 1
+    return ns
 
 
 def _found(n, meta, phis, A, AZ, starts, widths):
@@ -680,7 +809,8 @@ def kernels():
     # rejecting a far obstacle does. numpy's error model: no divisor here can be zero (see
     # _circle_args; an edge's squared length is positive), so no test for one is compiled.
     for name in ("_mod", "_circle_args", "_extremes", "_polygon_args", "_cell_range",
-                 "_paint_one"):
+                 "_arc", "_paint_one"):
         g[name] = jit(g[name], inline="always", error_model="numpy")
-    return Kernels(*(jit(f, error_model="numpy")
-                     for f in (_collect, _found, _paint, _rows)))
+    return Kernels(*(jit(g[name], error_model="numpy")
+                     for name in ("_collect", "_found", "_paint", "_rows", "_polygons",
+                                  "_reaches")))

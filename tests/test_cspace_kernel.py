@@ -10,13 +10,14 @@ decides either way); painting the kernel's own intervals gives the same grid; wi
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given, settings, strategies as st
 
 from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, cspace, cspace_kernel
 from rapp.cspace import grid_q, occupancy, occupancy_numpy
@@ -90,6 +91,43 @@ def test_each_levels_polygon_tolerance_is_the_numpy_versions(scene):
         want = [1e-12 * max(1.0, grid.arm.link_lengths[i], float(np.abs(p.array).max()), pmax)
                 for p in polys]
         assert x.tol.tolist() == want
+
+
+@settings(max_examples=60, deadline=None)
+@given(interval_scenes())
+def test_the_compiled_set_up_computes_numpys_numbers_to_the_bit(scene):
+    # _polygons and _reaches work one element at a time; _polygon_hits (and the numpy
+    # version of the set-up this replaced) on whole arrays: the same operations, bit for bit.
+    grid, obstacles = scene
+    polys = [ob for ob in obstacles if isinstance(ob, Polygon)]
+    for x in cspace_kernel.levels(grid, [obstacles] * grid.n):
+        at = 0
+        for p, poly in enumerate(polys):
+            v = poly.array
+            e = np.roll(v, -1, axis=0) - v
+            ee = np.einsum("ij,ij->i", e, e)
+            rows = slice(at, at + len(v))
+            at += len(v)
+            assert np.array_equal(x.e[rows], e) and np.array_equal(x.ee[rows], ee)
+            assert np.array_equal(x.slack[rows], x.tol[p] / np.sqrt(ee))
+            assert np.array_equal(x.etol[rows], -x.tol[p] * np.sqrt(ee))
+            c = v.mean(axis=0)
+            assert [x.ox[-len(polys) + p], x.oy[-len(polys) + p]] == c.tolist()
+            rad = np.sqrt(((v - c) ** 2).sum(axis=1).max())
+            assert x.rho[-len(polys) + p] == x.L + rad + 2 * x.tol[p]
+            assert x.box[p].tolist() == [v[:, 0].min(), v[:, 0].max(), v[:, 1].min(),
+                                         v[:, 1].max()]
+        circles = [ob for ob in obstacles if isinstance(ob, Circle)]
+        assert x.rho[:len(circles)].tolist() == [x.L + ob.radius for ob in circles]
+
+
+def test_the_set_up_without_numba_is_the_same_function_uncompiled(monkeypatch):
+    compiled_levels = cspace_kernel._levels(JointGrid(Arm(LINKS3), 12), [OBSTACLES3] * 3)
+    monkeypatch.setattr(cspace_kernel, "kernels", lambda: None)
+    plain = cspace_kernel._levels(JointGrid(Arm(LINKS3), 12), [OBSTACLES3] * 3)
+    for a, b in zip(compiled_levels, plain):
+        for name, u, w in zip(a._fields, a, b):
+            assert np.array_equal(u, w), name
 
 
 def test_levels_are_cached_per_grid_and_obstacles(monkeypatch):
@@ -198,3 +236,35 @@ def test_compiled_certified_free_equals_numpy(scene):
         need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)
         c = link_clearances(arm, grid_q(grid)[diff], obstacles) - need
         assert np.all(np.abs(c).min(axis=-1) <= TOUCHING)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-3.0, 3.0), st.floats(-3.0, 3.0), st.floats(0.0, 3.0), st.floats(0.0, 2.0),
+       st.floats(-7.0, 7.0), st.sampled_from([None, (-1.0, 2.0), (-5.0, 6.0), (0.3, 0.31)]),
+       st.integers(2, 3000), st.floats(-1e-9, 1e-9), st.integers(0, 1))
+def test_the_arc_of_rows_holds_every_row_the_exact_test_accepts(dx, dy, rho, Lp, phi, limits,
+                                                               m, nudge, at_the_edge):
+    # _collect visits only the rows of _arc; a row it leaves out must fail the exact test.
+    cspace_kernel.kernels()
+    arc = cspace_kernel._arc
+    if at_the_edge:   # the obstacle's reach just touching the circle of base points
+        rho = abs(math.hypot(dx, dy) - Lp) * (1 + nudge)
+    arm = Arm([1.0], [limits])
+    ax = JointGrid(arm, m).axes[0]
+    step, periods = float(JointGrid(arm, m).step[0]), cspace_kernel._periods(ax)
+    cp, sp = math.cos(phi), math.sin(phi)
+    c = cp * np.cos(ax) - sp * np.sin(ax)
+    s = sp * np.cos(ax) + cp * np.sin(ax)
+    px, py = Lp * c, Lp * s   # the parent point at the origin, the centre at (dx, dy)
+    accepted = (dx - px) ** 2 + (dy - py) ** 2 <= rho * rho * (1.0 + 1e-9)
+    for j0, j1 in ((0, m), (m // 3, m - m // 4)):
+        spans = np.empty((max(periods, 1), 2), dtype=np.int64)
+        ns = arc(dx, dy, rho, Lp, phi, ax[0], step, periods, m, j0, j1, spans)
+        visited = np.zeros(m, dtype=int)
+        for a, b in spans[:ns]:
+            assert j0 <= a < b <= j1
+            visited[a:b] += 1
+        assert visited.max(initial=0) <= 1        # no row twice: no interval collected twice
+        want = accepted.copy()
+        want[:j0] = want[j1:] = False
+        assert np.all(visited[want] == 1), np.flatnonzero(want & (visited == 0))
