@@ -3,7 +3,7 @@
 The problem is ``bench_core.py``'s 3-link one: links 1.0, 0.8, 0.5 and five obstacles (four
 discs and a rectangle), on a grid of 128 cells per joint (2,097,152 cells).
 
-What is timed (``time.perf_counter`` seconds per call, the best of 5 rounds of 7 calls in a row
+What is timed (``time.perf_counter`` seconds per call, the best of 10 rounds of 7 calls in a row
 of each function, the functions in turn within every round so that the machine's load hits
 them alike):
 
@@ -65,7 +65,7 @@ from bench_core import CIRCLES, LINKS, LINKS3, OBSTACLES3  # noqa: E402  the pro
 HERE = Path(__file__).resolve().parent
 M3 = 128
 K = 7
-ROUNDS = 5
+ROUNDS = 10
 
 
 def side_by_side(fns, k=K, rounds=ROUNDS):

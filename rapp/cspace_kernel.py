@@ -228,30 +228,36 @@ _LEVELS: dict = {}
 
 def _levels(grid, per_link) -> list:
     """:func:`levels`, uncached (but for the grid's part, :func:`_rows_geometry`, and the
-    packed obstacles, :func:`pack`)."""
+    packed obstacles, :func:`pack`). The levels sharing a list of obstacles (all of them,
+    for :func:`rapp.cspace.occupancy`) get their obstacle arrays from one call of
+    :func:`_reaches`."""
     k = kernels()
     reaches = k.reaches if k else _reaches
-    packed, out = {}, []
-    for i, (parent, axp, cap, sap, stepp, periodsp, Lp, L, ax, step, periods) in enumerate(
-            _rows_geometry(grid)):
-        key = tuple(map(id, per_link[i]))
-        if key not in packed:
-            packed[key] = pack(per_link[i])
-        circles, polys = packed[key]
-        tol, slack, etol, ox, oy, rho = reaches(circles, polys.centre, polys.radius,
-                                                polys.extent, polys.norm, polys.offsets, L,
-                                                _pmax(polys, L, grid, i, parent, axp, cap, sap,
-                                                      Lp))
-        out.append(Level(*parent, axp, cap, sap, stepp, periodsp, Lp, L, circles, polys.v,
-                         polys.e, polys.ee, polys.offsets, slack, etol, tol, polys.box, ox, oy,
-                         rho, ax, step, periods))
+    geometry = _rows_geometry(grid)
+    groups: dict = {}
+    for i, obs in enumerate(per_link):
+        groups.setdefault(tuple(map(id, obs)), []).append(i)
+    out = [None] * len(geometry)
+    for which in groups.values():
+        circles, polys = pack(per_link[which[0]])
+        low = float(polys.extent.min()) if polys.extent.size else math.inf
+        tol, slack, etol, ox, oy, rho = reaches(
+            circles, polys.centre, polys.radius, polys.extent, polys.norm, polys.offsets,
+            np.array([geometry[i][7] for i in which]),
+            np.array([_pmax(low, grid, i, geometry[i]) for i in which]))
+        for row, i in enumerate(which):
+            parent, axp, cap, sap, stepp, periodsp, Lp, L, ax, step, periods, _ = geometry[i]
+            out[i] = Level(*parent, axp, cap, sap, stepp, periodsp, Lp, L, circles, polys.v,
+                           polys.e, polys.ee, polys.offsets, slack[row], etol[row], tol[row],
+                           polys.box, ox, oy, rho[row], ax, step, periods)
     return out
 
 
 def _rows_geometry(grid) -> list:
     """The part of each :data:`Level` that depends on the grid alone: ``parent`` (``Pp``,
     ``phip``, ``cp``, ``sp``, flat), ``axp, cap, sap, stepp, periodsp, Lp, L, ax, step,
-    periods``; cached for the last few grids (a new scene on the same grid reuses it)."""
+    periods``, and a bound on the base points' coordinates (:func:`_pmax`); cached for the
+    last few grids (a new scene on the same grid reuses it)."""
     hit = _GRIDS.get(grid)
     if hit is not None:
         return hit
@@ -274,7 +280,8 @@ def _rows_geometry(grid) -> list:
         P, phi, c, s = parent
         out.append(((np.ascontiguousarray(P.reshape(-1, 2)), phi.reshape(-1), c.reshape(-1),
                      s.reshape(-1)), axp, cap, sap, float(stepp), _periods(axp), float(Lp),
-                    float(arm.link_lengths[i]), axes[i], float(steps[i]), _periods(axes[i])))
+                    float(arm.link_lengths[i]), axes[i], float(steps[i]), _periods(axes[i]),
+                    float(sum(arm.link_lengths[:i])) * (1 + 1e-9)))
     if len(_GRIDS) >= 8:
         _GRIDS.clear()
     _GRIDS[grid] = out
@@ -289,18 +296,18 @@ def _periods(ax) -> int:
     return int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
 
 
-def _pmax(polys, L, grid, i, parent, axp, cap, sap, Lp) -> float:
+def _pmax(low, grid, i, geometry) -> float:
     """The largest coordinate of level ``i``'s base points where it may decide a polygon's
-    tolerance (see :func:`_reaches`), else 0.
+    tolerance (see :func:`_reaches`), else 0; ``low`` is the smallest of the polygons'
+    largest coordinates (``inf`` without polygons), ``geometry`` the level's
+    :func:`_rows_geometry`.
 
     The tolerance is ``1e-12`` of the largest of 1, ``L``, the polygon's coordinates and
     the base points'; the last are below the sum of the links before ``i`` (up to
     rounding), so they are computed, by the operations of :func:`rapp.cspace.prefix_grid`,
     once per grid, only when some polygon's own scale may be smaller."""
-    if polys.offsets.size == 1:
-        return 0.0
-    bound = sum(grid.arm.link_lengths[:i]) * (1 + 1e-9)
-    if max(float(polys.extent.min()), 1.0, L) >= bound:
+    parent, axp, cap, sap, _, _, Lp, L, _, _, _, bound = geometry
+    if max(low, 1.0, L) >= bound:
         return 0.0
     pmax = _PMAX.get((grid, i))
     if pmax is None:
@@ -312,35 +319,41 @@ def _pmax(polys, L, grid, i, parent, axp, cap, sap, Lp) -> float:
     return pmax
 
 
-def _reaches(circles, centre, radius, extent, norm, offsets, L, pmax):
-    """A level's obstacle arrays for link length ``L``: ``rapp.cspace``'s ``_polygon_hits``
-    tolerances, ``tol = 1e-12 * max(1, L, extent, pmax)`` per polygon (``pmax``:
-    :func:`_pmax`), ``slack = tol / norm`` and ``etol = -tol * norm`` per edge (numpy's
-    operations, one element at a time); and each obstacle's centre ``ox``, ``oy`` and
-    reach ``rho``, beyond which a base point cannot touch it (a disc's ``L + r``, a
-    polygon's bounding disc's grown by twice its tolerance), circles first."""
+def _reaches(circles, centre, radius, extent, norm, offsets, Ls, pmaxes):
+    """The obstacle arrays of the levels with links ``Ls``, one row per level: ``rapp.cspace``'s
+    ``_polygon_hits`` tolerances, ``tol = 1e-12 * max(1, L, extent, pmax)`` per polygon
+    (``pmaxes``: :func:`_pmax`), ``slack = tol / norm`` and ``etol = -tol * norm`` per edge
+    (numpy's operations, one element at a time); each obstacle's centre ``ox``, ``oy``
+    (one row for all) and reach ``rho``, beyond which a base point cannot touch it (a
+    disc's ``L + r``, a polygon's bounding disc's grown by twice its tolerance), circles
+    first."""
     nc = circles.shape[0]
     npoly = offsets.shape[0] - 1
-    tol = np.empty(npoly)
-    slack = np.empty(norm.shape[0])
-    etol = np.empty(norm.shape[0])
+    nl = Ls.shape[0]
+    tol = np.empty((nl, npoly))
+    slack = np.empty((nl, norm.shape[0]))
+    etol = np.empty((nl, norm.shape[0]))
     ox = np.empty(nc + npoly)
     oy = np.empty(nc + npoly)
-    rho = np.empty(nc + npoly)
-    own = max(1.0, L)
+    rho = np.empty((nl, nc + npoly))
     for c in range(nc):
         ox[c] = circles[c, 0]
         oy[c] = circles[c, 1]
-        rho[c] = L + circles[c, 2]
     for p in range(npoly):
-        t = 1e-12 * max(max(extent[p], own), pmax)
-        tol[p] = t
-        for j in range(offsets[p], offsets[p + 1]):
-            slack[j] = t / norm[j]
-            etol[j] = -t * norm[j]
         ox[nc + p] = centre[p, 0]
         oy[nc + p] = centre[p, 1]
-        rho[nc + p] = L + radius[p] + 2 * t
+    for i in range(nl):
+        L = Ls[i]
+        own = max(1.0, L)
+        for c in range(nc):
+            rho[i, c] = L + circles[c, 2]
+        for p in range(npoly):
+            t = 1e-12 * max(max(extent[p], own), pmaxes[i])
+            tol[i, p] = t
+            for j in range(offsets[p], offsets[p + 1]):
+                slack[i, j] = t / norm[j]
+                etol[i, j] = -t * norm[j]
+            rho[i, nc + p] = L + radius[p] + 2 * t
     return tol, slack, etol, ox, oy, rho
 
 
