@@ -7,15 +7,17 @@ version (:func:`rapp.cspace.occupancy_numpy`) computes every interval of a link 
 paints them into a difference array, sums it up and ORs the result, broadcast, into the
 grid. Here each level (link) takes four steps, :func:`run`:
 
-* :func:`_collect`, compiled, one row at a time: a row whose prefix already collides (an
-  earlier link hits there) is filled with True and nothing is computed for it; any other
-  row is cleared, its base point and angle are computed (by the operations of
-  :func:`rapp.cspace.prefix_grid`), obstacles out of reach are rejected (first for a whole
-  parent cell, then per row, a polygon by its bounding box), and for each obstacle in
-  reach the closed form of ``rapp.cspace``'s ``_circle_hits`` or ``_polygon_hits`` is
-  evaluated, operation by operation, up to its trigonometry (:func:`_circle_args`,
-  :func:`_polygon_args`); the arguments of the ``atan2`` and ``atan`` it needs are
-  appended to buffers;
+* :func:`_collect`, compiled, one parent cell's rows at a time: a row whose prefix already
+  collides (an earlier link hits there) is filled with True and nothing is computed for
+  it; any other row is cleared. Then, obstacle by obstacle, only the rows on the arc of
+  base points that can reach it are visited (:func:`_arc`: the base points of a parent
+  cell's rows lie on a circle about its point, and those within an obstacle's reach form
+  one arc, taken wider by margins far above rounding); for each, the base point and angle
+  are computed (by the operations of :func:`rapp.cspace.prefix_grid`), the exact test of
+  reach is made (a polygon's by its bounding box as well), and the closed form of
+  ``rapp.cspace``'s ``_circle_hits`` or ``_polygon_hits`` is evaluated, operation by
+  operation, up to its trigonometry (:func:`_circle_args`, :func:`_polygon_args`); the
+  arguments of the ``atan2`` and ``atan`` it needs are appended to buffers;
 * numpy: all of them at once, one vectorized ``np.arctan2`` and one ``np.arctan`` (the
   same numpy functions the numpy version calls, so the two agree to the bit; numpy's are
   vectorized and several times faster than the C library's, which compiled code calls);
@@ -26,8 +28,10 @@ grid. Here each level (link) takes four steps, :func:`run`:
 Level ``i`` writes the array of shape ``cells[:i + 1]`` once, and level ``i + 1`` reads it as
 its rows' "already collides" flags, so the last level writes the result once and the
 only other arrays are the shorter levels (``M**2`` bytes for a 3-link ``M**3`` grid), the
-parent level's geometry (cached with the tolerances and reaches, per grid and scene:
-:func:`levels`) and the buffers (at most :data:`BATCH` intervals, kept between calls).
+parent level's geometry (cached per grid), the obstacles' arrays (tolerances and reaches,
+computed by compiled code too, :func:`_polygons` and :func:`_reaches`; the levels are
+cached per grid and scene: :func:`levels`) and the buffers (at most :data:`BATCH`
+intervals, kept between calls).
 
 The grids agree cell for cell with the numpy version's (tested on random scenes); a
 difference could only come from the one step done differently, the choice of a polygon's
