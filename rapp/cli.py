@@ -576,7 +576,7 @@ def main(argv=None) -> int:
     2
     """
     out, err = sys.stdout, sys.stderr
-    code = EXIT_INTERRUPTED
+    said = None  # the exit code whose line has been said
     try:
         with interrupts.catching():  # SIGTERM too unwinds as an interrupt: temporary files go
             try:
@@ -592,8 +592,19 @@ def main(argv=None) -> int:
                 code, line = _signal_exit(e)
             if code in (EXIT_INTERRUPTED, EXIT_TERMINATED):
                 interrupts.mark_reported()
+            said = code
             _say(err, line)
             return code
-    except KeyboardInterrupt as e:  # a second Ctrl-C (or SIGTERM) while the first was reported
+    except KeyboardInterrupt as e:
         interrupts.mark_reported()
-        return code if code in (EXIT_INTERRUPTED, EXIT_TERMINATED) else _signal_exit(e)[0]
+        if said is None:
+            # The first interrupt, landing as the run ended, while catching() put the
+            # handlers back: it is said like any other (the answer may be incomplete).
+            code, line = _signal_exit(e)
+            try:
+                _say(err, line)
+            except KeyboardInterrupt:  # yet another: the line is said as far as it got
+                pass
+            return code
+        # A second Ctrl-C (or SIGTERM) while the first, or an error, was being reported.
+        return said if said in (EXIT_INTERRUPTED, EXIT_TERMINATED) else _signal_exit(e)[0]

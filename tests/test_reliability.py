@@ -603,3 +603,28 @@ def test_a_signal_sent_to_the_process_waits_for_the_end_of_a_deferred_block(sig,
     out = subprocess.run([sys.executable, "-c", _DEFERRED_PROBE, str(int(sig))], env=env,
                          capture_output=True, text=True, timeout=60)
     assert out.stdout.splitlines() == [f"{name} ['end of the block']", f"again {name}"], out
+
+
+@pytest.mark.parametrize("late", [KeyboardInterrupt, "Terminated"])
+def test_an_interrupt_landing_as_the_run_ends_is_said_in_one_line(monkeypatch, capsys, late):
+    """CI caught this race: the signal arrived just as the command returned, while catching()
+    put the handlers back; main returned 130 and said nothing. Now the line is said."""
+    import contextlib
+
+    from rapp import cli, interrupts
+
+    late = interrupts.Terminated if late == "Terminated" else late
+
+    @contextlib.contextmanager
+    def landing_on_exit():
+        yield
+        raise late()
+
+    monkeypatch.setattr(interrupts, "catching", landing_on_exit)
+    monkeypatch.setattr(interrupts, "_reported", False)
+    code = cli.main(["list"])
+    err = capsys.readouterr().err
+    if late is KeyboardInterrupt:
+        assert (code, err) == (130, "rapp: interrupted\n")
+    else:
+        assert (code, err) == (143, "rapp: terminated\n")
