@@ -635,46 +635,74 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, stepp, periodsp, Lp, 
         base = rp * mp
         for j in range(j0, j1):
             out[base + j, :] = blocked[base + j]
+        # Read once here: the compiler cannot tell that the outputs written in the loops
+        # below do not alias these arrays, so it would load them again on every row.
+        Px = Pp[rp, 0]
+        Py = Pp[rp, 1]
+        cpr = cp[rp]
+        spr = sp[rp]
+        phr = phip[rp]
         for k in range(nobs):
-            ns = _arc(ox[k] - Pp[rp, 0], oy[k] - Pp[rp, 1], rho[k], Lp, phip[rp], axp[0],
+            okx = ox[k]
+            oky = oy[k]
+            ns = _arc(okx - Px, oky - Py, rho[k], Lp, phr, axp[0],
                       stepp, periodsp, mp, j0, j1, spans)
+            if ns == 0:
+                continue
+            rk2 = rho[k] * rho[k] * (1.0 + 1e-9)
+            circle = k < nc
+            if circle:
+                ccx = circles[k, 0]
+                ccy = circles[k, 1]
+                cr = circles[k, 2]
+                p = 0
+                s0 = s1 = 0
+                bx0 = bx1 = by0 = by1 = tp = lim2 = 0.0
+            else:
+                ccx = ccy = cr = 0.0
+                p = k - nc
+                s0 = offsets[p]
+                s1 = offsets[p + 1]
+                bx0 = box[p, 0]
+                bx1 = box[p, 1]
+                by0 = box[p, 2]
+                by1 = box[p, 3]
+                tp = tol[p]
+                lim = L + 2 * tp
+                lim2 = lim * lim * (1.0 + 1e-9)
             for q in range(ns):
                 for j in range(spans[q, 0], spans[q, 1]):
                     r = base + j
                     if blocked[r]:
                         continue
-                    c = cp[rp] * cap[j] - sp[rp] * sap[j]
-                    s = sp[rp] * cap[j] + cp[rp] * sap[j]
-                    px = Pp[rp, 0] + Lp * c
-                    py = Pp[rp, 1] + Lp * s
-                    dx = ox[k] - px
-                    dy = oy[k] - py
-                    if dx * dx + dy * dy > rho[k] * rho[k] * (1.0 + 1e-9):
+                    c = cpr * cap[j] - spr * sap[j]
+                    s = spr * cap[j] + cpr * sap[j]
+                    px = Px + Lp * c
+                    py = Py + Lp * s
+                    dx = okx - px
+                    dy = oky - py
+                    if dx * dx + dy * dy > rk2:
                         continue
-                    if k < nc:
-                        kind, ay, ax, by, bx = _circle_args(px, py, L, circles[k, 0],
-                                                            circles[k, 1], circles[k, 2])
+                    if circle:
+                        kind, ay, ax, by, bx = _circle_args(px, py, L, ccx, ccy, cr)
                         cy = 0.0
                         cx = 1.0
                     else:
-                        p = k - nc
                         # Farther than L from the polygon's box (with a margin above its
                         # tolerances): no vertex or edge within reach, and not inside.
-                        gx = max(box[p, 0] - px, px - box[p, 1], 0.0)
-                        gy = max(box[p, 2] - py, py - box[p, 3], 0.0)
-                        lim = L + 2 * tol[p]
-                        if gx * gx + gy * gy > lim * lim * (1.0 + 1e-9):
+                        gx = max(bx0 - px, px - bx1, 0.0)
+                        gy = max(by0 - py, py - by1, 0.0)
+                        if gx * gx + gy * gy > lim2:
                             continue
                         kind, ay, ax, by, bx, cy, cx = _polygon_args(
-                            px, py, L, v, e, ee, slack, etol, offsets[p], offsets[p + 1],
-                            tol[p])
+                            px, py, L, v, e, ee, slack, etol, s0, s1, tp)
                     if kind == NONE:
                         continue
                     rowof[n] = r
                     meta[n, 0] = kind
                     meta[n, 1] = m
                     meta[n, 2] = mz
-                    phis[n] = phip[rp] + axp[j]
+                    phis[n] = phr + axp[j]
                     n += 1
                     # Written whether used or not; the counts advance by what the kind uses.
                     Y[m] = ay
