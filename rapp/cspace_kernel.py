@@ -296,8 +296,10 @@ _GRIDS: dict = {}
 
 
 def _periods(ax) -> int:
-    """How many ``2 pi`` pieces an interval is cut into on the axis ``ax`` (:func:`_paint_one`)."""
-    return int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2
+    """How many ``2 pi`` pieces an interval is cut into on the axis ``ax`` (:func:`_paint_one`);
+    beyond one per cell the painter tests each cell instead, so the count is capped far
+    above any axis's cells (it must fit an int64)."""
+    return min(int((float(ax[-1]) - float(ax[0])) // (2 * np.pi)) + 2, 1 << 40)
 
 
 def _pmax(low, grid, i, geometry) -> float:
@@ -624,7 +626,9 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, stepp, periodsp, Lp, 
     mp = axp.shape[0]
     rows = Pp.shape[0] * mp
     n = m = mz = 0
-    spans = np.empty((max(periodsp, 1), 2), dtype=np.int64)
+    # _arc cuts at most one span per 2 pi piece, and takes every row past one piece per cell.
+    spans = np.empty((max(min(periodsp, mp), 1), 2), dtype=np.int64)
+    turn = abs(axp[0]) + abs(axp[mp - 1])
     rp = r0 // mp
     j0 = r0 - rp * mp
     while rp < Pp.shape[0]:
@@ -645,8 +649,8 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, stepp, periodsp, Lp, 
         for k in range(nobs):
             okx = ox[k]
             oky = oy[k]
-            ns = _arc(okx - Px, oky - Py, rho[k], Lp, phr, axp[0],
-                      stepp, periodsp, mp, j0, j1, spans)
+            ns = _arc(okx - Px, oky - Py, rho[k], Lp, phr, axp[0], stepp, periodsp, mp, j0,
+                      j1, spans, abs(Px) + abs(Py) + abs(okx) + abs(oky) + Lp, turn)
             if ns == 0:
                 continue
             rk2 = rho[k] * rho[k] * (1.0 + 1e-9)
@@ -723,7 +727,7 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, stepp, periodsp, Lp, 
     return rows, n, m, mz
 
 
-def _arc(dx, dy, rho, Lp, phi, ax0, step, periods, m, j0, j1, spans):
+def _arc(dx, dy, rho, Lp, phi, ax0, step, periods, m, j0, j1, spans, size, turn):
     """The cells ``j0 <= j < j1`` of joint ``i - 1``'s axis (``m`` cells from ``ax0``, ``step``
     apart) whose row may have its base point within ``rho`` of an obstacle centred
     ``(dx, dy)`` from the parent point (the row's base point is ``Lp`` from it, at the
@@ -733,27 +737,36 @@ def _arc(dx, dy, rho, Lp, phi, ax0, step, periods, m, j0, j1, spans):
     The base point is within ``rho`` where the cosine of its angle to the centre's
     direction is at least ``kappa = (D^2 + Lp^2 - rho^2) / (2 D Lp)`` (``D`` the centre's
     distance): an arc of half-width ``acos(kappa)`` about that direction. It is taken
-    wider than that, by one cell and ``1e-7`` radians, with ``rho^2`` grown by ``1e-9``
-    of the squares in play (far above the rounding of the rows' base points and angles),
-    so it holds every row the exact test of :func:`_collect` accepts; the rows are cut
-    from it as :func:`_paint_one` cuts cells from an interval. Every row where that is
-    not possible (no link, the centre at the parent point, an arc of ``pi`` or more, an
-    axis of more turns than cells).
+    wider than that, so that it holds every row the exact test of :func:`_collect`
+    accepts, whatever the rounding of the rows' base points and angles:
+
+    * ``rho^2`` grown by ``1e-9`` of the squares in play, and by what rounding may move a
+      base point or the centre: ``size`` is the sum of their coordinates' magnitudes;
+    * the half-width grown by one cell, ``1e-7`` radians, and ``4e-15`` of the angles in
+      play (``turn``: the magnitudes of the axis's ends), which a cell's angle or the
+      parent's may be off by once they are large (a joint whose limits lie at ``1e9``
+      radians is rounded to ``1e-7``).
+
+    The rows are cut from the arc as :func:`_paint_one` cuts cells from an interval. Every
+    row where that is not possible (no link, the centre at the parent point, an arc of
+    ``pi`` or more, an axis of more turns than cells).
     """
     two_pi = 2.0 * math.pi
     d2 = dx * dx + dy * dy
     reach = rho + Lp
-    if d2 > reach * reach * (1.0 + 1e-9):
+    moved = 4e-15 * size              # how far rounding may move a point, generously
+    if d2 > (reach + 2.0 * moved) * (reach + 2.0 * moved) * (1.0 + 1e-9):
         return 0
     d = math.sqrt(d2)
     half = math.pi
     if d * Lp > 0.0:
-        grown = rho * rho * (1.0 + 1e-9) + 1e-9 * (rho * rho + d2 + Lp * Lp)
+        far = rho * math.sqrt(1.0 + 1e-9) + 2.0 * moved
+        grown = far * far + 1e-9 * (rho * rho + d2 + Lp * Lp)
         kappa = (d2 + Lp * Lp - grown) / (2.0 * d * Lp)
         if kappa >= 1.0:
             return 0
         if kappa > -1.0:
-            half = math.acos(kappa) + step + 1e-7
+            half = math.acos(kappa) + step + 1e-7 + 4e-15 * (abs(phi) + turn + two_pi)
     if half >= math.pi or periods > m:
         spans[0, 0] = j0
         spans[0, 1] = j1

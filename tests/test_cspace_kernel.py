@@ -258,8 +258,9 @@ def test_the_arc_of_rows_holds_every_row_the_exact_test_accepts(dx, dy, rho, Lp,
     px, py = Lp * c, Lp * s   # the parent point at the origin, the centre at (dx, dy)
     accepted = (dx - px) ** 2 + (dy - py) ** 2 <= rho * rho * (1.0 + 1e-9)
     for j0, j1 in ((0, m), (m // 3, m - m // 4)):
-        spans = np.empty((max(periods, 1), 2), dtype=np.int64)
-        ns = arc(dx, dy, rho, Lp, phi, ax[0], step, periods, m, j0, j1, spans)
+        spans = np.empty((max(min(periods, m), 1), 2), dtype=np.int64)
+        ns = arc(dx, dy, rho, Lp, phi, ax[0], step, periods, m, j0, j1, spans,
+                 abs(dx) + abs(dy) + Lp, abs(ax[0]) + abs(ax[-1]))
         visited = np.zeros(m, dtype=int)
         for a, b in spans[:ns]:
             assert j0 <= a < b <= j1
@@ -268,3 +269,28 @@ def test_the_arc_of_rows_holds_every_row_the_exact_test_accepts(dx, dy, rho, Lp,
         want = accepted.copy()
         want[:j0] = want[j1:] = False
         assert np.all(visited[want] == 1), np.flatnonzero(want & (visited == 0))
+
+
+@pytest.mark.parametrize("lo", [2e9, 1e12, 1e14])
+def test_joints_limited_far_from_zero_get_the_numpy_grid(lo):
+    # Found by review: at such angles a cell's angle is rounded by more than the arc's fixed
+    # margins, and rows that collide were left out; the margins now grow with the angles.
+    arm = Arm([1.0, 1.0], [(lo, lo + 0.01), None])
+    grid = JointGrid(arm, (12, 8))
+    rng = np.random.default_rng(int(np.log10(lo)))
+    scenes = [[Circle((-1.2751179023996746, 1.244894013170779), 0.5)]]   # the review's case
+    scenes += [[Circle(tuple(rng.uniform(-2, 2, 2)), float(rng.uniform(0.1, 0.6)))]
+               for _ in range(40)]
+    for obs in scenes:
+        agree_but_touching(arm, obs, grid, compiled(arm, obs, grid),
+                           occupancy_numpy(arm, obs, grid))
+
+
+@pytest.mark.parametrize("span", [1e10, 1e19, 1e30])
+def test_a_joint_of_very_many_turns_is_painted_without_a_huge_allocation(span):
+    # Found by review: a buffer of one row per 2 pi piece of the parent's axis (1e10 / 2 pi
+    # of them) was allocated; the number of pieces overflowed an int64 beyond 1e19.
+    arm = Arm([1.0, 1.0], [(-span, span), None])
+    grid = JointGrid(arm, (300, 300))
+    obs = [Circle((1.2, 0.4), 0.3), Polygon.rectangle((-1.5, -0.5), 0.4, 0.8)]
+    agree_but_touching(arm, obs, grid, compiled(arm, obs, grid), occupancy_numpy(arm, obs, grid))
