@@ -39,7 +39,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 __all__ = ["GradeLimits", "StudentResult", "parse_weights", "read_roster", "read_key", "grade_submission",
-           "grade_class", "write_csv", "write_feedback", "write_sheets", "add_parser", "run", "run_assign"]
+           "grade_class", "write_csv", "write_feedback", "write_sheets", "add_parser", "run", "run_assign",
+           "serve_submission"]
 
 SUFFIXES = (".ipynb", ".py")
 
@@ -129,11 +130,16 @@ def read_roster(path: Path) -> list[str]:
 
 # --- the sandboxed side: execute a submission, then serve its answers -------------------------
 
-_SERVE = "import sys; from rapp.grading import _serve_main; _serve_main(sys.argv[1:])"
+_SERVE = "import sys; from rapp.grading import serve_submission; serve_submission(sys.argv[1:])"
 
 
-def _serve_main(argv: list[str]) -> None:
-    """Entry point of the sandbox process: ``SUBMISSION RFD WFD RUN_SECONDS MEMORY``."""
+def serve_submission(argv: list[str]) -> None:
+    """Entry point of the sandbox process that :func:`grade_submission` starts (public: it is
+    named in that process's command line): ``SUBMISSION RFD WFD RUN_SECONDS CPU_SECONDS MEMORY``.
+
+    It confines itself to the limits, executes the submission and answers the grader's
+    questions on the two pipes; it is not meant to be called in a process of one's own.
+    """
     from rapp.exercises.sandbox import Limits, confine, send_message, serve, to_plain
 
     path, rfd, wfd = argv[0], int(argv[1]), int(argv[2])
@@ -569,4 +575,4 @@ def run(args, out, err) -> int:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    _serve_main(sys.argv[1:])
+    serve_submission(sys.argv[1:])
