@@ -659,7 +659,6 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, stepp, periodsp, Lp, 
                 ccx = circles[k, 0]
                 ccy = circles[k, 1]
                 cr = circles[k, 2]
-                p = 0
                 s0 = s1 = 0
                 bx0 = bx1 = by0 = by1 = tp = lim2 = 0.0
             else:
