@@ -110,10 +110,10 @@ LAYERS = {
              "reference"},
     "planners": {"sampling", "sampling_kernel", "grid_route", "rrt", "rrt_connect", "rrt_star", "prm", "planners",
                  "progress"},
-    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "recorded",
-                 "baseline", "traceability"},
+    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts",
+                 "recorded", "baseline", "traceability"},
     "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live"},
-    "interface": {"cli", "__main__", "__init__", "interrupts"},
+    "interface": {"cli", "__main__", "__init__"},
     "teaching": {"exercises", "cases", "grading"},
 }
 DRAWING_LIBRARIES = {"matplotlib", "ipywidgets", "PIL", "IPython", "anywidget"}
@@ -185,8 +185,6 @@ ORDER = ["core", "planners", "pipeline", "drawing", "interface", "teaching"]
 
 #: Imports allowed against the layer order, ``(importer, imported)`` with the reason. Short.
 ALLOWED_UPWARD = {
-    # Being removed (issue 36): each is an arrow running back up.
-    ("rapp.cli", "rapp.grading"), ("rapp.files", "rapp.interrupts"), ("rapp.compare", "rapp"),
 }
 
 
