@@ -39,6 +39,7 @@ from datetime import date
 
 import numpy as np
 
+from rapp import planners as planner_table
 from rapp.arm import Arm, wrap_angle
 from rapp.collision import collides
 from rapp.errors import NoIKSolution, NoPathFound, RappError
@@ -46,20 +47,23 @@ from rapp.obstacles import Circle, Polygon
 from rapp.planner import plan as plan_scenario
 from rapp.scenario import load_scenario
 
-__all__ = ["make_scenarios", "scenario_class", "Task", "Record", "planners_for", "run_task",
+__all__ = ["make_scenarios", "scenario_class", "Task", "Record", "planners_for", "settings_for", "run_task",
            "wilson", "mean_interval", "summarize", "tasks", "run", "recorded_results",
            "RESULTS_FILE", "ASTAR_CELLS", "SAMPLING", "TIME_BUDGET", "RRT_STAR_BUDGET", "STEP"]
 
 #: The recorded comparison: package data, ``rapp/recorded/planners.json`` (:func:`rapp.recorded.load`).
 RESULTS_FILE = "recorded/planners.json"
 
-#: A* resolutions (cells per joint) by number of joints: coarse, medium, fine.
+#: Grid resolutions (cells per joint) by number of joints: coarse, medium, fine; every grid
+#: planner of the table (:data:`rapp.planners.PLANNERS`) runs at each, as ``astar_24`` etc.
 ASTAR_CELLS = {2: (24, 48, 96), 3: (16, 32, 48), 4: (8, 14, 20)}
-SAMPLING = ("rrt", "rrt_connect", "rrt_star", "prm")
+#: The planners of the table that do not plan on a grid, in table order.
+SAMPLING = tuple(name for name, p in planner_table.PLANNERS.items() if not p.grid)
 #: Seconds a sampling planner may spend on one run before it counts as a failure.
 TIME_BUDGET = 5.0
-#: RRT* (rapp's and OMPL's) keeps improving its path until this budget is spent: its "time to
-#: a solution" is this budget, and its length is the length it reached by then.
+#: An anytime planner (RRT*, rapp's and OMPL's: :attr:`rapp.planners.Planner.anytime`) keeps
+#: improving its path until this budget is spent: its "time to a solution" is this budget, and
+#: its length is the length it reached by then.
 RRT_STAR_BUDGET = 1.0
 STEP = 0.1
 
@@ -178,23 +182,45 @@ class Record:
 
 
 def planners_for(n: int, extra=()) -> list[str]:
-    """The runs' planner names for an arm of ``n`` joints: A* at three resolutions, the
-    sampling planners, then ``extra`` (e.g. a benchmark's OMPL planners)."""
-    return [f"astar_{c}" for c in ASTAR_CELLS[n]] + list(SAMPLING) + list(extra)
+    """The runs' planner names for an arm of ``n`` joints: every grid planner of the table at
+    three resolutions, the table's other planners, then ``extra`` (e.g. a benchmark's OMPL
+    planners).
+
+    Examples
+    --------
+    >>> planners_for(2)
+    ['astar_24', 'astar_48', 'astar_96', 'rrt', 'rrt_connect', 'rrt_star', 'prm']
+    """
+    grid = [f"{name}_{c}" for name, p in planner_table.PLANNERS.items() if p.grid
+            for c in ASTAR_CELLS[n]]
+    return grid + list(SAMPLING) + list(extra)
+
+
+def settings_for(run_name: str, seed: int) -> tuple:
+    """``(algorithm, settings)`` of a run named by :func:`planners_for`: a grid planner's
+    resolution; for the others the comparison's step, time budget (an anytime planner's own,
+    with iterations enough to spend it), goal threshold and ``seed``, those each reads.
+
+    Examples
+    --------
+    >>> settings_for("astar_48", 3)
+    ('astar', {'cells': 48})
+    >>> settings_for("rrt_connect", 3)
+    ('rrt_connect', {'step': 0.1, 'seed': 3, 'time_budget': 5.0})
+    """
+    algorithm, _, cells = run_name.rpartition("_")
+    if algorithm in planner_table.PLANNERS and planner_table.PLANNERS[algorithm].grid:
+        return algorithm, {"cells": int(cells)}
+    entry = planner_table.entry(run_name)
+    wanted = {"seed": seed, "step": STEP, "time_budget": TIME_BUDGET, "goal_threshold": 0.05}
+    if entry.anytime:
+        wanted.update(max_iterations=100_000, time_budget=RRT_STAR_BUDGET)
+    return run_name, {k: wanted[k] for k in entry.keys if k in wanted}
 
 
 def run_task(task: Task) -> Record:
     """Plan one scenario with one planner and one seed; never raises for a planning failure."""
-    if task.planner.startswith("astar_"):
-        settings = {"cells": int(task.planner.split("_")[1])}
-        algorithm = "astar"
-    else:
-        algorithm = task.planner
-        settings = {"seed": task.seed, "step": STEP, "time_budget": TIME_BUDGET}
-        if algorithm == "rrt_star":
-            settings.update(max_iterations=100_000, time_budget=RRT_STAR_BUDGET)
-        if algorithm in ("rrt", "rrt_star"):
-            settings["goal_threshold"] = 0.05
+    algorithm, settings = settings_for(task.planner, task.seed)
     s = dict(task.scenario, planner={"algorithm": algorithm, **settings})
     t0 = time.perf_counter()
     try:

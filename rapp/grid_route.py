@@ -31,10 +31,11 @@ from rapp.collision import motion_bounds, segment_collision_free
 from rapp.cspace import JointGrid, certified_free, occupancy
 from rapp.errors import GridTooCoarse, NoPathFound
 from rapp.obstacles import Circle
-from rapp.paths import PlannerResult, path_length, unwrap_near, unwrap_path
+from rapp.paths import (GRID_TOO_COARSE, ITERATION_CAP, NO_PATH, PlannerResult, path_length,
+                        unwrap_near, unwrap_path)
 from rapp.search import astar_search, bfs_distances
 
-__all__ = ["anchor_cell", "grid_route", "grid_step_motion", "obstacle_size"]
+__all__ = ["default_cells", "anchor_cell", "grid_route", "grid_step_motion", "obstacle_size"]
 
 
 def anchor_cell(arm: Arm, obstacles, grid: JointGrid, blocked, q) -> np.ndarray | None:
@@ -227,7 +228,18 @@ def _route_on(arm, obstacles, grid, blocked, start, goal_qs, *, certified: bool,
     return full, metrics, res.closed
 
 
-def grid_route(arm: Arm, start, goal, obstacles=(), *, cells, heuristic_weight: float = 1.0,
+def default_cells(n: int) -> int:
+    """Default cells per joint: 100 for up to 2 joints, else about 2 million cells in all.
+
+    Examples
+    --------
+    >>> default_cells(2), default_cells(3), default_cells(6)
+    (100, 126, 11)
+    """
+    return 100 if n <= 2 else max(8, int(round(2e6 ** (1.0 / n))))
+
+
+def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_weight: float = 1.0,
                max_expansions=None, raise_on_failure: bool = True) -> PlannerResult:
     """A certified polyline from ``start`` to the nearest reachable of ``goal``, by A* on a grid.
 
@@ -242,8 +254,9 @@ def grid_route(arm: Arm, start, goal, obstacles=(), *, cells, heuristic_weight: 
     goal : (n,) or (g, n) array_like
         Goal configuration(s), e.g. every free IK solution of a Cartesian goal.
     obstacles : iterable of Circle and Polygon
-    cells : int or sequence of int
-        Cells per joint of the :class:`~rapp.cspace.JointGrid`.
+    cells : int or sequence of int, optional
+        Cells per joint of the :class:`~rapp.cspace.JointGrid`; by default
+        :func:`default_cells` for the arm's number of joints (as a scenario file's default).
     heuristic_weight, max_expansions
         Passed to :func:`rapp.search.astar_search`.
     raise_on_failure : bool
@@ -273,13 +286,17 @@ def grid_route(arm: Arm, start, goal, obstacles=(), *, cells, heuristic_weight: 
     """
     try:
         return _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions)
-    except NoPathFound:
+    except NoPathFound as err:
         if raise_on_failure:
             raise
-        return PlannerResult(np.empty((0, arm.n)), False, float("inf"), {})
+        status = (GRID_TOO_COARSE if isinstance(err, GridTooCoarse) else ITERATION_CAP
+                  if "limit of" in str(err) and max_expansions is not None else NO_PATH)
+        return PlannerResult(np.empty((0, arm.n)), False, float("inf"), {}, status)
 
 
 def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions):
+    if cells is None:
+        cells = default_cells(arm.n)
     start = arm.check_q(start, "start")
     goal_qs = arm.check_q(np.atleast_2d(goal), "goal")
     obstacles = list(obstacles)

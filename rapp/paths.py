@@ -19,8 +19,18 @@ from rapp.checks import sorted_unique
 from rapp.arm import Arm
 from rapp.collision import segment_collision_free
 
-__all__ = ["PlannerResult", "tree_result", "unwrap_near", "unwrap_path", "drop_repeats", "path_length", "shortcut",
+__all__ = ["PlannerResult", "tree_result", "STATUSES", "SOLVED", "TIME_BUDGET_SPENT", "ITERATION_CAP",
+           "NODE_CAP", "NO_PATH", "GRID_TOO_COARSE", "unwrap_near", "unwrap_path", "drop_repeats", "path_length", "shortcut",
            "split_at_seam", "even_indices"]
+
+
+#: Why a planner stopped (:attr:`PlannerResult.status`): it found a path; its ``time_budget`` was
+#: spent; its ``max_iterations`` (or ``max_expansions``) were all run; its tree or roadmap
+#: reached the most nodes it may hold; it proved that no path exists (on its grid, or because
+#: the start or every goal collides); the grid holds a path that cannot be certified at its
+#: resolution.
+SOLVED, TIME_BUDGET_SPENT, ITERATION_CAP, NODE_CAP, NO_PATH, GRID_TOO_COARSE = STATUSES = (
+    "solved", "time budget spent", "iteration cap", "node cap", "proved no path", "grid too coarse")
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,18 +49,31 @@ class PlannerResult:
         The planner's own: ``nodes``, ``parent``, ``iterations`` for trees and roadmaps;
         ``grid``, ``occupancy``, ``expanded``, ``metrics``, ``times`` for the grid search.
         Each is also read as an attribute (``result.nodes``), as before the contract.
+    status : str
+        Why the planner stopped, one of :data:`STATUSES`: ``"solved"`` exactly when
+        ``success``; a failure says which limit stopped it (``"time budget spent"``,
+        ``"iteration cap"``, ``"node cap"``) or that there is no path (``"proved no path"``).
+        Given as ``""`` it is ``"solved"`` on success (a failure must say why).
 
     Examples
     --------
     >>> r = PlannerResult(np.array([[0.0, 0.0], [0.3, 0.4]]), True, 0.5, {"iterations": 7})
-    >>> r.iterations, r.goal_q.tolist(), r.waypoints is r.path
-    (7, [0.3, 0.4], True)
+    >>> r.iterations, r.goal_q.tolist(), r.waypoints is r.path, r.status
+    (7, [0.3, 0.4], True, 'solved')
     """
 
     path: np.ndarray
     success: bool
     cost: float
     details: Mapping = field(default_factory=dict)
+    status: str = ""
+
+    def __post_init__(self):
+        status = self.status or (SOLVED if self.success else "")
+        if status not in STATUSES or (status == SOLVED) != bool(self.success):
+            raise ValueError(f"status must be one of {STATUSES}, 'solved' exactly on success; "
+                             f"got {self.status!r} with success={self.success}")
+        object.__setattr__(self, "status", status)
 
     def __getattr__(self, name):
         # Only called when normal lookup fails: the planner's own details read as attributes.
@@ -73,18 +96,19 @@ class PlannerResult:
         return self.path[-1]
 
 
-def tree_result(arm: Arm, path, nodes, parent, iterations: int) -> PlannerResult:
-    """A tree or roadmap planner's result: success when ``path`` is given (else None).
+def tree_result(arm: Arm, path, nodes, parent, iterations: int, status: str = "") -> PlannerResult:
+    """A tree or roadmap planner's result: success when ``path`` is given (else None, and
+    ``status`` says why it stopped, one of :data:`STATUSES`).
 
     Examples
     --------
-    >>> r = tree_result(Arm([1.0]), None, np.zeros((1, 1)), np.array([-1]), 5)
-    >>> r.success, r.cost, r.path.shape, r.iterations
-    (False, inf, (0, 1), 5)
+    >>> r = tree_result(Arm([1.0]), None, np.zeros((1, 1)), np.array([-1]), 5, ITERATION_CAP)
+    >>> r.success, r.cost, r.path.shape, r.iterations, r.status
+    (False, inf, (0, 1), 5, 'iteration cap')
     """
     details = {"nodes": nodes, "parent": parent, "iterations": int(iterations)}
     if path is None:
-        return PlannerResult(np.empty((0, arm.n)), False, float("inf"), details)
+        return PlannerResult(np.empty((0, arm.n)), False, float("inf"), details, status)
     return PlannerResult(path, True, path_length(path), details)
 
 

@@ -89,7 +89,7 @@ def _search(scenario: Scenario, goal_qs: np.ndarray) -> PlannerResult:
     elapsed = time.perf_counter() - t0
     path = np.asarray(result.path, float)
     if not result.success or path.ndim != 2 or len(path) == 0:
-        raise NoPathFound(f"{p.algorithm} found no path")
+        raise NoPathFound(f"{p.algorithm} found no path ({result.status})")
     path = unwrap_path(scenario.arm, path)
     details = dict(result.details)
     details.setdefault("metrics", {"tree_path_nodes": int(len(path)),

@@ -15,9 +15,14 @@ defaults and ranges, which ones an algorithm reads, how the echo shows them), by
 book's "Scenario files" page (the page documents every planner and every setting of this
 table). Planners never read a scenario: :func:`run` hands them plain values.
 
+The defaults are the planner functions' own: an entry reads each setting's default from its
+function's signature, so ``rapp.rrt_star(...)`` and a scenario naming ``rrt_star`` run the same
+settings. An entry also says what its planner guarantees (:attr:`Planner.complete`,
+:attr:`Planner.optimizing`, ...), which the contract tests and the book's planner table read.
+
 Adding a planner is its module (a function of the contract) and one :class:`Planner` entry
 in :data:`PLANNERS`; a setting no planner had before is one more :class:`Setting` in its
-entry. Then document it on the "Scenario files" page, whose test says what is missing.
+entry. Then give it its row on the "Scenario files" page, whose test says what is missing.
 
 Examples
 --------
@@ -27,6 +32,8 @@ Examples
 ('step', 'max_iterations', 'seed', 'time_budget')
 >>> PLANNERS["rrt_star"].default("max_iterations"), STEP.accepts(4.0), STEP.range_text
 (3000, False, '[1e-06, pi] rad')
+>>> PLANNERS["astar"].complete, PLANNERS["rrt_star"].optimizing
+('resolution', 'asymptotically')
 >>> from rapp import Arm
 >>> r = run("rrt_connect", Arm([1.0, 1.0]), [0.0, 0.0], [[1.0, 0.5]], [], seed=2)
 >>> r.success, r.path[0].tolist(), round(r.cost, 4)
@@ -35,6 +42,7 @@ Examples
 
 from __future__ import annotations
 
+import inspect
 import math
 from dataclasses import dataclass, replace
 from types import MappingProxyType
@@ -71,7 +79,8 @@ class Setting:
         the loader handles it).
     default
         Value when the file does not set it; ``None`` means "no limit" where ``nullable``
-        (``radius``: the step).
+        (``radius``: the step). In an entry of :data:`PLANNERS` it is the planner function's
+        own default (the shared settings below leave it ``None`` until then).
     low, high : float
         The accepted range; ``low_open`` makes it ``(low, high]``.
     range_text : str
@@ -121,7 +130,17 @@ class Setting:
 @dataclass(frozen=True)
 class Planner:
     """One entry of the table: ``function`` of the contract and the ``settings`` it reads
-    (passed to it by keyword, under the same names)."""
+    (passed to it by keyword, under the same names), with what the planner guarantees.
+
+    Each setting's default is ``function``'s own keyword default (read from its signature
+    when the entry is made): the table and a direct call agree by construction.
+
+    Examples
+    --------
+    >>> def hop(arm, start, goal, obstacles=(), *, seed=7, raise_on_failure=True): ...
+    >>> Planner("hop", hop, (SEED,)).default("seed")
+    7
+    """
 
     name: str
     function: Callable[..., PlannerResult]
@@ -132,6 +151,29 @@ class Planner:
     #: Settings checked against the problem before a run, ``check(arm, start, goal, **settings)``,
     #: raising :class:`rapp.errors.InvalidSetting` (e.g. a step too small to reach the goal).
     check: Callable[..., None] | None = None
+    #: Which completeness it has: ``"resolution"`` (finds a path whenever its grid holds one and
+    #: proves there is none otherwise), ``"probabilistic"`` (finds one with probability tending
+    #: to 1 as it runs longer, proves nothing), or ``""`` (none: it may miss a path).
+    complete: str = ""
+    #: Which optimality: ``"resolution"`` (shortest on its grid, with ``heuristic_weight`` 1),
+    #: ``"asymptotically"`` (its path tends to the shortest as it runs longer), or ``""``.
+    optimizing: str = ""
+    #: It runs every iteration it is given, improving its answer (an anytime planner), rather
+    #: than stopping at its first path.
+    anytime: bool = False
+    #: It can answer "no path" as a proof (``status`` ``"proved no path"``).
+    proves_no_path: bool = False
+    #: What one of its ``max_iterations`` counts (``"samples"``, ``"path searches"``), or ``""``.
+    iteration: str = ""
+
+    def __post_init__(self):
+        own = inspect.signature(self.function).parameters
+        missing = [s.key for s in self.settings if s.key not in own]
+        if missing:
+            raise ValueError(f"planner {self.name!r}: its function has no keyword {missing}")
+        object.__setattr__(self, "settings", tuple(
+            replace(s, default=None if own[s.key].default is inspect.Parameter.empty
+                    else own[s.key].default) for s in self.settings))
 
     @property
     def keys(self) -> tuple:
@@ -145,61 +187,62 @@ class Planner:
 
 CELLS = Setting("cells", "cells", None, low=3, label="cells", warns_when_ignored=False,
                 description="cells per joint of the joint grid")
-HEURISTIC_WEIGHT = Setting("heuristic_weight", "number", 1.0, 1.0, MAX_HEURISTIC_WEIGHT,
+HEURISTIC_WEIGHT = Setting("heuristic_weight", "number", None, 1.0, MAX_HEURISTIC_WEIGHT,
                            range_text=f"[1, {MAX_HEURISTIC_WEIGHT:g}]", label="weight",
                            warns_when_ignored=False,
                            description="1 is optimal A*; above 1 weighted A*")
 MAX_EXPANSIONS = Setting("max_expansions", "integer", None, 1, math.inf, label="max expand",
                          nullable=True, warns_when_ignored=False,
                          description="expansions at most; null: no limit")
-STEP = Setting("step", "number", 0.1, MIN_STEP, MAX_STEP, range_text=f"[{MIN_STEP:g}, pi] rad",
+STEP = Setting("step", "number", None, MIN_STEP, MAX_STEP, range_text=f"[{MIN_STEP:g}, pi] rad",
                unit="rad", label="step", description="joint-space step of each extension")
 RADIUS = Setting("radius", "number", None, MIN_STEP, MAX_STEP,
                  range_text=f"[{MIN_STEP:g}, pi] rad", unit="rad", label="radius", nullable=True,
                  null_text="the step", description="largest rewiring radius; null: the step")
-GOAL_BIAS = Setting("goal_bias", "number", 0.1, 0.0, 1.0, range_text="[0, 1]", label="goal bias",
+GOAL_BIAS = Setting("goal_bias", "number", None, 0.0, 1.0, range_text="[0, 1]", label="goal bias",
                     description="probability of sampling the goal")
 GOAL_THRESHOLD = Setting(
-    "goal_threshold", "number", 0.01, 0.0, MAX_GOAL_THRESHOLD, low_open=True,
+    "goal_threshold", "number", None, 0.0, MAX_GOAL_THRESHOLD, low_open=True,
     range_text=f"(0, {MAX_GOAL_THRESHOLD:g}] rad (a joint-space distance to a goal configuration)",
     unit="rad", label="goal thresh", description="a node this close to a goal has reached it")
-SAMPLES = Setting("samples", "integer", 500, 10, 100_000, label="samples",
+SAMPLES = Setting("samples", "integer", None, 10, 100_000, label="samples",
                   description="free configurations added each time the roadmap holds no path")
-NEIGHBOURS = Setting("neighbours", "integer", 10, 1, 100, label="neighbours",
+NEIGHBOURS = Setting("neighbours", "integer", None, 1, 100, label="neighbours",
                      description="candidate edges from each node to its nearest nodes")
-MAX_ITERATIONS = Setting("max_iterations", "integer", 20000, 1, 10_000_000, label="iterations",
+MAX_ITERATIONS = Setting("max_iterations", "integer", None, 1, 10_000_000, label="iterations",
                          description="iterations at most")
 TIME_BUDGET = Setting("time_budget", "number", None, 0.0, MAX_TIME_BUDGET, low_open=True,
                       range_text=f"(0, {MAX_TIME_BUDGET:g}] s", unit="s", label="time budget",
                       nullable=True, description="seconds at most; null: no limit")
-SEED = Setting("seed", "integer", 0, 0, 2**63 - 1, label="seed", warns_when_ignored=False,
+SEED = Setting("seed", "integer", None, 0, 2**63 - 1, label="seed", warns_when_ignored=False,
                description="seeds the random generator")
 
 
 #: The settings shared by the planners below, in the order the loader checks them and the echo
-#: shows them.
+#: shows them. Their defaults are each planner function's own (see :class:`Planner`).
 SETTINGS = (CELLS, HEURISTIC_WEIGHT, MAX_EXPANSIONS, STEP, RADIUS, GOAL_BIAS, GOAL_THRESHOLD,
             SAMPLES, NEIGHBOURS, MAX_ITERATIONS, TIME_BUDGET, SEED)
-
-
-def _iterations(default: int) -> Setting:
-    return replace(MAX_ITERATIONS, default=default)
 
 
 #: Planner name -> :class:`Planner`. Read-only: a planner is added here, in code.
 PLANNERS: Mapping[str, Planner] = MappingProxyType({
     "astar": Planner("astar", grid_route, (CELLS, HEURISTIC_WEIGHT, MAX_EXPANSIONS),
-                     "A* on the joint grid, every move certified", grid=True),
-    "rrt": Planner("rrt", rrt, (STEP, GOAL_BIAS, GOAL_THRESHOLD, _iterations(20000), SEED,
-                                TIME_BUDGET),
-                   "a rapidly-exploring random tree from the start", check=check_reachable),
-    "rrt_connect": Planner("rrt_connect", rrt_connect, (STEP, _iterations(20000), SEED, TIME_BUDGET),
-                           "two trees, from the start and the goals, grown toward each other"),
+                     "A* on the joint grid, every move certified", grid=True,
+                     complete="resolution", optimizing="resolution", proves_no_path=True),
+    "rrt": Planner("rrt", rrt, (STEP, GOAL_BIAS, GOAL_THRESHOLD, MAX_ITERATIONS, SEED, TIME_BUDGET),
+                   "a rapidly-exploring random tree from the start", check=check_reachable,
+                   complete="probabilistic", iteration="samples"),
+    "rrt_connect": Planner("rrt_connect", rrt_connect, (STEP, MAX_ITERATIONS, SEED, TIME_BUDGET),
+                           "two trees, from the start and the goals, grown toward each other",
+                           complete="probabilistic", iteration="samples"),
     "rrt_star": Planner("rrt_star", rrt_star, (STEP, RADIUS, GOAL_BIAS, GOAL_THRESHOLD,
-                                               _iterations(3000), SEED, TIME_BUDGET),
-                        "RRT with rewiring: runs its whole budget, shortening the path"),
-    "prm": Planner("prm", prm, (SAMPLES, NEIGHBOURS, _iterations(500), SEED, TIME_BUDGET),
-                   "a lazy probabilistic roadmap; its iterations are path searches"),
+                                               MAX_ITERATIONS, SEED, TIME_BUDGET),
+                        "RRT with rewiring: runs its whole budget, shortening the path",
+                        complete="probabilistic", optimizing="asymptotically", anytime=True,
+                        iteration="samples"),
+    "prm": Planner("prm", prm, (SAMPLES, NEIGHBOURS, MAX_ITERATIONS, SEED, TIME_BUDGET),
+                   "a lazy probabilistic roadmap; its iterations are path searches",
+                   complete="probabilistic", iteration="path searches"),
 })
 
 
@@ -217,13 +260,15 @@ def entry(name: str) -> Planner:
 
 
 def all_settings() -> dict:
-    """Every setting of any planner, key -> :class:`Setting`: :data:`SETTINGS` first, then any
-    a planner brings of its own. A key's range is the same in every planner that reads it."""
-    out = {s.key: s for s in SETTINGS}
+    """Every setting of any planner, key -> :class:`Setting`: :data:`SETTINGS`' order first, then
+    any a planner brings of its own. A key's range is the same in every planner that reads it;
+    its default here is that of the first planner reading it (``max_iterations`` differs by
+    planner: :meth:`Planner.default`)."""
+    read = {}
     for p in PLANNERS.values():
         for s in p.settings:
-            out.setdefault(s.key, s)
-    return out
+            read.setdefault(s.key, s)
+    return {**{s.key: read[s.key] for s in SETTINGS if s.key in read}, **read}
 
 
 def run(name: str, arm, start, goal, obstacles=(), **settings) -> PlannerResult:

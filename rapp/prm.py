@@ -32,7 +32,7 @@ from rapp.checks import positive_integer
 from rapp.collision import MAX_PENDING_INTERVALS, collides
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.jit import jit
-from rapp.paths import PlannerResult, tree_result
+from rapp.paths import NODE_CAP, TIME_BUDGET_SPENT, PlannerResult, tree_result
 from rapp.rrt import RRTResult
 from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared_norms, uniform_samples,
                            unwrapped_chain)
@@ -229,10 +229,10 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
                             budget, seed, raise_on_failure, compiled=False)
     except _OutOfTime:
         if raise_on_failure:
-            raise NoPathFound(f"PRM joined no goal within its time budget of "
-                              f"{budget.time_budget:g} s") from None
+            raise NoPathFound(f"PRM stopped: time_budget {budget.time_budget:g} s spent after "
+                              f"{budget.iterations} searches, no goal joined") from None
         return tree_result(arm, None, np.vstack((start, goals)), np.full(1 + len(goals), -1),
-                           budget.iterations)
+                           budget.iterations, TIME_BUDGET_SPENT)
 
 
 def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, budget, seed,
@@ -249,7 +249,7 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
         edges = _DictEdges(arm, neighbours, goal_ids)
     certify = EdgeCertifier(arm, obstacles)
     parent, hit = np.full(len(nodes), -1), -1
-    grow = True
+    grow, full = True, False
     while True:
         rounds = budget.grant(SEARCHES)
         if not rounds:
@@ -257,6 +257,7 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
         if grow:
             if len(nodes) - 1 - len(goals) >= max_samples:
                 budget.iterations += 1  # this search was counted before the roadmap was full
+                full = True
                 break
             first_new = len(nodes)
             nodes = _grow(arm, rng, nodes, samples, obstacles, budget)
@@ -270,15 +271,15 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
             path = unwrapped_chain(arm, nodes[chain[::-1]], start)
             return tree_result(arm, path, nodes, parent, budget.iterations)
         grow = hit < 0
+    outcome = f"the roadmap of {len(nodes)} nodes joined no goal"
+    if full:
+        status, msg = NODE_CAP, (f"PRM stopped: its roadmap reached max_samples {max_samples} "
+                                 f"after {budget.iterations} searches, {outcome}")
+    else:
+        status, msg = budget.status(), budget.stopped("PRM", outcome, unit="searches")
     if raise_on_failure:
-        try:
-            _check_time(budget)
-        except _OutOfTime:
-            raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal within its "
-                              f"time budget of {budget.time_budget:g} s") from None
-        raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal in "
-                          f"{budget.iterations} searches")
-    return tree_result(arm, None, nodes, parent, budget.iterations)
+        raise NoPathFound(msg)
+    return tree_result(arm, None, nodes, parent, budget.iterations, status)
 
 
 class _DictEdges:

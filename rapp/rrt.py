@@ -62,6 +62,7 @@ SRS of 2D-RAPP (seed 000): LC3 (other planners).
 
 from __future__ import annotations
 
+import inspect
 import time
 from dataclasses import dataclass
 from typing import Mapping
@@ -73,7 +74,7 @@ from rapp import progress
 from rapp.collision import collides, segment_collision_free
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.ik import jacobian
-from rapp.paths import PlannerResult, tree_result
+from rapp.paths import ITERATION_CAP, NO_PATH, TIME_BUDGET_SPENT, PlannerResult, tree_result
 from rapp.sampling import Budget, Tree
 
 __all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "check_reachable", "Grower", "MIN_STEP", "MAX_STEP"]
@@ -152,8 +153,8 @@ def rrt(
     goal_xy=None,
     step: float = 0.1,
     goal_bias: float = 0.1,
-    goal_threshold: float = 0.05,
-    max_iterations: int = 5000,
+    goal_threshold: float = 0.01,
+    max_iterations: int = 20000,
     seed=0,
     steer: str = "step",
     raise_on_failure: bool = True,
@@ -226,17 +227,17 @@ def rrt(
                                                    goal_threshold, steer)
     tree = _Tree(arm, arm.wrap(start))
 
-    def fail(msg, it):
+    def fail(msg, it, status):
         if raise_on_failure:
             raise NoPathFound(msg)
-        return tree_result(arm, None, tree.nodes.copy(), tree.parent.copy(), it)
+        return tree_result(arm, None, tree.nodes.copy(), tree.parent.copy(), it, status)
 
     if obstacles:  # thousands of checks follow: the compiled kernel (rapp._kernels.collision_numba)
         collision_backend.kernels()
     if collides(arm, start, obstacles):
-        return fail("the start configuration collides", 0)
+        return fail("the start configuration collides", 0, NO_PATH)
     if gxy is not None and np.linalg.norm(gxy) > arm.reach[1] + goal_threshold:
-        return fail("goal_xy is beyond the arm's reach", 0)
+        return fail("goal_xy is beyond the arm's reach", 0, NO_PATH)
 
     def reached(q, p):
         if gxy is not None:
@@ -262,8 +263,8 @@ def rrt(
     it = 0
     while hit < 0 and it < max_iterations:
         if budget.time_budget is not None and time.perf_counter() - budget.t0 > budget.time_budget:
-            return fail(f"RRT reached no goal within its time budget of {budget.time_budget:g} s "
-                        f"({it} iterations)", it)
+            return fail(f"RRT stopped: time_budget {budget.time_budget:g} s spent after {it} "
+                        "iterations, no goal reached", it, TIME_BUDGET_SPENT)
         progress.report("RRT", it, max_iterations)
         batch = grow.draw(rng)
         for k in range(_BATCH):
@@ -273,7 +274,8 @@ def rrt(
             if grow.extend(batch, k):
                 hit = arrive(tree.m - 1)
     if hit < 0:
-        return fail(f"RRT reached no goal in {max_iterations} iterations", it)
+        return fail(f"RRT stopped: max_iterations {max_iterations} reached, no goal reached", it,
+                    ITERATION_CAP)
     path = _unwrapped_path(arm, tree, hit, start)
     return tree_result(arm, path, tree.nodes.copy(), tree.parent.copy(), it)
 
@@ -472,14 +474,12 @@ def plan_rrt(arm, obstacles, start, goal_qs=None, *, goal_xy=None, settings: Map
     """
     kw = {k: settings[k] for k in _SETTINGS if settings and k in settings}
     if goal_qs is not None and goal_xy is None and kw.get("steer", "step") == "step":
-        check_reachable(arm, start, goal_qs, step=float(kw.get("step", 0.1)),
-                        max_iterations=kw.get("max_iterations", 5000),
-                        goal_threshold=float(kw.get("goal_threshold", 0.05)))
+        check_reachable(arm, start, goal_qs, **kw)
     return rrt(arm, start, goal_qs, obstacles, goal_xy=goal_xy, **kw).path
 
 
-def check_reachable(arm, start, goals, *, step: float = 0.1, max_iterations=5000,
-                    goal_threshold: float = 0.05, **_other_settings) -> None:
+def check_reachable(arm, start, goals, *, step: float | None = None, max_iterations=None,
+                    goal_threshold: float | None = None, **_other_settings) -> None:
     """Refuse a ``step`` with which no run of ``max_iterations`` can reach a goal.
 
     Every iteration moves the tree at most one step nearer a goal, so a goal ``d`` beyond the
@@ -495,6 +495,11 @@ def check_reachable(arm, start, goals, *, step: float = 0.1, max_iterations=5000
     ...
     rapp.errors.InvalidSetting: step 0.0001 rad is too small: ...
     """
+    # A setting not given is rrt's own default (one source of defaults: rrt's signature).
+    own = inspect.signature(rrt).parameters
+    step = float(own["step"].default if step is None else step)
+    goal_threshold = float(own["goal_threshold"].default if goal_threshold is None else goal_threshold)
+    max_iterations = own["max_iterations"].default if max_iterations is None else max_iterations
     start = arm.check_q(start, "start").reshape(arm.n)
     d = arm.joint_delta(start, arm.check_q(goals, "goal").reshape(-1, arm.n))
     gap = float(np.sqrt((d * d).sum(axis=-1)).min()) - goal_threshold

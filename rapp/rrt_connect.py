@@ -31,7 +31,7 @@ from rapp.collision import MAX_PENDING_INTERVALS
 from rapp._kernels.collision import pack
 from rapp.obstacles import Circle
 from rapp.errors import InvalidSetting, NoPathFound
-from rapp.paths import PlannerResult, tree_result
+from rapp.paths import NODE_CAP, PlannerResult, tree_result
 from rapp.rrt import MAX_STEP, MIN_STEP
 from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals,
                            endpoint_certified, motion_bounds_of, squared_norms, uniform_samples,
@@ -167,7 +167,7 @@ def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reac
 
 
 def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
-                max_iterations: int = 5000, time_budget: float | None = None,
+                max_iterations: int = 20000, time_budget: float | None = None,
                 raise_on_failure: bool = True) -> PlannerResult:
     """Plan from ``start`` to a goal configuration with two trees that grow toward each other.
 
@@ -239,11 +239,12 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     if meet is None:
         if raise_on_failure:
             if full:
-                raise NoPathFound(f"RRT-Connect joined no goal before its trees reached their "
-                                  f"{MAX_NODES} nodes ({budget.iterations} iterations; each "
-                                  f"node advances at most step = {step:g} rad)")
-            raise NoPathFound(f"RRT-Connect joined no goal in {budget.iterations} iterations")
-        return tree_result(arm, None, nodes, parent, budget.iterations)
+                raise NoPathFound(f"RRT-Connect stopped: its trees reached their {MAX_NODES} nodes "
+                                  f"after {budget.iterations} iterations (each node advances at "
+                                  f"most step = {step:g} rad), no goal joined")
+            raise NoPathFound(budget.stopped("RRT-Connect", "no goal joined"))
+        return tree_result(arm, None, nodes, parent, budget.iterations,
+                           NODE_CAP if full else budget.status())
     walk = _root_chain(trees[0], meet[0])[::-1] + _root_chain(trees[1], meet[1])[1:]
     path = unwrapped_chain(arm, np.array(walk), start)
     return tree_result(arm, path, nodes, parent, budget.iterations)

@@ -94,8 +94,8 @@ def _shift_subtree_cost(tree: Tree, root: int, delta: float) -> None:
         todo = kids.tolist()
 
 
-def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: float = 0.05,
-             goal_threshold: float = 0.05, seed=0, max_iterations: int = 2000,
+def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.1, goal_bias: float = 0.1,
+             goal_threshold: float = 0.01, seed=0, max_iterations: int = 3000,
              time_budget: float | None = None, gamma: float | None = None,
              radius: float | None = None, raise_on_failure: bool = True) -> PlannerResult:
     """Plan with RRT*: the best path found to a goal configuration within the budget.
@@ -157,8 +157,8 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: fl
     nodes, parent, best_goal = grown
     if best_goal < 0:
         if raise_on_failure:
-            raise NoPathFound(f"RRT* reached no goal in {budget.iterations} iterations")
-        return tree_result(arm, None, nodes, parent, budget.iterations)
+            raise NoPathFound(budget.stopped("RRT*", "no goal reached"))
+        return tree_result(arm, None, nodes, parent, budget.iterations, budget.status())
     # Rewiring may have improved the goal's branch since it was found: walk the parent map now.
     chain = [best_goal]
     while parent[chain[-1]] >= 0:

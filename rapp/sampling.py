@@ -22,6 +22,7 @@ from rapp._kernels import collision as collision_backend
 from rapp.collision import collides, reach_matrix, segment_collision_free
 from rapp._kernels.collision import pack
 from rapp.errors import NoPathFound
+from rapp.paths import ITERATION_CAP, TIME_BUDGET_SPENT
 
 __all__ = ["ClearanceTree", "squared_norms", "motion_bounds_of", "endpoint_certified", "EdgeCertifier", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
 
@@ -227,6 +228,39 @@ class Budget:
             return True
         self.iterations += 1
         return False
+
+    def status(self) -> str:
+        """Why it stopped, once it has (:data:`rapp.paths.ITERATION_CAP` when every iteration
+        ran, else :data:`rapp.paths.TIME_BUDGET_SPENT`).
+
+        Examples
+        --------
+        >>> b = Budget(2, 5.0)
+        >>> b.iterations = 2
+        >>> b.status()
+        'iteration cap'
+        """
+        if self.iterations >= self.max_iterations or self.time_budget is None:
+            return ITERATION_CAP
+        return TIME_BUDGET_SPENT
+
+    def stopped(self, planner: str, outcome: str, *, unit: str = "iterations") -> str:
+        """The failure message of a run this budget stopped: it names the limit spent.
+
+        Examples
+        --------
+        >>> b = Budget(20000, 5.0)
+        >>> b.iterations = 64
+        >>> b.stopped("RRT-Connect", "no goal joined")
+        'RRT-Connect stopped: time_budget 5 s spent after 64 iterations, no goal joined'
+        >>> b.iterations = 20000
+        >>> b.stopped("RRT-Connect", "no goal joined")
+        'RRT-Connect stopped: max_iterations 20000 reached, no goal joined'
+        """
+        if self.status() == ITERATION_CAP:
+            return f"{planner} stopped: max_iterations {self.max_iterations} reached, {outcome}"
+        return (f"{planner} stopped: time_budget {self.time_budget:g} s spent after "
+                f"{self.iterations} {unit}, {outcome}")
 
     def grant(self, k: int) -> int:
         """How many of the next ``k`` iterations may run (0 when none is left); the caller

@@ -43,6 +43,7 @@ from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParame
 from rapp.collision import clearance, collides, segment_point_distance
 from rapp.obstacles import Circle, Polygon
 from rapp import planners as planner_table
+from rapp.grid_route import default_cells
 from rapp.prm import MEMORY_BUDGET as PRM_MEMORY_BUDGET, roadmap_bytes
 
 __all__ = [
@@ -146,15 +147,6 @@ def max_cells(n: int) -> int:
     return int(MEMORY_BUDGET // bytes_per_cell(n))
 
 
-def default_cells(n: int) -> int:
-    """Default cells per joint: 100 for up to 2 joints, else about 2 million cells in all.
-
-    Examples
-    --------
-    >>> default_cells(2), default_cells(3), default_cells(6)
-    (100, 126, 11)
-    """
-    return 100 if n <= 2 else max(8, int(round(2e6 ** (1.0 / n))))
 #: The time profiles of ``trajectory.profile``: the three of :func:`rapp.trajectory.time_path`
 #: and the trapezoid (LSPB) of :func:`rapp.time_scaling.trapezoidal_path`.
 PROFILES = ("cubic", "quintic", "spline", "trapezoidal")

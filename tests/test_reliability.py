@@ -364,7 +364,7 @@ def test_prm_honours_its_time_budget_inside_a_batch(samples, neighbours):
         prm(arm, [0.0, 0.0], [2.5, 0.3], obs, samples=samples, neighbours=neighbours,
             time_budget=budget)
     except NoPathFound as e:
-        assert "time budget" in str(e)
+        assert f"PRM stopped: time_budget {budget:g} s spent after" in str(e)
 
 
 # --------------------------------------------------------------------------- 5. long work

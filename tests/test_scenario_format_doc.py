@@ -219,9 +219,9 @@ def planner_doc_problems(tables=None) -> list:
     """What the page's planner tables say that the planner table does not (empty: they agree).
 
     ``keys-planner-astar`` holds the settings of the grid planners, ``keys-planner-rrt`` every
-    other setting, each with its default; ``planner-sampling-reads`` has one row per sampling
-    planner with the keys it reads and its ``max_iterations`` default; the ``algorithm`` row
-    names every planner.
+    other setting, each with its default; ``planner-table`` has one row per planner with the
+    keys it reads, what its ``max_iterations`` counts and its default, and its capability flags
+    (``complete``, ``optimizing``: :class:`rapp.planners.Planner`).
     """
     tables = TABLES if tables is None else tables
     table = rapp.planners.PLANNERS
@@ -241,22 +241,30 @@ def planner_doc_problems(tables=None) -> list:
             if key in every and m and json.loads(m.group(1)) != every[key].default:
                 problems.append(f"{name}: default of {key} is {m.group(1)}, the table's "
                                 f"{every[key].default!r}")
-    algorithms = set(re.findall(r'"(\w+)"', rows("keys-planner-astar").get("algorithm", [""] * 5)[4]))
-    if algorithms != set(table):
-        problems.append(f"planner.algorithm lists {sorted(algorithms)}, the table {sorted(table)}")
-    reads = {row[0].strip('`"'): row for row in tables.get("planner-sampling-reads", [])}
-    sampling = {name: p for name, p in table.items() if not p.grid}
-    if set(reads) != set(sampling):
-        problems.append(f"planner-sampling-reads has {sorted(reads)}, the table {sorted(sampling)}")
-    for name, p in sampling.items():
-        if name in reads:
-            listed = re.findall(r"`(\w+)`", reads[name][1])
-            if listed != list(p.keys):
-                problems.append(f"{name} reads {p.keys}, the page says {listed}")
-            if "max_iterations" in p.keys and reads[name][3] != str(p.default("max_iterations")):
-                problems.append(f"{name}: max_iterations default {p.default('max_iterations')}, "
-                                f"the page says {reads[name][3]}")
+    listed = {row[0].strip('`"'): row for row in tables.get("planner-table", [])}
+    if set(listed) != set(table):
+        problems.append(f"planner-table has {sorted(listed)}, the planner table {sorted(table)}")
+    for name, p in table.items():
+        if name not in listed:
+            continue
+        row = listed[name]
+        if re.findall(r"`(\w+)`", row[1]) != list(p.keys):
+            problems.append(f"{name} reads {p.keys}, the page says {row[1]}")
+        its = str(p.default("max_iterations")) if "max_iterations" in p.keys else ""
+        if row[3] != its:
+            problems.append(f"{name}: max_iterations default {its or 'none'}, the page says {row[3]}")
+        counts = (p.iteration + (", all run" if p.anytime else "")) if p.iteration else ""
+        if not row[2].startswith(counts) or bool(row[2]) != bool(counts):
+            problems.append(f"{name}: max_iterations counts {counts or 'nothing'}, the page says {row[2]}")
+        for column, flag in ((4, p.complete), (5, p.optimizing)):
+            said = row[column].split(":")[0].strip()
+            if said != (flag or "no"):
+                problems.append(f"{name}: {tables_header(column)} is {flag or 'no'}, the page says {said}")
     return problems
+
+
+def tables_header(column: int) -> str:
+    return ("algorithm", "reads", "counts", "default", "complete", "optimizing")[column]
 
 
 def test_planner_tables_are_the_planner_table():
@@ -279,11 +287,11 @@ def _straight(arm, start, goal, obstacles=(), *, tries=1, seed=0, raise_on_failu
             return PlannerResult(path, True, path_length(path), {"tries": int(tries)})
     if raise_on_failure:
         raise rapp.errors.NoPathFound("no straight segment is free")
-    return PlannerResult(np.empty((0, arm.n)), False, math.inf, {})
+    return PlannerResult(np.empty((0, arm.n)), False, math.inf, {}, "iteration cap")
 
 
 def test_a_planner_registered_in_the_table_is_parsed_planned_and_checked_on_the_page(monkeypatch):
-    tries = rapp.planners.Setting("tries", "integer", 2, 1, 10, label="tries")
+    tries = rapp.planners.Setting("tries", "integer", None, 1, 10, label="tries")  # default: _straight's
     entry = rapp.planners.Planner("straight", _straight, (tries, rapp.planners.SEED),
                                   "the straight segment, if it is free")
     monkeypatch.setattr(rapp.planners, "PLANNERS",
