@@ -20,11 +20,11 @@ Implementation note: :func:`astar_search`, the version the book shows, runs in
 Python over flat cell numbers. The neighbour table (with the wrap of each axis
 built in) and the heuristic of every cell are computed once with numpy; the
 inner loop only reads Python lists and a bytearray, which is several times
-faster than tuples of indices. :func:`astar` runs the same search, in the same
-order, compiled with numba (``@njit(cache=True)``, see :func:`_astar_kernel`)
-when numba can be imported, and falls back to :func:`astar_search` when it
-cannot. Its open list is a bucket queue of three ``f`` levels when ``w = 1``
-(see :func:`_astar_loop`) and the binary heap of :mod:`rapp.heap` otherwise;
+faster than tuples of indices (:mod:`rapp._kernels.search_python`). :func:`astar` runs the
+same search, in the same order, compiled with numba (:mod:`rapp._kernels.search_numba`)
+when numba can be imported, and falls back to that Python loop when it
+cannot (the choice: :mod:`rapp._kernels.search`). Its open list is a bucket queue of three
+``f`` levels when ``w = 1`` and the binary heap of :mod:`rapp.heap` otherwise;
 both pop the entries in the order of the heap of :func:`astar_search`. numba
 is imported on the first search of a grid of :data:`COMPILE_FROM` cells or
 more, not with rapp: a smaller grid is searched in Python until then.
@@ -32,18 +32,17 @@ more, not with rapp: a smaller grid is searched in Python until then.
 
 from __future__ import annotations
 
-import functools
-
 import heapq
 import operator
-import sys
 from dataclasses import dataclass
 
 import numpy as np
 
-from rapp import heap
+from rapp._kernels import search as _backend
+from rapp._kernels import search_python
+from rapp._kernels.search import COMPILE_FROM
+from rapp._kernels.search_python import PaddedGraph, heuristic_grid
 from rapp.errors import InvalidCell, NoPathFound
-from rapp.jit import jit
 from rapp.checks import sorted_unique, finite_number, positive_integer
 
 __all__ = [
@@ -123,19 +122,6 @@ def _neighbour_table(shape, wraps):
                 t[tuple(edge)] = size
             cols.append(t.ravel())
     return np.stack(cols, axis=1)
-
-
-def _heuristic_grid(shape, goal, wraps):
-    """GD1 for every cell at once, by broadcasting one 1-D term per axis."""
-    h = np.zeros(shape, dtype=np.int64)
-    for axis, (m, gi, w) in enumerate(zip(shape, goal, wraps)):
-        d = np.abs(np.arange(m) - gi)
-        if w:
-            d = np.minimum(d, m - d)
-        view = [1] * len(shape)
-        view[axis] = m
-        h += d.reshape(view)
-    return h
 
 
 def _path_array(flat_path, shape):
@@ -252,7 +238,7 @@ def check_heuristic(occupied, goal, *, wraps=True, heuristic_wraps=None):
     if occ[gidx]:
         raise ValueError(f"the goal cell {gidx} is blocked")
     size = occ.size
-    h = np.append(_heuristic_grid(shape, gidx, hw).ravel(), 0)
+    h = np.append(heuristic_grid(shape, gidx, hw).ravel(), 0)
     free = np.append(~occ.ravel(), False)
     nb = _neighbour_table(shape, w)
     u = np.flatnonzero(free[:size])
@@ -308,58 +294,6 @@ def _prepare(occupied, start, goal, wraps):
     if occ[gidx]:
         raise NoPathFound(f"the goal cell {gidx} is blocked")
     return occ, w, sidx, s, gidx, t
-
-
-class _PaddedGraph:
-    """The grid as a graph for the Python search loops, in padded flat numbers.
-
-    The grid is embedded in one of shape ``M_i + 2`` on every axis, so that the
-    neighbours of any real cell are at the constant offsets ``+-stride_i``. A
-    pad cell of a bounded axis is closed from the start (off the grid); a pad
-    cell of a wrapping axis redirects (``red``) to the real cell on the other
-    side. Blocked cells are closed from the start too, so the inner loop needs
-    one lookup and one test per neighbour and no table of size ``N x 2n``,
-    whose construction would cost more than a typical search.
-    """
-
-    def __init__(self, occ, wraps):
-        n = occ.ndim
-        self.shape = occ.shape
-        self.pshape = tuple(m + 2 for m in occ.shape)
-        self.inner = (slice(1, -1),) * n
-        size = int(np.prod(self.pshape))
-        self.size = size
-        blocked = np.ones(self.pshape, dtype=np.uint8)
-        blocked[self.inner] = occ
-        red = np.arange(size).reshape(self.pshape)
-        for axis, (m, w) in enumerate(zip(occ.shape, wraps)):
-            if w:
-                for pad, real in ((0, m), (m + 1, 1)):
-                    dst = list(self.inner)
-                    src = list(self.inner)
-                    dst[axis], src[axis] = pad, real
-                    red[tuple(dst)] = red[tuple(src)]
-        self.closed = bytearray(blocked.tobytes())
-        self.red = red.ravel().tolist()
-        strides = [int(np.prod(self.pshape[i + 1:])) for i in range(n)]
-        self.offsets = [d for st in strides for d in (st, -st)]
-
-    def flat(self, idx):
-        return int(np.ravel_multi_index(tuple(i + 1 for i in idx), self.pshape))
-
-    def padded(self, values):
-        return np.pad(values, 1).ravel()
-
-    def path(self, flat):
-        cells = np.stack(np.unravel_index(np.asarray(flat, dtype=np.int64), self.pshape), axis=-1) - 1
-        cells.setflags(write=False)
-        return cells
-
-    def expanded(self, occ):
-        done = np.frombuffer(bytes(self.closed), dtype=np.uint8).reshape(self.pshape)[self.inner]
-        out = done.astype(bool) & ~occ
-        out.setflags(write=False)
-        return out
 
 
 def _expansion_limit(max_expansions) -> int:
@@ -439,289 +373,20 @@ def astar_search(
     hw = w_ax if heuristic_wraps is None else _wraps(heuristic_wraps, occ.ndim)
     w = finite_number(heuristic_weight, "heuristic_weight", at_least=1.0)
     limit = _expansion_limit(max_expansions)
-    G = _PaddedGraph(occ, w_ax)
-    size, closed, red, offs = G.size, G.closed, G.red, G.offsets
-    hgrid = G.padded(_heuristic_grid(occ.shape, gidx, hw))
-    s, t = G.flat(sidx), G.flat(gidx)
-    g = [size + 1] * size
-    parent = {}
-    g[s] = 0
-    expansions = 0
-    push, pop = heapq.heappush, heapq.heappop
-    found = s == t
-    stopped = False
+    status, flat, expansions, G = search_python.astar(occ, w_ax, hw, sidx, gidx, w, limit)
+    _raise_for(status, limit, sidx, gidx)
+    return SearchResult(path=G.path(flat), cost=len(flat) - 1, expansions=expansions,
+                        closed=G.expanded(occ))
 
-    # Heap entries (f, -g, cell): lowest f first, ties toward the larger g (deeper nodes, so
-    # equal-f plateaus are crossed fast), then the cell index, so the order is deterministic.
-    wh = hgrid.tolist() if w == 1.0 else (w * hgrid).tolist()
-    heap = [(wh[s], 0, s)]
-    while heap and not found:
-        u = pop(heap)[2]
-        if closed[u]:
-            continue
-        if u == t:
-            found = True
-            break
-        if expansions == limit:
-            stopped = True
-            break
-        closed[u] = 1
-        expansions += 1
-        gv = g[u] + 1
-        for d in offs:
-            v = red[u + d]
-            if closed[v] or gv >= g[v]:
-                continue
-            g[v] = gv
-            parent[v] = u
-            push(heap, (gv + wh[v], -gv, v))
 
-    if not found:
-        if stopped:
-            raise NoPathFound(
-                f"search stopped after the limit of {limit} expansions without reaching the goal {gidx}"
-            )
+def _raise_for(status, limit, sidx, gidx):
+    """NoPathFound for a search that ended with ``status`` 2 (the limit) or 1 (unreachable)."""
+    if status == 2:
+        raise NoPathFound(
+            f"search stopped after the limit of {limit} expansions without reaching the goal {gidx}"
+        )
+    if status == 1:
         raise NoPathFound(f"the goal {gidx} cannot be reached from the start {sidx}")
-    flat = [t]
-    while flat[-1] != s:
-        flat.append(parent[flat[-1]])
-    return SearchResult(
-        path=G.path(flat[::-1]), cost=len(flat) - 1, expansions=expansions, closed=G.expanded(occ)
-    )
-
-
-def _astar_kernel(blocked, shape, wraps, goal, s, t, weight, limit):
-    """A* of :func:`astar_search` over flat cell numbers, written for numba.
-
-    The same search in the same order: entries ordered by ``(f, -g, cell)``
-    (``f = g + w h``), lazy deletion of stale entries, cells never re-expanded,
-    the goal accepted when it is taken off the open list, the same expansion
-    limit; so it expands the same cells and returns the same path.
-
-    Arrays instead of Python objects: ``g`` of grid size in int32, with
-    ``g = -1`` marking a closed cell (blocked cells are closed from the start,
-    so the one test ``g(u) + 1 >= g[v]`` rejects closed cells and paths that are
-    no better); the step that reached each cell in one byte (``2 axis + (step <
-    0)``), from which the path is walked back; neighbours by stride arithmetic
-    with the wrap of each axis; GD1 updated per step from one table of per-axis
-    distances (a step changes one coordinate). An open entry is ``f`` and the
-    key ``h << sb | packed`` (``h`` the unweighted GD1; ``packed`` the cell's
-    coordinates in bit fields, the last axis lowest, ``sb`` bits in all, which
-    order as flat cell numbers do and are read back without a division): among
-    equal ``f`` a smaller ``h`` is a larger ``g``, so the key orders the ties as
-    ``(-g, cell)`` does. The loop itself is
-    :func:`_astar_loop`; it returns when the open list needs more room, and
-    the longer arrays are made here (an array reassigned inside the loop would
-    cost numba two atomic reference counts per iteration).
-
-    Returns ``(status, expansions, flat_path)``: status 0 found, 1 goal
-    unreachable, 2 expansion limit hit (``limit < 0``: no limit).
-    """
-    n = shape.shape[0]
-    size = blocked.shape[0]
-    strides = np.empty(n, np.int64)
-    acc = 1
-    for a in range(n - 1, -1, -1):
-        strides[a] = acc
-        acc *= shape[a]
-    # dist[base[a] + c]: the GD1 term of coordinate c on axis a.
-    base = np.zeros(n + 1, np.int64)
-    for a in range(n):
-        base[a + 1] = base[a] + shape[a]
-    dist = np.empty(base[n], np.int64)
-    for a in range(n):
-        m = shape[a]
-        for c in range(m):
-            d = abs(c - goal[a])
-            if wraps[a] and m - d < d:
-                d = m - d
-            dist[base[a] + c] = d
-    if s == t:
-        path = np.empty(1, np.int64)
-        path[0] = s
-        return 0, 0, path
-    # Packed coordinates: axis a in bits shift[a]..shift[a] + width, the last axis lowest, so
-    # that packed numbers order as flat cell numbers do; sb bits hold them all.
-    shift = np.zeros(n, np.int64)
-    sb = 0
-    for a in range(n - 1, -1, -1):
-        shift[a] = sb
-        while (1 << (sb - shift[a])) < shape[a]:
-            sb += 1
-    g = np.empty(size, np.int32)
-    for i in range(size):
-        g[i] = -1 if blocked[i] else 2147483647
-    came = np.empty(size, np.uint8)
-    hs = 0
-    ps = 0
-    for a in range(n):
-        c = (s // strides[a]) % shape[a]
-        hs += dist[base[a] + c]
-        ps |= c << shift[a]
-    g[s] = 0
-    # state: F (the f level being expanded, w = 1), open entries (w > 1), expansions.
-    state = np.array([hs, 0, 0])
-    # Small to start with (the tests' grids make them grow): doubled when full.
-    bk = np.empty((3, 16), np.int64)
-    bl = np.zeros(3, np.int64)
-    hf = np.empty(16, np.float64)
-    hk = np.empty(16, np.int64)
-    if weight == 1.0:
-        bk[hs % 3, 0] = -((hs << sb) | ps)
-        bl[hs % 3] = 1
-    else:
-        state[1] = heap.push(hf, hk, 0, weight * hs, (hs << sb) | ps)
-    while True:
-        status = _astar_loop(g, came, shape, strides, shift, wraps, dist, base, sb, t, weight,
-                             limit, bk, bl, hf, hk, state)
-        if status < 3:
-            break
-        # The open list is full: the same entries in arrays twice as long.
-        if weight == 1.0:
-            longer = np.empty((3, 2 * bk.shape[1]), np.int64)
-            longer[:, :bk.shape[1]] = bk
-            bk = longer
-        else:
-            lf, lk = np.empty(2 * hf.shape[0], np.float64), np.empty(2 * hf.shape[0], np.int64)
-            lf[:hf.shape[0]] = hf
-            lk[:hf.shape[0]] = hk
-            hf, hk = lf, lk
-    if status > 0:
-        return status, state[2], np.empty(0, np.int64)
-    path = np.empty(g[t] + 1, np.int64)  # the loop left g[t] open: the goal's cost
-    v = t
-    for k in range(g[t], 0, -1):
-        path[k] = v
-        a = came[v] >> 1
-        m = shape[a]
-        c = (v // strides[a]) % m
-        pc = c + 1 if came[v] & 1 else c - 1
-        if pc < 0:
-            pc = m - 1
-        elif pc == m:
-            pc = 0
-        v += (pc - c) * strides[a]
-    path[0] = v
-    return 0, state[2], path
-
-
-def _astar_loop(g, came, shape, strides, shift, wraps, dist, base, sb, t, weight, limit, bk, bl,
-                hf, hk, state):
-    """The loop of :func:`_astar_kernel`: expand until the goal (0), none is left (1), the limit
-    (2), or the open list may not hold the next expansion's entries (3; resumed after).
-
-    The open list. With ``w = 1`` (the default) ``f`` is an integer, and since
-    GD1 is consistent and changes by at most 1 per unit step, a step raises
-    ``f`` by 0, 1 or 2: the open entries span three values ``F, F + 1, F + 2``
-    above the ``F`` being expanded. So the list is three buckets by ``f mod
-    3`` (a bucket queue, Dial 1969), rows of ``bk`` with lengths ``bl``: entries
-    of ``F + 1`` and ``F + 2`` are appended unsorted, as negated keys; when
-    level ``F`` runs out, the next level is sorted once and popped from its
-    end. A step that keeps ``f`` lowers ``h``, so its key is below every key
-    left in level ``F``: it is inserted at the end, past only the entries of
-    the same expansion. No comparison of ``f`` and no sift through a heap; the
-    pops are those of the binary heap, in the same order. With ``w > 1``, ``f``
-    is not an integer, and the list is the binary heap of :mod:`rapp.heap`
-    over the pairs ``(f, key)`` in ``hf`` and ``hk``.
-    """
-    n = shape.shape[0]
-    mask = (1 << sb) - 1
-    unit = weight == 1.0
-    F, length, expansions = state[0], state[1], state[2]
-    cur = F % 3
-    coord = np.empty(n, np.int64)
-    fmask = np.empty(n, np.int64)
-    for a in range(n):
-        fmask[a] = (1 << ((sb if a == 0 else shift[a - 1]) - shift[a])) - 1
-    status = 1
-    while True:
-        if unit:
-            if max(bl[0], bl[1], bl[2]) + 2 * n > bk.shape[1]:
-                status = 3
-                break
-            if bl[cur] == 0:
-                if bl[(cur + 1) % 3] > 0:
-                    F += 1
-                elif bl[(cur + 2) % 3] > 0:
-                    F += 2
-                else:
-                    break
-                cur = F % 3
-                bk[cur, :bl[cur]].sort()
-            bl[cur] -= 1
-            key = -bk[cur, bl[cur]]
-        else:
-            if length + 2 * n > hf.shape[0]:
-                status = 3
-                break
-            if length == 0:
-                break
-            _, key, length = heap.pop(hf, hk, length)
-        pu = key & mask
-        u = 0
-        for a in range(n):
-            c = (pu >> shift[a]) & fmask[a]
-            coord[a] = c
-            u += c * strides[a]
-        gu = g[u]
-        if gu < 0:
-            continue
-        if u == t:
-            status = 0
-            break
-        if expansions == limit:
-            status = 2
-            break
-        g[u] = -1
-        expansions += 1
-        gv = gu + 1
-        hu = key >> sb
-        for a in range(n):
-            m = shape[a]
-            c = coord[a]
-            for step in (1, -1):
-                nc = c + step
-                if nc == m or nc < 0:
-                    if not wraps[a]:
-                        continue
-                    nc = 0 if nc == m else m - 1
-                v = u + (nc - c) * strides[a]
-                if gv >= g[v]:
-                    continue
-                g[v] = gv
-                came[v] = 2 * a + (step < 0)
-                hv = hu - dist[base[a] + c] + dist[base[a] + nc]
-                kv = (hv << sb) | (pu + ((nc - c) << shift[a]))
-                if not unit:
-                    length = heap.push(hf, hk, length, gv + weight * hv, kv)
-                    continue
-                b = (cur + 1 + hv - hu) % 3
-                i = bl[b]
-                bl[b] = i + 1
-                if b == cur:  # same f, smaller h: sorts below what is left of level F
-                    while i > 0 and bk[b, i - 1] > -kv:
-                        bk[b, i] = bk[b, i - 1]
-                        i -= 1
-                bk[b, i] = -kv
-    state[0], state[1], state[2] = F, length, expansions
-    return status
-
-
-#: Grids of at least this many cells are searched by the compiled kernel even when numba is
-#: not imported yet; smaller ones by :func:`astar_search` (the same cells, the same path).
-COMPILE_FROM = 1 << 16
-
-
-@functools.cache
-def _compiled_astar():
-    """:func:`_astar_kernel` compiled by numba (cached on disk), or None without numba."""
-    # The kernel calls _astar_loop, which calls heap.push and heap.pop: those are compiled first.
-    if not heap.compiled():
-        return None
-    g = globals()
-    if not hasattr(g["_astar_loop"], "py_func"):  # not yet a numba dispatcher
-        g["_astar_loop"] = jit(g["_astar_loop"])
-    return jit(_astar_kernel)
 
 
 def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expansions=None):
@@ -729,7 +394,7 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
 
     The search of :func:`astar_search` (see there for the heuristic, the
     tie-breaking and the ``cost <= w * optimum`` bound of weighted A*), compiled
-    with numba (:func:`_astar_kernel`): the same cells expanded in the same
+    with numba (:mod:`rapp._kernels.search_numba`): the same cells expanded in the same
     order and the same path, 30-70 times faster than that Python loop on the
     benchmark grids (``benchmarks/bench_search.py``), and faster than the C++ A*
     of pyastar2d (``benchmarks/bench_astar_cpp.py``). If numba cannot be
@@ -774,42 +439,12 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     ...
     rapp.errors.InvalidCell: start cell (0, 4) is outside the grid of shape (4, 4)
     """
-    occ = _grid(occupied)
-    # Importing numba costs more than this Python loop spends on a small grid (a command
-    # planning on 100 x 100 cells would pay it for nothing); once it is imported, use it.
-    kernel = _compiled_astar() if occ.size >= COMPILE_FROM or "numba" in sys.modules else None
-    # The kernel: g and cells in int32; keys h << sb | packed coordinates in int64.
-    sb = sum((m - 1).bit_length() for m in occ.shape)
-    if kernel is None or occ.size >= 2**31 - 1 or sb + sum(occ.shape).bit_length() > 62:
-        r = astar_search(
-            occupied,
-            start,
-            goal,
-            wraps=wraps,
-            heuristic_weight=heuristic_weight,
-            max_expansions=max_expansions,
-        )
-        return _as_tuples(r.path)
-    occ, w_ax, sidx, s, gidx, t = _prepare(occ, start, goal, wraps)
+    occ, w_ax, sidx, _, gidx, _ = _prepare(occupied, start, goal, wraps)
     w = finite_number(heuristic_weight, "heuristic_weight", at_least=1.0)
     limit = _expansion_limit(max_expansions)
-    status, _, flat = kernel(
-        occ.ravel(),
-        np.array(occ.shape, dtype=np.int64),
-        np.array(w_ax, dtype=np.bool_),
-        np.array(gidx, dtype=np.int64),
-        s,
-        t,
-        float(w),
-        limit,
-    )
-    if status == 2:
-        raise NoPathFound(
-            f"search stopped after the limit of {limit} expansions without reaching the goal {gidx}"
-        )
-    if status == 1:
-        raise NoPathFound(f"the goal {gidx} cannot be reached from the start {sidx}")
-    return list(zip(*(c.tolist() for c in np.unravel_index(flat, occ.shape))))
+    status, cells = _backend.astar_path(occ, w_ax, sidx, gidx, w, limit)
+    _raise_for(status, limit, sidx, gidx)
+    return _as_tuples(cells)
 
 
 # --------------------------------------------------------------------------- BFS oracle
@@ -962,9 +597,9 @@ def greedy_best_first(occupied, start, goal, *, wraps=True, heuristic_wraps=None
     """
     occ, w, sidx, s, gidx, t = _prepare(occupied, start, goal, wraps)
     hw = w if heuristic_wraps is None else _wraps(heuristic_wraps, occ.ndim)
-    G = _PaddedGraph(occ, w)
+    G = PaddedGraph(occ, w)
     size, closed, red, offs = G.size, G.closed, G.red, G.offsets
-    h = G.padded(_heuristic_grid(occ.shape, gidx, hw)).tolist()
+    h = G.padded(heuristic_grid(occ.shape, gidx, hw)).tolist()
     s, t = G.flat(sidx), G.flat(gidx)
     parent = {s: s}
     heap = [h[s] * size + s]
@@ -1104,9 +739,9 @@ def astar_steps(occupied, start, goal, *, wraps=True, heuristic_weight=1.0):
     occ, w_ax, sidx, _, gidx, _ = _prepare(occupied, start, goal, wraps)
     w = finite_number(heuristic_weight, "heuristic_weight", at_least=1.0)
     n = occ.ndim
-    G = _PaddedGraph(occ, w_ax)
+    G = PaddedGraph(occ, w_ax)
     size, closed, red, offs = G.size, G.closed, G.red, G.offsets
-    h = _heuristic_grid(occ.shape, gidx, w_ax) * w
+    h = heuristic_grid(occ.shape, gidx, w_ax) * w
     wh = G.padded(h).tolist()
     s, t = G.flat(sidx), G.flat(gidx)
     # Padded flat number -> cell of the real grid (pad cells are never reached).

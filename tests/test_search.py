@@ -417,9 +417,9 @@ def test_compiled_astar_is_optimal_against_the_slow_bfs(case, w):
     # small and grows here) against the slow deque BFS of this file, sharing no code with it:
     # the optimal length, every step a unit move between free cells, the teaching search's path.
     pytest.importorskip("numba")
-    from rapp import search
+    from rapp._kernels import search_numba
 
-    assert search._compiled_astar() is not None  # numba imported: astar runs the kernel
+    assert search_numba.kernel() is not None  # numba imported: astar runs the kernel
     occ, wraps, start, goal = case
     opt = slow_bfs(occ, start, wraps).get(goal)
     if opt is None:
@@ -440,29 +440,29 @@ def test_compiled_astar_is_optimal_against_the_slow_bfs(case, w):
 
 def test_astar_is_compiled_when_numba_is_installed():
     pytest.importorskip("numba")
-    from rapp import search
+    from rapp._kernels import search_numba
 
-    assert search._compiled_astar() is not None
+    assert search_numba.kernel() is not None
 
 
 def test_astar_falls_back_to_the_teaching_version_without_numba(monkeypatch):
-    from rapp import search
+    from rapp._kernels import search_numba
 
     occ = np.zeros((12, 12), bool)
     occ[:, 6] = True
     occ[3, 6] = False
     fast = astar(occ, (0, 0), (11, 11))
-    search._compiled_astar.cache_clear()
+    search_numba.kernel.cache_clear()
     try:
         with monkeypatch.context() as m:
             m.setitem(sys.modules, "numba", None)  # import numba now raises ImportError
-            assert search._compiled_astar() is None
+            assert search_numba.kernel() is None
             slow = astar(occ, (0, 0), (11, 11))
             assert slow == fast and len(fast) - 1 == bfs_distances(occ, (0, 0))[11, 11]
             with pytest.raises(NoPathFound, match="limit of 0"):
                 astar(occ, (0, 0), (11, 11), max_expansions=0)
     finally:
-        search._compiled_astar.cache_clear()  # later tests get the compiled kernel back
+        search_numba.kernel.cache_clear()  # later tests get the compiled kernel back
 
 
 def test_compiled_astar_on_a_4d_torus_and_an_open_plateau():
