@@ -27,19 +27,8 @@ from rapp import baseline
 from rapp.reference import occupancy as _occupancy_reference  # (the previous rapp grid)
 
 HERE = Path(__file__).resolve().parent
-LINKS = [1.0, 1.0]
-CIRCLES = [(1.75, 0.75, 0.6), (0.55, 1.5, 0.5), (0.0, -1.0, 0.25)]
-START_Q = (0.0, 0.0)           # arm along +x, below the first circle
-GOAL_Q = (np.pi / 2, 0.0)      # arm straight up, between the circles: the way round is long
-LINKS3 = [1.0, 0.8, 0.5]
-OBSTACLES3 = [
-    rapp.Circle((1.4, 0.9), 0.35),
-    rapp.Circle((-0.4, 1.5), 0.3),
-    rapp.Circle((0.2, -1.3), 0.3),
-    rapp.Circle((1.0, -1.0), 0.3),
-    rapp.Polygon.rectangle((-1.9, -0.6), 0.5, 1.0),
-]
-START3, GOAL3 = (0.0, 0.0, 0.0), (-2.0, 0.5, 0.5)
+# The problem, defined once for the benchmarks and the tests (run from the repository root).
+from tests.scenes import CIRCLES, GOAL3, GOAL_Q, LINKS, LINKS3, OBSTACLES3, START3, START_Q  # noqa: E402,F401
 
 
 def best_of(k, fn):

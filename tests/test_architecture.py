@@ -307,3 +307,17 @@ def test_every_import_follows_the_layer_order():
 
 def test_nothing_in_the_package_imports_the_reference_implementations():
     assert [m for m, targets in graph().items() if "rapp.reference" in targets] == []
+
+
+def test_no_test_reaches_another_folder_through_sys_path():
+    # Shared scenes live in tests/scenes.py, helpers in tests/helpers.py (imported as
+    # tests.scenes, tests.helpers); scripts are loaded from their file (helpers.load_script).
+    found = []
+    for path in sorted((PACKAGE.parent / "tests").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            f = node.func if isinstance(node, ast.Call) else None
+            if isinstance(f, ast.Attribute) and f.attr in ("insert", "append", "extend") \
+                    and isinstance(f.value, ast.Attribute) and f.value.attr == "path" \
+                    and isinstance(f.value.value, ast.Name) and f.value.value.id == "sys":
+                found.append(f"{path.name}:{node.lineno}")
+    assert found == []

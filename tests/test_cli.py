@@ -10,36 +10,14 @@ import sys
 import numpy as np
 import pytest
 
-from rapp.cli import main
+from tests.helpers import one_line, run, write
 from rapp.results import load_result
-from rapp.scenario import list_scenarios
+from rapp.scenario import list_scenarios, load_scenario
 
 GOOD = {"arm": {"link_lengths": [1.0, 1.0]},
         "obstacles": [{"type": "circle", "center": [1.75, 0.75], "radius": 0.4}],
         "start": [0.0, 0.0], "goal": {"joints": [2.0, 0.5]},
         "planner": {"cells": 40}, "trajectory": {"samples": 40}}
-
-
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def write(tmp_path, content, name="s.json"):
-    p = tmp_path / name
-    if isinstance(content, bytes):
-        p.write_bytes(content)
-    else:
-        p.write_text(content if isinstance(content, str) else json.dumps(content))
-    return str(p)
-
-
-def one_line(err):
-    lines = err.strip("\n").split("\n")
-    assert len(lines) == 1, err
-    assert "Traceback" not in err
-    return lines[0]
 
 
 def test_list_and_check_every_embedded(capsys):
@@ -187,3 +165,13 @@ def test_real_entry_point(tmp_path):
     deep.write_text("{" * 50_000)
     r = subprocess_run("check", str(deep), cwd=tmp_path)
     assert r.returncode == 2 and len(r.stderr.splitlines()) == 1 and "Traceback" not in r.stderr
+
+
+def test_a_stop_by_the_time_budget_says_so_and_names_it(capsys, tmp_path):
+    # Issue 31: a run its budget stopped said "joined no goal in 0 iterations".
+    s = load_scenario("no_solution").to_dict()
+    s["planner"] = {"algorithm": "rrt_connect", "time_budget": 0.05, "max_iterations": 10**7}
+    code, _, err = run(capsys, "plan", write(tmp_path, s), "-q")
+    line = one_line(err)
+    assert code == 1 and "RRT-Connect stopped: time_budget 0.05 s spent after" in line, line
+    assert line.endswith("no goal joined")

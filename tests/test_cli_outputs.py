@@ -16,6 +16,7 @@ import pytest
 
 import rapp.cli as cli
 from rapp.cli import main, printable
+from tests.helpers import one_line, run
 from rapp.planner import STAGES
 
 GOOD = {"arm": {"link_lengths": [1.0, 1.0]},
@@ -25,19 +26,6 @@ GOOD = {"arm": {"link_lengths": [1.0, 1.0]},
 
 # What a terminal must never receive raw: C0 but newline, DEL, C1, lone surrogates.
 RAW = re.compile("[\x00-\x09\x0b-\x1f\x7f-\x9f\ud800-\udfff]")
-
-
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def one_line(err):
-    lines = err.strip("\n").split("\n")
-    assert len(lines) == 1, err
-    assert "Traceback" not in err
-    return lines[0]
 
 
 def write_scenario(tmp_path, content=GOOD, name="s.json"):

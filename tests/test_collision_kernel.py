@@ -9,8 +9,6 @@ numba everything falls back to the numpy versions.
 from __future__ import annotations
 
 import importlib
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -31,8 +29,7 @@ from rapp.rrt_star import rrt_star
 pytestmark = pytest.mark.skipif(collision_kernel.kernels() is None, reason="numba is not installed")
 
 # The 3-link problem of the benchmarks, defined once in benchmarks/bench_core.py.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from bench_core import LINKS3, OBSTACLES3  # noqa: E402
+from tests.scenes import LINKS3, OBSTACLES3  # noqa: E402  the benchmarks' problem
 
 
 @st.composite
@@ -94,7 +91,7 @@ def _answer(certify, *args):
     """The certificate's answers, or that it refused (a segment needs too many pieces)."""
     try:
         return certify(*args).tolist()
-    except rapp.CertificationLimit:
+    except rapp.errors.CertificationLimit:
         return "refused"
 
 

@@ -7,9 +7,7 @@ success is a verified plan, any Executor works, and the intervals are right.
 
 import json
 import math
-import sys
 from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,8 +15,9 @@ import pytest
 import rapp
 from rapp import compare as cp
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import compare_planners as cli  # noqa: E402
+from tests.helpers import load_script
+
+cli = load_script("benchmarks/compare_planners.py")
 
 
 def test_scenarios_are_valid_reproducible_and_varied():

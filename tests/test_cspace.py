@@ -13,6 +13,8 @@ from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, occupancy
 from rapp.cspace import grid_q
 from rapp.reference import occupancy as _occupancy_reference
 
+from tests.scenes import interval_scenes
+
 
 def tm_hits_circle(a, b, c, r):
     abx, aby = b[0] - a[0], b[1] - a[1]
@@ -178,51 +180,6 @@ def test_grid_for_another_arm_rejected():
 # obstacle. The obviously-correct check is rapp.collides on every grid configuration; the
 # previous implementation (_occupancy_reference) must agree as well. Only cells touching an
 # obstacle to within rounding (|clearance| <= 1e-9) may differ.
-
-
-@st.composite
-def interval_scenes(draw):
-    n = draw(st.integers(1, 4))
-    lengths = draw(st.lists(st.floats(0.2, 1.5), min_size=n, max_size=n))
-    limits = []
-    for _ in range(n):
-        kind = draw(st.sampled_from(["free", "free", "limited", "wide"]))
-        if kind == "free":
-            limits.append(None)
-        else:
-            lo = draw(st.floats(-7.0, 3.0))
-            # "wide": more than a turn, so an interval lands on the axis more than once.
-            span = draw(st.floats(0.2, 3.0) if kind == "limited" else st.floats(6.0, 14.0))
-            limits.append((lo, lo + span))
-    arm = Arm(lengths, limits)
-    top = {1: 40, 2: 18, 3: 9, 4: 6}[n]
-    grid = JointGrid(arm, draw(st.lists(st.integers(2, top), min_size=n, max_size=n)))
-    # Obstacles near the base or on the circle joint 1 sweeps, so that polygons and discs
-    # contain the base or a joint in some cells; others anywhere (also across the -x axis,
-    # where the intervals cross the +-pi seam).
-    def centre():
-        where = draw(st.sampled_from(["any", "base", "joint1", "seam"]))
-        if where == "base":
-            return (draw(st.floats(-0.3, 0.3)), draw(st.floats(-0.3, 0.3)))
-        if where == "joint1":
-            a = draw(st.floats(-np.pi, np.pi))
-            return (lengths[0] * np.cos(a), lengths[0] * np.sin(a))
-        if where == "seam":
-            return (draw(st.floats(-3.0, -0.2)), draw(st.floats(-0.2, 0.2)))
-        return (draw(coord), draw(coord))
-
-    obstacles = []
-    for _ in range(draw(st.integers(1, 4))):
-        c = centre()
-        r = draw(st.floats(0.05, 1.0))
-        if draw(st.booleans()):
-            obstacles.append(Circle(c, r))
-        else:
-            k = draw(st.integers(3, 6))
-            gaps = np.array(draw(st.lists(st.floats(0.5, 1.0), min_size=k, max_size=k)))
-            t = draw(st.floats(0, 6.3)) + 2 * np.pi * np.cumsum(gaps) / gaps.sum()
-            obstacles.append(Polygon(np.c_[c[0] + r * np.cos(t), c[1] + r * np.sin(t)]))
-    return grid, obstacles
 
 
 @settings(max_examples=200, deadline=None)

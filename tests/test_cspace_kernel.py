@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,17 +22,12 @@ from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, cspace
 from rapp._kernels import occupancy_numba as cspace_kernel
 from rapp.cspace import grid_q, occupancy, occupancy_numpy
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from test_cspace import interval_scenes  # noqa: E402  the random scenes, defined once
+from tests.scenes import LINKS3, OBSTACLES3, interval_scenes  # noqa: E402  defined once
 
 pytestmark = pytest.mark.skipif(cspace_kernel.kernels() is None, reason="numba is not installed")
 
 #: Cells where the arm touches an obstacle to within this clearance may round either way.
 TOUCHING = 1e-12
-
-LINKS3 = [1.0, 0.8, 0.5]
-OBSTACLES3 = [Circle((1.4, 0.9), 0.35), Circle((-0.4, 1.5), 0.3), Circle((0.2, -1.3), 0.3),
-              Circle((1.0, -1.0), 0.3), Polygon.rectangle((-1.9, -0.6), 0.5, 1.0)]
 
 
 def compiled(arm, obstacles, grid):

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from rapp import InvalidValue, MissingParameter, PathNotFollowable, ScenarioError, load_scenario, plan
-from rapp.cli import main
+from tests.helpers import one_line, run, write
 from rapp.collision import segment_point_distance
 from rapp.planner import DURATION_MARGIN, LINE_TOLERANCE
 from rapp.scenario import echo
@@ -67,24 +67,6 @@ def ratios(p):
     rv = None if tr.max_velocity is None else v / np.asarray(tr.max_velocity)
     ra = None if tr.max_acceleration is None else a / np.asarray(tr.max_acceleration)
     return rv, ra
-
-
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def one_line(err):
-    lines = err.strip("\n").split("\n")
-    assert len(lines) == 1 and "Traceback" not in err, err
-    return lines[0]
-
-
-def write(tmp_path, data, name="s.json"):
-    path = tmp_path / name
-    path.write_text(json.dumps(data))
-    return str(path)
 
 
 # --------------------------------------------------------------------------- limits

@@ -11,8 +11,6 @@ answered as the numpy loops answer them.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -28,9 +26,7 @@ from rapp.rrt_star import rrt_star
 pytestmark = pytest.mark.skipif(sampling_kernel.kernels() is None, reason="numba is not installed")
 
 # The 3-link problem of the benchmarks, defined once in benchmarks/bench_core.py.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from bench_core import LINKS3, OBSTACLES3  # noqa: E402
-from test_sampling_planners import dense_free, scattered_obstacles  # noqa: E402  the dense check, the scenes
+from tests.scenes import LINKS3, OBSTACLES3, dense_free, scattered_obstacles  # noqa: E402
 
 
 def both(monkeypatch, *args, planner=rrt_connect, **kw):

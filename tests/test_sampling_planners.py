@@ -17,6 +17,8 @@ from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect
 from rapp.rrt_star import rrt_star
 
+from tests.scenes import dense_free, scattered_obstacles
+
 PLANNERS = {
     "rrt_connect": lambda arm, s, g, obs, seed: rrt_connect(arm, s, g, obs, step=0.15, seed=seed,
                                                             raise_on_failure=False),
@@ -26,30 +28,6 @@ PLANNERS = {
     "prm": lambda arm, s, g, obs, seed: prm(arm, s, g, obs, samples=200, seed=seed,
                                             raise_on_failure=False),
 }
-
-
-def dense_free(arm, path, obstacles, per_rad=400):
-    """Independent, slow check: sample every segment densely and test each configuration."""
-    for a, b in zip(path[:-1], path[1:]):
-        k = max(2, int(np.linalg.norm(b - a) * per_rad))
-        q = a + np.linspace(0, 1, k)[:, None] * (b - a)
-        if collides(arm, q, obstacles).any():
-            return False
-    return True
-
-
-def scattered_obstacles(draw, reach, *, count, near, radius, side) -> list:
-    """Discs and turned rectangles around the base, at ``near`` times the arm's reach."""
-    obstacles = []
-    for _ in range(draw(st.integers(*count))):
-        r = draw(st.floats(*near)) * reach
-        a = draw(st.floats(-np.pi, np.pi))
-        c = (r * np.cos(a), r * np.sin(a))
-        if draw(st.booleans()):
-            obstacles.append(rapp.Circle(c, draw(st.floats(*radius))))
-        else:
-            obstacles.append(rapp.Polygon.rectangle(c, draw(st.floats(*side)), draw(st.floats(*side)), a))
-    return obstacles
 
 
 @st.composite

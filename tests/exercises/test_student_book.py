@@ -5,17 +5,17 @@ same Sphinx extensions as the book, with and without the student edition's setti
 test can fail; ``make student-book`` builds the whole book with it and runs the same check.
 """
 
-import sys
 from pathlib import Path
 
 import pytest
 import yaml
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "scripts"))
+from tests.helpers import load_script
 
-from check_student_book import book_blocks, problems, telltales  # noqa: E402
-from student_book_config import student_config  # noqa: E402
+ROOT = Path(__file__).resolve().parents[2]
+student_config = load_script("scripts/student_book_config.py").student_config
+_check = load_script("scripts/check_student_book.py")
+book_blocks, problems, telltales = _check.book_blocks, _check.problems, _check.telltales
 
 
 def test_the_student_config_is_the_books_with_solutions_hidden():
