@@ -24,6 +24,7 @@ import functools
 import heapq
 import itertools
 import time
+from collections import namedtuple
 
 import numpy as np
 
@@ -383,9 +384,11 @@ class _ArrayEdges:
         _check_time(budget)
         c = certify
         status, used, hit, parent = self.lazy(
-            rounds, len(nodes), self.start, self.stop, self.dst, self.wt, self.order, self.slot,
-            self.w, self.done, self.sources, self.is_target, nodes, self.limited, self.arm.lengths,
-            c.reach, *c.packed, c.touch, 1e-9, MAX_PENDING_INTERVALS)
+            rounds, len(nodes),
+            _Roadmap(self.start, self.stop, self.dst, self.wt, self.order, self.slot, self.w,
+                    self.done, self.sources, self.is_target),
+            _Scene(nodes, self.limited, self.arm.lengths, c.reach, *c.packed, c.touch, 1e-9,
+                  MAX_PENDING_INTERVALS))
         if status == _LIMIT:  # an edge beyond the kernel's interval limit: numpy says so
             raise _Limit
         return parent, int(hit), int(used), status == _FOUND
@@ -438,16 +441,27 @@ SEARCHES = 16
 _NO_PATH, _FOUND, _MORE, _LIMIT = 0, 1, 2, 3
 
 
-def _lazy_searches(rounds, nodes_n, start, stop, dst, wt, order, slot, w, done, sources,
-                   is_target, nodes, limited, lengths, reach, circles, pv, pn, pr, offsets,
-                   touch, min_interval, cap):
+#: The roadmap as :func:`_lazy_searches` reads it: the CSR graph of :class:`_ArrayEdges`
+#: (``start``/``stop`` per node into ``dst``, ``wt``, ``order`` and ``slot``; the edges' weights
+#: ``w`` and certified flags ``done``) and the search's ``sources`` and ``is_target``.
+_Roadmap = namedtuple("_Roadmap", "start stop dst wt order slot w done sources is_target")
+#: What certifying an edge needs: the ``nodes``, the arm (``limited``, ``lengths``, ``reach``),
+#: the packed obstacles (``circles pv pn pr offsets``) and the certificate's limits.
+_Scene = namedtuple("_Scene", "nodes limited lengths reach circles pv pn pr offsets touch "
+                            "min_interval cap")
+
+
+def _lazy_searches(rounds, nodes_n, roadmap, scene):
     """:meth:`_DictEdges.search` for numba: up to ``rounds`` Dijkstra searches on the CSR graph
-    of :class:`_ArrayEdges`, each path's uncertified edges certified (the compiled bisection
-    of :class:`rapp.sampling.EdgeCertifier`), those not free dropped (weight ``inf``).
+    of :class:`_ArrayEdges` (:data:`_Roadmap`), each path's uncertified edges certified (the
+    compiled bisection of :class:`rapp.sampling.EdgeCertifier`, :data:`_Scene`), those not free
+    dropped (weight ``inf``).
 
     Returns ``(status, searches, hit, parent)``: _FOUND a certified path to ``hit``, _NO_PATH
     none in the roadmap, _MORE the rounds ran out, _LIMIT an edge over ``cap`` intervals.
     """
+    start, stop, dst, wt, order, slot, w, done, sources, is_target = roadmap
+    nodes, limited, lengths, reach, circles, pv, pn, pr, offsets, touch, min_interval, cap = scene
     n = nodes.shape[1]
     scratch = np.empty((3, n))
     d = np.empty(n)
