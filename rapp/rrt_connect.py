@@ -298,12 +298,12 @@ def _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach
         nodes[t, :k] = arm.wrap(roots)
         clear[t, :k] = link_clearances(arm, nodes[t, :k], obstacles)
         parent[t, :k], cost[t, :k], m[t] = -1, 0.0, k
-    geometry = (arm.lengths, np.asarray(arm.limited, dtype=np.bool_), reach, *pack(obstacles),
-                touch, 1e-9, MAX_PENDING_INTERVALS, nodes, parent, cost, clear, m)
+    scene = sampling_kernel.Scene(arm.lengths, np.asarray(arm.limited, dtype=np.bool_), reach,
+                                  *pack(obstacles), touch, 1e-9, MAX_PENDING_INTERVALS)
+    arrays = sampling_kernel.Trees(nodes, parent, cost, clear, m)
     meet = None
     room = int(min(chain_room, MAX_NODES - m[0] - m[1]))
-    j, reached, status = loops.extend(1, start, True, room, step, *geometry,
-                                      np.empty((7, n)))
+    j, reached, status = loops.extend(1, start, True, room, step, scene, arrays, np.empty((7, n)))
     if status == sampling_kernel.CONNECT_LIMIT:
         return None
     if reached:
@@ -317,7 +317,7 @@ def _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach
         progress.report("RRT-Connect", budget.iterations, budget.max_iterations)
         samples = uniform_samples(arm, rng, k)
         status, ran = loops.connect(samples, budget.iterations, MAX_NODES, chain_room, step,
-                                    *geometry, met)
+                                    scene, arrays, met)
         budget.iterations += int(ran)
         if status == sampling_kernel.CONNECT_MEET:
             meet = (int(met[0]), int(met[1]))

@@ -41,10 +41,18 @@ import numpy as np
 from rapp._kernels import collision as collision_backend
 from rapp.jit import jit
 
-__all__ = ["kernels", "Loops", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
+__all__ = ["kernels", "Loops", "Scene", "Trees", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
 
 #: The compiled functions (see :func:`kernels`).
 Loops = namedtuple("Loops", "wrap extend connect nearest_k star draw bisect")
+#: What certifying a move needs: the arm (``lengths``, ``limited``, ``reach``: the
+#: :func:`rapp.collision.reach_matrix`), the packed obstacles (``circles pv pn pr offsets``:
+#: :func:`rapp._kernels.collision.pack`) and the certificate's ``touch``, ``min_interval`` and
+#: ``cap`` (most pending intervals).
+Scene = namedtuple("Scene", "lengths limited reach circles pv pn pr offsets touch min_interval cap")
+#: RRT-Connect's two trees, tree ``t`` in row ``t``: ``nodes``, ``parent``, ``cost``, the
+#: nodes' link clearances ``clear`` and the node counts ``m``.
+Trees = namedtuple("Trees", "nodes parent cost clear m")
 
 #: What :func:`_connect` says when it returns: a batch ran out without a meeting, the trees
 #: met, the trees are full, an edge needed more bisection intervals than allowed.
@@ -112,15 +120,16 @@ def _nearest(nodes, m, q, limited):
     return bi
 
 
-def _extend(t, target, chain, room, step, lengths, limited, reach, circles, pv, pn, pr,
-            offsets, touch, min_interval, cap, nodes, parent, cost, clear, m, scratch):
-    """rapp.rrt_connect's ``_extend`` on tree ``t`` of the arrays: one step toward
-    ``target``, or (``chain``) steps until it is reached, an edge is blocked or ``room``
-    nodes were added.
+def _extend(t, target, chain, room, step, scene, trees, scratch):
+    """rapp.rrt_connect's ``_extend`` on tree ``t`` of ``trees`` (:data:`Trees`): one step
+    toward ``target``, or (``chain``) steps until it is reached, an edge is blocked or ``room``
+    nodes were added, every edge certified in ``scene`` (:data:`Scene`).
 
     Returns ``(last node added or -1, reached, status)``; ``status`` is CONNECT_LIMIT when
     an edge needed more than ``cap`` pending intervals (nothing is added then).
     """
+    lengths, limited, reach, circles, pv, pn, pr, offsets, touch, min_interval, cap = scene
+    nodes, parent, cost, clear, m = trees
     n = target.shape[0]
     base, d, p, prev, q0, dq, bnd = (scratch[0], scratch[1], scratch[2], scratch[3],
                                      scratch[4:5], scratch[5:6], scratch[6:7])
@@ -194,15 +203,15 @@ def _extend(t, target, chain, room, step, lengths, limited, reach, circles, pv, 
     return last, added == k and frac == 1.0, CONNECT_MORE
 
 
-def _connect(samples, it0, max_nodes, chain_room, step, lengths, limited, reach, circles, pv,
-             pn, pr, offsets, touch, min_interval, cap, nodes, parent, cost, clear, m, meet):
+def _connect(samples, it0, max_nodes, chain_room, step, scene, trees, meet):
     """Iterations ``it0 + 1, it0 + 2, ...`` of RRT-Connect, one per row of ``samples``.
 
     The loop of :func:`rapp.rrt_connect.rrt_connect`: tree ``a`` (the start's on odd
     iterations) extends one step toward the sample, then tree ``b`` connects toward the new
     node. Returns ``(status, iterations run)``; on CONNECT_MEET ``meet`` holds the two
-    nodes that met (start's tree first).
+    nodes that met (start's tree first). ``scene`` and ``trees`` as :func:`_extend`'s.
     """
+    nodes, m = trees.nodes, trees.m
     n = samples.shape[1]
     scratch = np.empty((7, n))
     target = np.empty(n)
@@ -212,9 +221,7 @@ def _connect(samples, it0, max_nodes, chain_room, step, lengths, limited, reach,
             return CONNECT_FULL, s + 1
         a = 0 if it % 2 else 1
         b = 1 - a
-        new, _, status = _extend(a, samples[s], False, max_nodes, step, lengths, limited, reach,
-                                 circles, pv, pn, pr, offsets, touch, min_interval, cap, nodes,
-                                 parent, cost, clear, m, scratch)
+        new, _, status = _extend(a, samples[s], False, max_nodes, step, scene, trees, scratch)
         if status != CONNECT_MORE:
             return status, s + 1
         if new < 0:
@@ -222,9 +229,7 @@ def _connect(samples, it0, max_nodes, chain_room, step, lengths, limited, reach,
         for j in range(n):
             target[j] = nodes[a, new, j]
         room = min(chain_room, max_nodes - m[0] - m[1])
-        other, reached, status = _extend(b, target, True, room, step, lengths, limited, reach,
-                                         circles, pv, pn, pr, offsets, touch, min_interval, cap,
-                                         nodes, parent, cost, clear, m, scratch)
+        other, reached, status = _extend(b, target, True, room, step, scene, trees, scratch)
         if status != CONNECT_MORE:
             return status, s + 1
         if reached:
