@@ -321,3 +321,42 @@ def test_no_test_reaches_another_folder_through_sys_path():
                     and isinstance(f.value.value, ast.Name) and f.value.value.id == "sys":
                 found.append(f"{path.name}:{node.lineno}")
     assert found == []
+
+
+# --------------------------------------------------------------------------- kernels that read
+
+#: Internal functions still over the limits, to be cut down (issue 36); a new one may not join.
+LONG_OR_WIDE = {
+    "rapp._kernels.occupancy_numba._collect", "rapp._kernels.occupancy_numba._arc",
+    "rapp.ik_kernel._newton", "rapp.sampling_kernel._edge_free", "rapp.sampling_kernel._bisect",
+    "rapp.sampling_kernel._grid_near", "rapp.sampling_kernel._star",
+}
+
+
+def internal_functions():
+    """``(qualified name, parameters, lines of body without the docstring)`` of every private
+    function of rapp (``_name``, or any function of a private module)."""
+    for path in sorted(PACKAGE.rglob("*.py")):
+        module = module_name(path)
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            if not (_private(node.name) or "._" in module):
+                continue
+            a = node.args
+            params = (len(a.posonlyargs) + len(a.args) + len(a.kwonlyargs) + bool(a.vararg)
+                      + bool(a.kwarg))
+            body = node.body
+            if isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
+                    and isinstance(body[0].value.value, str):
+                body = body[1:]
+            lines = node.end_lineno - body[0].lineno + 1 if body else 0
+            yield f"{module}.{node.name}", params, lines
+
+
+def test_no_internal_function_takes_more_than_12_parameters_or_runs_over_80_lines():
+    measured = list(internal_functions())
+    assert len(measured) > 100, "the scan reads the package"
+    over = {name for name, params, lines in measured if params > 12 or lines > 80}
+    assert over - LONG_OR_WIDE == set(), "pass a scene, a grid or buffers as a named tuple"
+    assert LONG_OR_WIDE - over == set(), "cut down: remove it from LONG_OR_WIDE"
