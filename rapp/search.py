@@ -444,7 +444,7 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
     limit = _expansion_limit(max_expansions)
     status, cells = _backend.astar_path(occ, w_ax, sidx, gidx, w, limit)
     _raise_for(status, limit, sidx, gidx)
-    return _as_tuples(cells)
+    return cells
 
 
 # --------------------------------------------------------------------------- BFS oracle

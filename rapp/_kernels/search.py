@@ -8,8 +8,8 @@ same cells in the same order and return the same path.
 Examples
 --------
 >>> import numpy as np
->>> astar_path(np.zeros((4, 4), bool), (True, True), (0, 0), (3, 0), 1.0, -1)[1].tolist()
-[[0, 0], [3, 0]]
+>>> astar_path(np.zeros((4, 4), bool), (True, True), (0, 0), (3, 0), 1.0, -1)[1]
+[(0, 0), (3, 0)]
 """
 
 from __future__ import annotations
@@ -42,12 +42,13 @@ def compiled_for(occ):
 
 
 def astar_path(occ, wraps, start, goal, weight, limit) -> tuple:
-    """``(status, cells)``: status 0 found (``cells`` ``(k, n)``, start to goal), 1 the goal is
-    unreachable, 2 the expansion ``limit`` was hit (-1: none); on checked arguments."""
+    """``(status, cells)``: status 0 found (``cells`` the list of cells, tuples of ints, start to
+    goal), 1 the goal is unreachable, 2 the expansion ``limit`` was hit (-1: none); on checked
+    arguments."""
     kernel = compiled_for(occ)
     if kernel is None:
         status, flat, _, graph = search_python.astar(occ, wraps, wraps, start, goal, weight, limit)
-        return status, graph.path(flat) if status == 0 else None
+        return status, _tuples(graph.path(flat).T) if status == 0 else None
     s = int(np.ravel_multi_index(start, occ.shape))
     t = int(np.ravel_multi_index(goal, occ.shape))
     status, _, flat = kernel(occ.ravel(), np.array(occ.shape, dtype=np.int64),
@@ -55,4 +56,9 @@ def astar_path(occ, wraps, start, goal, weight, limit) -> tuple:
                              s, t, float(weight), limit)
     if status:
         return status, None
-    return 0, np.stack(np.unravel_index(flat, occ.shape), axis=-1)
+    return 0, _tuples(np.unravel_index(flat, occ.shape))
+
+
+def _tuples(coordinates) -> list:
+    """Cells as tuples of Python ints, from one array of coordinates per axis."""
+    return list(zip(*(c.tolist() for c in coordinates)))
