@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
-from rapp.collision import check_obstacle, motion_bounds
-from rapp.obstacles import Circle, Polygon
+from rapp.collision import check_obstacle, motion_bounds, required_distances, scene
+from rapp.obstacles import Circle, applies, grown
 
 __all__ = ["JointGrid", "occupancy", "occupancy_numpy", "grid_q", "certified_free", "cell_extent",
            "check_grid", "prefix_grid", "prefix_step", "MAX_GRID_CELLS", "COMPILE_FROM"]
@@ -198,7 +198,7 @@ def check_grid(arm, grid):
     """ValueError naming ``grid`` unless it is a JointGrid of ``arm`` (whose size it has checked)."""
     if not isinstance(grid, JointGrid):
         raise ValueError(f"grid must be a rapp.JointGrid, got {type(grid).__name__}")
-    if grid.arm != arm:
+    if grid.arm.centre_lines() != arm.centre_lines():  # the links' width does not change the grid
         raise ValueError("grid was built for a different arm")
 
 
@@ -467,7 +467,7 @@ def _paint(intervals, ax, wraps, step, chunk=2048):
 COMPILE_FROM = 1 << 16
 
 
-def occupancy(arm, obstacles, grid) -> np.ndarray:
+def occupancy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     """Collision of every grid configuration: a bool array of ``grid.shape`` (True = collides).
 
     Link ``i`` depends on joints ``0..i`` only. On the grid of joints
@@ -489,9 +489,13 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     Parameters
     ----------
     arm : Arm
-        Must be the arm of ``grid``.
+        Must be the arm of ``grid``. Thick links (``arm.link_radius``) and a
+        ``margin`` (>= 0) are painted exactly: link ``j`` against the obstacles grown
+        by ``link_radius[j] + margin`` (:func:`rapp.collision.scene`), discs and
+        rectangles painted in the same closed form.
     obstacles : iterable of Circle and Polygon
     grid : JointGrid
+    margin : float
 
     Examples
     --------
@@ -505,14 +509,21 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     True
     """
     check_grid(arm, grid)
-    obstacles = [check_obstacle(ob) for ob in obstacles]
+    arm, obstacles = scene(arm, [check_obstacle(ob) for ob in obstacles], margin)
     compiled = _compiled_for(grid) if obstacles else None
     if compiled is None:
         return occupancy_numpy(arm, obstacles, grid)
-    return _occupancy_compiled(compiled, [obstacles] * arm.n, grid)
+    return _occupancy_compiled(compiled, _per_link(obstacles, arm.n), grid)
 
 
-def occupancy_numpy(arm, obstacles, grid) -> np.ndarray:
+def _per_link(obstacles, n) -> list:
+    """The obstacles each link is tested against (those that apply to it)."""
+    if not any(ob.links is not None for ob in obstacles):
+        return [obstacles] * n
+    return [[ob for ob in obstacles if applies(ob, j)] for j in range(n)]
+
+
+def occupancy_numpy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     """:func:`occupancy` by numpy alone: the fallback without numba, and the kernel's oracle.
 
     For each link, every prefix cell's interval of every obstacle is computed into
@@ -529,12 +540,13 @@ def occupancy_numpy(arm, obstacles, grid) -> np.ndarray:
     True
     """
     check_grid(arm, grid)
-    obstacles = [check_obstacle(ob) for ob in obstacles]
+    arm, obstacles = scene(arm, [check_obstacle(ob) for ob in obstacles], margin)
     occ = np.zeros(grid.shape, dtype=bool)
     if not obstacles:
         return occ
-    for i in range(arm.n):
-        occ |= _link_hits(arm, obstacles, grid, i)
+    for i, mine in enumerate(_per_link(obstacles, arm.n)):
+        if mine:
+            occ |= _link_hits(arm, mine, grid, i)
     return occ
 
 
@@ -588,28 +600,7 @@ def grid_q(grid) -> np.ndarray:
 
 
 
-def _inflated(ob, r: float) -> list:
-    """Convex pieces whose union is the obstacle grown by ``r`` (its Minkowski sum with a disc).
-
-    A disc grows to a disc. A convex polygon grows to itself, plus a rectangle of depth ``r``
-    outside each edge, plus a disc of radius ``r`` at each vertex: every point within ``r`` of
-    the polygon lies in one of them (nearest point inside, on an edge, or at a vertex).
-    """
-    if isinstance(ob, Circle):
-        return [Circle(ob.center, ob.radius + r)]
-    v = ob.array
-    e = np.roll(v, -1, axis=0) - v
-    # Outward normals of a polygon stored counter-clockwise: the edge turned a quarter clockwise.
-    nrm = np.stack((e[:, 1], -e[:, 0]), axis=-1) / np.hypot(e[:, 0], e[:, 1])[:, None]
-    pieces = [ob]
-    for k in range(len(v)):
-        a, b = v[k], v[(k + 1) % len(v)]
-        pieces.append(Polygon([a, b, b + r * nrm[k], a + r * nrm[k]]))
-        pieces.append(Circle(a, r))
-    return pieces
-
-
-def certified_free(arm, obstacles, grid) -> np.ndarray:
+def certified_free(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     """Certified cells: a move of one grid step between two of them is collision-free.
 
     A cell is certified when at its centre every link ``j`` has clearance above
@@ -625,9 +616,10 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
     the plain occupancy).
 
     "Clearance of link ``j`` above ``r``" is "link ``j`` does not touch the obstacles grown by
-    ``r``" (:func:`_inflated`), so this is :func:`occupancy` of grown obstacles, one growth per
-    link, painted as intervals on the prefix grids: no distance is computed on the grid
-    (by the compiled kernel where :func:`occupancy` uses it).
+    ``r``" (:func:`rapp.obstacles.grown`), so this is :func:`occupancy` of grown obstacles, one
+    growth per link, painted as intervals on the prefix grids: no distance is computed on the
+    grid (by the compiled kernel where :func:`occupancy` uses it). Thick links and a ``margin``
+    add to the growth: link ``j``'s obstacles grow by ``link_radius[j] + margin + r``.
 
     Examples
     --------
@@ -645,18 +637,20 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
     obstacles = [check_obstacle(ob) for ob in obstacles]
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
+    need = need + required_distances(arm, margin)  # the growths add (Minkowski sums of discs)
     if not obstacles:
         return np.ones(grid.shape, bool)
-    grown = [[piece for ob in obstacles for piece in _inflated(ob, float(need[j]))]
-             for j in range(n)]
+    pieces = [[piece for ob in obstacles if applies(ob, j) for piece in grown(ob, float(need[j]))]
+              for j in range(n)]
     compiled = _compiled_for(grid)
     if compiled is not None:
         # The occupancy of link j against the obstacles grown for it, every link at once.
-        hit = _occupancy_compiled(compiled, grown, grid)
+        hit = _occupancy_compiled(compiled, pieces, grid)
         return np.logical_not(hit, out=hit)
     out = np.ones(grid.shape, bool)
     for j in range(n):
-        out &= ~_link_hits(arm, grown[j], grid, j)
+        if pieces[j]:
+            out &= ~_link_hits(arm, pieces[j], grid, j)
     return out
 
 

@@ -70,7 +70,7 @@ import numpy as np
 
 from rapp import collision_kernel
 from rapp import progress
-from rapp.collision import collides, segment_collision_free
+from rapp.collision import collides, scene, segment_collision_free
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.ik import jacobian
 from rapp.paths import PlannerResult, tree_result
@@ -159,6 +159,7 @@ def rrt(
     raise_on_failure: bool = True,
     trace: list | None = None,
     time_budget: float | None = None,
+    margin: float = 0.0,
 ) -> PlannerResult:
     """Grow an RRT in joint space from ``start`` until it reaches the goal.
 
@@ -194,6 +195,9 @@ def rrt(
     time_budget : float, optional
         Seconds at most (as for the other sampling planners); a run cut short
         by it depends on the machine, a run without it does not.
+    margin : float
+        Safety margin (metres, >= 0) every link keeps beyond its radius
+        (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
 
     Returns
     -------
@@ -221,6 +225,7 @@ def rrt(
     >>> np.array_equal(again.path, res.path), sum(s.accepted for s in steps) == len(res.nodes) - 1
     (True, True)
     """
+    arm, obstacles = scene(arm, list(obstacles), margin)
     obstacles = list(obstacles)
     start, goals, gxy, step = _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias,
                                                    goal_threshold, steer)
