@@ -81,10 +81,13 @@ def _link_radius(value, n: int) -> tuple:
         f"{MAX_COORDINATE:g}, got {value!r}"
     )
     try:
-        r = np.broadcast_to(np.asarray(value, dtype=float), (n,))
+        r = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise bad from None
-    if np.ndim(value) > 1 or not (np.all(np.isfinite(r)) and np.all(r >= 0) and np.all(r <= MAX_COORDINATE)):
+    if r.shape not in ((), (n,)):
+        raise bad
+    r = np.broadcast_to(r, (n,))
+    if not (np.all(np.isfinite(r)) and np.all(r >= 0) and np.all(r <= MAX_COORDINATE)):
         raise bad
     return tuple(float(v) for v in r)
 

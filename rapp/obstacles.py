@@ -132,9 +132,10 @@ def grown(ob, distance: float, links=None) -> tuple:
     ----------
     ob : Circle or Polygon
     distance : float
-        Finite and ``>= 0``; 0 gives ``ob`` itself. A positive distance so small
-        beside an edge (below about 1e-12 of its length) that float64 cannot tell the
-        edge's rectangle from a line is refused.
+        Finite and ``>= 0``; 0 gives ``ob`` itself. An edge's rectangle thinner than
+        float64 can store (below about 4e-12 of the edge, or 4e-15 of the vertices'
+        coordinates) is widened to that thickness: the pieces then hold points up to
+        that rounding distance farther, never fewer.
     links : sequence of int, optional
         The :attr:`Circle.links` of every piece (default: those of ``ob``).
 
@@ -168,8 +169,12 @@ def grown(ob, distance: float, links=None) -> tuple:
     pieces = [ob if links == ob.links else replace(ob, links=links)]
     for k in range(len(v)):
         a, b = v[k], v[(k + 1) % len(v)]
+        # A rectangle thinner than float64 resolves beside its edge and corners (about 1e-12 of
+        # them) cannot be stored: it is widened to the thinnest that can, which only adds
+        # points at rounding distance (a test stays conservative: it never misses a hit).
+        depth = max(d, 4e-12 * float(np.abs(e[k]).max()), 16 * np.finfo(float).eps * float(np.abs(v).max()))
         try:
-            pieces.append(Polygon([a, b, b + d * nrm[k], a + d * nrm[k]], links=links))
+            pieces.append(Polygon([a, b, b + depth * nrm[k], a + depth * nrm[k]], links=links))
         except ValueError:
             raise ValueError(
                 f"distance {d:g} is too small beside an edge of length {np.hypot(*e[k]):g} at "

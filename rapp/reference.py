@@ -377,6 +377,16 @@ def capsule_distance(a, b, radius, ob) -> float:
     def orient(p, u, v):
         return (u[0] - p[0]) * (v[1] - p[1]) - (u[1] - p[1]) * (v[0] - p[0])
 
+    def on_segment(p, u, v):  # p is collinear with u, v: is it between them?
+        return min(u[0], v[0]) <= p[0] <= max(u[0], v[0]) and min(u[1], v[1]) <= p[1] <= max(u[1], v[1])
+
+    def cross(u, w):  # do segments ab and uw share a point? (the textbook orientation test)
+        o1, o2, o3, o4 = orient(a, b, u), orient(a, b, w), orient(u, w, a), orient(u, w, b)
+        if o1 * o2 < 0 and o3 * o4 < 0:
+            return True
+        return ((o1 == 0 and on_segment(u, a, b)) or (o2 == 0 and on_segment(w, a, b))
+                or (o3 == 0 and on_segment(a, u, w)) or (o4 == 0 and on_segment(b, u, w)))
+
     a, b = tuple(map(float, a)), tuple(map(float, b))
     if isinstance(ob, Circle):
         return point_segment(ob.center, a, b) - ob.radius - radius
@@ -384,8 +394,7 @@ def capsule_distance(a, b, radius, ob) -> float:
     k = len(v)
     edges = [(v[i], v[(i + 1) % k]) for i in range(k)]
     inside = any(all(orient(u, w, p) >= 0 for u, w in edges) for p in (a, b))
-    crossing = any(orient(a, b, u) * orient(a, b, w) <= 0 and orient(u, w, a) * orient(u, w, b) <= 0
-                   for u, w in edges)
+    crossing = any(cross(u, w) for u, w in edges)
     if inside or crossing:
         return -radius
     d = min(min(point_segment(p, u, w) for u, w in edges) for p in (a, b))
