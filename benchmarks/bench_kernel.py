@@ -3,7 +3,7 @@
 In one run, on the 3-link benchmark problem of ``bench_core.py`` (links 1.0, 0.8, 0.5; four
 discs and a rectangle):
 
-* ``rapp.collides`` for one configuration: the compiled kernel (``rapp.collision_kernel``)
+* ``rapp.collides`` for one configuration: the compiled kernel (``rapp._kernels.collision_numba``)
   against the numpy version it replaced (``rapp.reference.collides``), alternately; also a
   batch of 10,000 configurations, and ``segment_collision_free`` for one short edge.
 * ``rrt_connect``, ``prm`` and ``rrt_star`` over 20 seeds: compiled (the collision kernel,
@@ -36,7 +36,8 @@ from pathlib import Path
 import numpy as np
 
 import rapp
-from rapp import collision_kernel, reference
+from rapp import reference
+from rapp._kernels import collision_numba as collision_kernel
 from rapp.collision import segment_collision_free
 from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect

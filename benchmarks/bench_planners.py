@@ -56,7 +56,7 @@ from pathlib import Path
 import numpy as np
 
 import rapp
-from rapp import collision_kernel
+from rapp._kernels import collision as collision_backend
 from rapp.paths import path_length, unwrap_path
 from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect
@@ -170,7 +170,7 @@ def main() -> None:
         import ompl  # noqa: F401
     except ImportError:
         sys.exit("OMPL is not installed: pip install -r benchmarks/requirements.txt")
-    if collision_kernel.kernels() is None:
+    if collision_backend.kernels() is None:
         sys.exit("numba is not installed: OMPL would have no compiled checker")
     arm, obstacles = rapp.Arm(LINKS3), list(OBSTACLES3)
     load_before = os.getloadavg()

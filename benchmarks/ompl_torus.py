@@ -19,13 +19,13 @@ def kernel_validity(arm, obstacles):
     is called on it directly: no argument checks, no ``rapp.collides`` wrapper, the least
     Python a checker called from OMPL's C++ can cost. The same answers as ``rapp.collides``.
     """
-    from rapp import collision_kernel
+    from rapp._kernels import collision as collision_backend
     from rapp.arm import MAX_ANGLE
 
-    kernel = collision_kernel.kernels()
+    kernel = collision_backend.kernels()
     if kernel is None:
         raise RuntimeError("numba is not installed: no compiled checker to give OMPL")
-    packed, lengths, n = collision_kernel.pack(list(obstacles)), arm.lengths, arm.n
+    packed, lengths, n = collision_backend.pack(list(obstacles)), arm.lengths, arm.n
     q = np.zeros((1, n))
     row = q[0]
     collides = kernel.collides

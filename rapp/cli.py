@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import importlib
 import os
 import re
 import shutil
@@ -157,8 +158,7 @@ def build_parser() -> argparse.ArgumentParser:
     pc.add_argument("scenario", help="scenario file or embedded name")
     sub.add_parser("list", help="list the embedded scenarios",
                    description="List the embedded scenarios with their descriptions.")
-    from rapp import grading  # the instructors' subcommand lives with its logic
-    grading.add_parser(sub)
+    _grading().add_parser(sub)  # the instructors' subcommands live with their logic
     return p
 
 
@@ -451,11 +451,15 @@ COMMANDS = {
 }
 
 
-def _grading():
-    """:mod:`rapp.grading`, imported when a class is graded or assigned (it loads the exercises)."""
-    from rapp import grading
+#: The teaching layer's module that adds the ``grade`` and ``assign`` subcommands, named rather
+#: than imported: the interface does not import the teaching code (ARCHITECTURE.md, the layers);
+#: it is loaded when the parser is built.
+TEACHING_COMMANDS = "rapp.grading"
 
-    return grading
+
+def _grading():
+    """The module of :data:`TEACHING_COMMANDS` (``add_parser``, ``run``, ``run_assign``)."""
+    return importlib.import_module(TEACHING_COMMANDS)
 
 
 # --------------------------------------------------------------------------- main

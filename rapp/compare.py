@@ -39,8 +39,12 @@ from datetime import date
 
 import numpy as np
 
-import rapp
+from rapp.arm import Arm, wrap_angle
+from rapp.collision import collides
 from rapp.errors import NoIKSolution, NoPathFound, RappError
+from rapp.obstacles import Circle, Polygon
+from rapp.planner import plan as plan_scenario
+from rapp.scenario import load_scenario
 
 __all__ = ["make_scenarios", "scenario_class", "Task", "Record", "planners_for", "run_task",
            "wilson", "mean_interval", "summarize", "tasks", "run", "recorded_results",
@@ -64,7 +68,7 @@ STEP = 0.1
 
 def _free_configurations(arm, obstacles, rng, tries: int = 4000) -> np.ndarray:
     q = rng.uniform(-np.pi, np.pi, size=(tries, arm.n))
-    return q[~rapp.collides(arm, q, obstacles)]
+    return q[~collides(arm, q, obstacles)]
 
 
 def _obstacles(rng, reach: float, narrow: bool) -> list[dict]:
@@ -109,9 +113,9 @@ def make_scenarios(count: int = 30, seed: int = 2026) -> list[dict]:
         lengths = np.round(rng.uniform(0.4, 1.0, n), 2)
         reach = float(lengths.sum())
         obstacles = _obstacles(rng, reach, narrow)
-        arm = rapp.Arm(lengths)
-        parsed = [rapp.Circle(o["center"], o["radius"]) if o["type"] == "circle"
-                  else rapp.Polygon(o["vertices"]) for o in obstacles]
+        arm = Arm(lengths)
+        parsed = [Circle(o["center"], o["radius"]) if o["type"] == "circle"
+                  else Polygon(o["vertices"]) for o in obstacles]
         free = _free_configurations(arm, parsed, rng)
         x = arm.end_effector(free)[:, 0]
         # Narrow: the start's tip left of the wall, the goal's tip beyond it, so the door matters.
@@ -120,14 +124,14 @@ def make_scenarios(count: int = 30, seed: int = 2026) -> list[dict]:
         if len(starts) == 0 or len(goals) == 0:
             continue
         start, goal = starts[0], goals[-1]
-        if np.linalg.norm(rapp.wrap_angle(goal - start)) < 1.0:
+        if np.linalg.norm(wrap_angle(goal - start)) < 1.0:
             continue  # a trivial problem says nothing about a planner
         scenarios.append(_scenario_dict(k, lengths, obstacles, start, goal, cartesian, "astar", {}))
     return scenarios
 
 
 def _scenario_dict(k, lengths, obstacles, start, goal, cartesian, algorithm, settings) -> dict:
-    arm = rapp.Arm(lengths)
+    arm = Arm(lengths)
     goal_entry = ({"position": [float(v) for v in np.round(arm.end_effector(goal), 4)]} if cartesian
                   else {"joints": [float(v) for v in np.round(goal, 4)]})
     n = len(lengths)
@@ -194,7 +198,7 @@ def run_task(task: Task) -> Record:
     s = dict(task.scenario, planner={"algorithm": algorithm, **settings})
     t0 = time.perf_counter()
     try:
-        plan = rapp.plan(rapp.load_scenario(s))
+        plan = plan_scenario(load_scenario(s))
     except (NoPathFound, NoIKSolution) as exc:
         return Record(task.scenario_index, task.planner, task.seed, False, type(exc).__name__,
                       math.nan, time.perf_counter() - t0, math.nan, math.nan)

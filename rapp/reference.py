@@ -16,7 +16,7 @@ reference              the fast function it checks
                        every prefix cell)
 =====================  ==========================================================
 :func:`collides`       :func:`rapp.collision.collides` (numpy over a batch; the
-                       compiled kernel of :mod:`rapp.collision_kernel` replaced it)
+                       compiled kernel of :mod:`rapp._kernels.collision_numba` replaced it)
 :func:`link_clearances` :func:`rapp.collision.link_clearances`
 :func:`segment_collision_free` :func:`rapp.collision.segment_collision_free` (the
                        bisection as numpy arrays, level by level)
@@ -25,7 +25,8 @@ reference              the fast function it checks
                        with no grown shapes: :func:`capsule_distance`)
 =====================  ==========================================================
 
-Without numba, :mod:`rapp.collision` runs these numpy versions itself.
+The package never calls them: its numpy backend without numba is :mod:`rapp._kernels`'
+``collision_numpy`` and ``occupancy_numpy``, which the tests compare with these.
 
 Examples
 --------
@@ -286,7 +287,7 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
 
 
 class _GroupTooLarge(Exception):
-    """Internal: several segments together exceed the pending limit; retry them one by one."""
+    """Several segments together exceed the pending limit; retry them one by one."""
 
 
 def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):

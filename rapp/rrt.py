@@ -68,7 +68,7 @@ from typing import Mapping
 
 import numpy as np
 
-from rapp import collision_kernel
+from rapp._kernels import collision as collision_backend
 from rapp import progress
 from rapp.collision import collides, scene, segment_collision_free
 from rapp.errors import InvalidSetting, NoPathFound
@@ -236,8 +236,8 @@ def rrt(
             raise NoPathFound(msg)
         return tree_result(arm, None, tree.nodes.copy(), tree.parent.copy(), it)
 
-    if obstacles:  # thousands of checks follow: the compiled kernel (rapp.collision_kernel)
-        collision_kernel.kernels()
+    if obstacles:  # thousands of checks follow: the compiled kernel (rapp._kernels.collision_numba)
+        collision_backend.kernels()
     if collides(arm, start, obstacles):
         return fail("the start configuration collides", 0)
     if gxy is not None and np.linalg.norm(gxy) > arm.reach[1] + goal_threshold:

@@ -25,9 +25,10 @@ import numpy as np
 from rapp import progress
 from rapp.checks import finite_number
 from rapp.collision import reach_matrix, link_clearances, scene
-from rapp import collision_kernel, sampling_kernel
+from rapp import sampling_kernel
+from rapp._kernels import collision as collision_backend
 from rapp.collision import MAX_PENDING_INTERVALS
-from rapp.collision_kernel import pack
+from rapp._kernels.collision import pack
 from rapp.obstacles import Circle
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import PlannerResult, tree_result
@@ -94,7 +95,7 @@ class _Clearance:
         self.centers = np.asarray(centers, float).reshape(-1, 2)
         self.radii = np.asarray(radii, float)
         self.polygons = len(radii) > self.discs
-        self.compiled = collision_kernel.kernels() is not None
+        self.compiled = collision_backend.kernels() is not None
 
     def __call__(self, q) -> np.ndarray:
         q = np.atleast_2d(q)
@@ -231,7 +232,7 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     reach = reach_matrix(arm)
     # Clearances this small cannot be told from touching (as in segment_collision_free).
     touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
-    loops = sampling_kernel.kernels() if collision_kernel.loaded() is not None else None
+    loops = sampling_kernel.kernels() if collision_backend.loaded() is not None else None
     grown = None
     if loops is not None:
         grown = _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach,

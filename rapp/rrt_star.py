@@ -24,10 +24,11 @@ import math
 
 import numpy as np
 
-from rapp import collision_kernel, sampling_kernel
+from rapp import sampling_kernel
+from rapp._kernels import collision as collision_backend
 from rapp.checks import finite_number
 from rapp.collision import MAX_PENDING_INTERVALS, link_clearances, reach_matrix, scene
-from rapp.collision_kernel import pack
+from rapp._kernels.collision import pack
 from rapp.errors import NoPathFound
 from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals, squared_norms,
@@ -149,7 +150,7 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: fl
         unit_ball = math.pi ** (n / 2) / math.gamma(n / 2 + 1)
         gamma = 2.0 * ((1 + 1 / n) * volume / unit_ball) ** (1 / n)
     rng = np.random.default_rng(seed)
-    loops = sampling_kernel.kernels() if collision_kernel.loaded() is not None else None
+    loops = sampling_kernel.kernels() if collision_backend.loaded() is not None else None
     grown = None
     if loops is not None:
         grown = _grow_compiled(loops, arm, goals, obstacles, step, radius, goal_bias,

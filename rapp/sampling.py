@@ -18,9 +18,9 @@ import time
 import numpy as np
 
 from rapp.checks import finite_number, positive_integer
-from rapp import collision_kernel
+from rapp._kernels import collision as collision_backend
 from rapp.collision import collides, reach_matrix, segment_collision_free
-from rapp.collision_kernel import pack
+from rapp._kernels.collision import pack
 from rapp.errors import NoPathFound
 
 __all__ = ["ClearanceTree", "squared_norms", "motion_bounds_of", "endpoint_certified", "EdgeCertifier", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
@@ -107,7 +107,7 @@ class EdgeCertifier:
 
     def __init__(self, arm, obstacles):
         self.arm, self.obstacles = arm, list(obstacles)
-        self.kernel = collision_kernel.loaded() if self.obstacles else None
+        self.kernel = collision_backend.loaded() if self.obstacles else None
         if self.kernel is not None:
             self.packed = pack(self.obstacles)
             self.reach = reach_matrix(arm)
@@ -263,8 +263,8 @@ def check_start_and_goals(arm, start, goal, obstacles):
     obstacles = list(obstacles)
     if obstacles:
         # A sampling planner checks thousands of single configurations and edges: load the
-        # compiled collision kernel (rapp.collision_kernel) for them, whatever their size.
-        collision_kernel.kernels()
+        # compiled collision kernel (rapp._kernels.collision_numba) for them, whatever their size.
+        collision_backend.kernels()
     if obstacles and collides(arm, start, obstacles):
         raise NoPathFound("the start configuration collides")
     if obstacles:

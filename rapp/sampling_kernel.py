@@ -1,6 +1,6 @@
 """The compiled inner loops of the sampling planners: trees as preallocated arrays.
 
-With the collision kernel compiled (:mod:`rapp.collision_kernel`), one clearance check costs
+With the collision kernel compiled (:mod:`rapp._kernels.collision_numba`), one clearance check costs
 about a microsecond, and what is left of a planner's time is Python: the nearest-node scan,
 the steering arithmetic, a dozen numpy calls on arrays of three numbers per step. Here the
 whole iteration of RRT-Connect (nearest node by a linear scan under the torus metric, one
@@ -20,7 +20,7 @@ certificate to the last bit), a tree could differ, and then only there.
 
 :func:`kernels` compiles on first use (cached on disk, ``cache=True``) and returns None
 without numba; importing this module does not import numba. Numba's disk cache does not see
-changes to the collision kernel's file: after editing :mod:`rapp.collision_kernel`, touch
+changes to the collision kernel's file: after editing :mod:`rapp._kernels.collision_numba`, touch
 this file (or clear ``__pycache__``) so that these loops are compiled again.
 
 Examples
@@ -38,7 +38,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from rapp import collision_kernel
+from rapp._kernels import collision as collision_backend
 from rapp.jit import jit
 
 __all__ = ["kernels", "Loops", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
@@ -686,7 +686,7 @@ def _draw(buf, pos, bias, lower, span, goal, out):
 
 @functools.cache
 def _compile():
-    ck = collision_kernel.kernels()
+    ck = collision_backend.kernels()
     if ck is None:
         return None
 
@@ -706,7 +706,7 @@ def _compile():
 
 def kernels():
     """The compiled :class:`Loops`, or None without numba (or when the collision
-    kernel is switched off: :func:`rapp.collision_kernel.kernels` returns None)."""
-    if collision_kernel.kernels() is None:
+    kernel is switched off: :func:`rapp._kernels.collision.kernels` returns None)."""
+    if collision_backend.kernels() is None:
         return None
     return _compile()

@@ -105,15 +105,15 @@ def test_the_new_homes_are_documented(module):
 
 #: The layers of ARCHITECTURE.md. Each module of rapp/ is in exactly one.
 LAYERS = {
-    "core": {"arm", "obstacles", "collision", "collision_kernel", "cspace", "cspace_kernel", "search", "ik", "ik_kernel", "symbolic", "trajectory",
+    "core": {"arm", "obstacles", "collision", "_kernels", "cspace", "search", "ik", "ik_kernel", "symbolic", "trajectory",
              "heap", "jit", "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
              "reference"},
     "planners": {"sampling", "sampling_kernel", "grid_route", "rrt", "rrt_connect", "rrt_star", "prm", "planners",
                  "progress"},
-    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "recorded",
-                 "baseline", "traceability"},
+    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts",
+                 "recorded", "baseline", "traceability"},
     "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live"},
-    "interface": {"cli", "__main__", "__init__", "interrupts"},
+    "interface": {"cli", "__main__", "__init__"},
     "teaching": {"exercises", "cases", "grading"},
 }
 DRAWING_LIBRARIES = {"matplotlib", "ipywidgets", "PIL", "IPython", "anywidget"}
@@ -176,3 +176,123 @@ def test_the_readme_layout_names_every_module():
     layout = readme.split("## Layout", 1)[1].split("\n## ", 1)[0]
     missing = [m for m in top_modules() if f"`{m}`" not in layout and f"rapp/{m}/" not in layout]
     assert missing == [], "README's layout table does not name these modules"
+
+
+# --------------------------------------------------------------------------- the import graph
+
+#: The layers' order, top first: a module may import its own layer and those above it.
+ORDER = ["core", "planners", "pipeline", "drawing", "interface", "teaching"]
+
+#: Imports allowed against the layer order, ``(importer, imported)`` with the reason. Short.
+ALLOWED_UPWARD = {
+}
+
+
+def all_modules() -> dict:
+    """Dotted name -> file, for every module of the package (subpackages' modules too)."""
+    return {module_name(p): p for p in sorted(PACKAGE.rglob("*.py"))}
+
+
+def import_edges(path: Path, modules: dict) -> set:
+    """``(module, line)`` for each rapp module ``path`` imports, anywhere in it (functions too).
+
+    ``from rapp import x`` is the module ``rapp.x`` where that is a module, else ``rapp`` (the
+    package's front door); ``from rapp.a import b`` likewise; relative imports are resolved.
+    """
+    me = module_name(path)
+    package = me if path.name == "__init__.py" else me.rpartition(".")[0]
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                up = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(up + ([base] if base else []))
+            if base != "rapp" and not base.startswith("rapp."):
+                continue
+            for a in node.names:
+                full = f"{base}.{a.name}"
+                out.add((full if full in modules else base, node.lineno))
+        elif isinstance(node, ast.Import):
+            out |= {(a.name, node.lineno) for a in node.names
+                    if a.name == "rapp" or a.name.startswith("rapp.")}
+    return out
+
+
+def graph() -> dict:
+    modules = all_modules()
+    return {m: {t for t, _ in import_edges(p, modules) if t != m} for m, p in modules.items()}
+
+
+def layer_of(module: str) -> str:
+    parts = module.split(".")
+    top = "__init__" if len(parts) == 1 else parts[1]
+    found = [name for name, members in LAYERS.items() if top in members]
+    assert len(found) == 1, f"{module} is in {found or 'no'} layer"
+    return found[0]
+
+
+def cycles(edges: dict) -> list:
+    """The strongly connected components of more than one module (Tarjan), each sorted."""
+    index, low, stack, on, out, counter = {}, {}, [], set(), [], [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in sorted(edges.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(edges):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_the_cycle_finder_finds_cycles():
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert cycles({"a": {"b"}, "b": set()}) == []
+
+
+def test_the_edges_include_imports_inside_functions(tmp_path, monkeypatch):
+    pkg = tmp_path / "rapp"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("")
+    (pkg / "b.py").write_text("def f():\n    from rapp import a\n    import rapp\n    from . import a as c\n")
+    monkeypatch.setattr(sys.modules[__name__], "PACKAGE", pkg)
+    modules = all_modules()
+    assert import_edges(pkg / "b.py", modules) == {("rapp.a", 2), ("rapp", 3), ("rapp.a", 4)}
+
+
+def test_no_import_cycle():
+    assert cycles(graph()) == []
+
+
+def test_every_import_follows_the_layer_order():
+    bad = []
+    for importer, targets in graph().items():
+        for target in targets:
+            if ORDER.index(layer_of(target)) > ORDER.index(layer_of(importer)) \
+                    and (importer, target) not in ALLOWED_UPWARD:
+                bad.append(f"{importer} ({layer_of(importer)}) imports {target} ({layer_of(target)})")
+    assert sorted(bad) == []
+
+
+def test_nothing_in_the_package_imports_the_reference_implementations():
+    assert [m for m, targets in graph().items() if "rapp.reference" in targets] == []

@@ -18,7 +18,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rapp
-from rapp import collision_kernel, reference
+from rapp import reference
+from rapp._kernels import collision_numba as collision_kernel
 from rapp.collision import collides, link_clearances, segment_collision_free
 from rapp.prm import prm
 

@@ -191,3 +191,21 @@ def test_a_plan_with_thick_links_keeps_them_apart_and_says_so():
     assert check.value == pytest.approx((gaps - 0.03).min(), abs=1e-9)
     assert "safety margin" in check.detail
     assert rapp.load_scenario(s.to_dict()) == s
+
+
+@settings(max_examples=25, deadline=None)
+@given(world=worlds(max_links=4), seed=st.integers(0, 2**32 - 1))
+def test_the_compiled_kernel_honours_the_link_masks_as_numpy_does(world, seed):
+    from rapp._kernels import collision_numba, collision_numpy
+    k = collision_numba.kernels()
+    if k is None:
+        pytest.skip("numba is not installed")
+    arm, obstacles, margin = world
+    thin, pieces = scene(arm, obstacles, margin)
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(-np.pi, np.pi, (40, arm.n))
+    packed = collision_numba.pack(pieces)
+    hit, ok = k.collides(thin.lengths, q, *packed, 1e100)
+    assert ok and (hit == collision_numpy.collides(thin, q, pieces)).all()
+    assert np.allclose(k.clearances(thin.lengths, q, *packed),
+                       collision_numpy.link_clearances(thin, q, pieces), atol=1e-12)
