@@ -244,9 +244,10 @@ def run(name: str, arm, start, goal, obstacles=(), **settings) -> PlannerResult:
     """
     p = entry(name)
     kw = {s.key: settings.get(s.key, s.default) for s in p.settings}
-    for key in ("raise_on_failure", "margin"):  # every planner's own keywords, not settings
-        if key in settings:
-            kw[key] = settings[key]
+    if "raise_on_failure" in settings:
+        kw["raise_on_failure"] = settings["raise_on_failure"]
+    if settings.get("margin"):  # passed when there is one: a planner written before margins runs
+        kw["margin"] = settings["margin"]
     if p.check is not None:
         p.check(arm, start, goal, **kw)
     return p.function(arm, start, goal, obstacles, **kw)

@@ -209,3 +209,10 @@ def test_the_compiled_kernel_honours_the_link_masks_as_numpy_does(world, seed):
     assert ok and (hit == collision_numpy.collides(thin, q, pieces)).all()
     assert np.allclose(k.clearances(thin.lengths, q, *packed),
                        collision_numpy.link_clearances(thin, q, pieces), atol=1e-12)
+
+
+@pytest.mark.parametrize("name", sorted(PLANNERS))
+def test_every_planner_takes_a_margin_keyword(name):
+    import inspect
+    p = inspect.signature(PLANNERS[name].function).parameters["margin"]
+    assert p.kind is inspect.Parameter.KEYWORD_ONLY and p.default == 0.0
