@@ -30,9 +30,10 @@ from rapp._kernels.occupancy import COMPILE_FROM
 from rapp._kernels.occupancy_numpy import prefix_grid, prefix_step
 from rapp.arm import Arm, wrap_angle
 from rapp.collision import check_obstacle, motion_bounds, required_distances, scene
-from rapp.obstacles import applies, grown
+from rapp.obstacles import Circle, applies, grown
 
 __all__ = ["JointGrid", "occupancy", "occupancy_numpy", "grid_q", "certified_free", "cell_extent",
+           "check_extent", "MAX_EXTENT_RATIO",
            "check_grid", "prefix_grid", "prefix_step", "MAX_GRID_CELLS", "COMPILE_FROM"]
 
 #: Most cells (the product of the cells per joint) a :class:`JointGrid` accepts.
@@ -232,6 +233,11 @@ def occupancy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
         by ``link_radius[j] + margin`` (:func:`rapp.collision.scene`), discs and
         rectangles painted in the same closed form.
     obstacles : iterable of Circle and Polygon
+        Those wholly beyond the arm's reach are left out (no link can touch them); one
+        within reach must lie within :data:`MAX_EXTENT_RATIO` times the reach of the
+        origin, or it is refused (:func:`check_extent`): inside that range the cells are
+        those :func:`rapp.collision.collides` gives (tested up to the ratio, and for
+        joint angles up to 1e10 rad).
     grid : JointGrid
     margin : float
 
@@ -251,9 +257,72 @@ def occupancy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     return _backend.hits(*_per_link(arm, obstacles, margin), grid)
 
 
+#: The painted intervals of :func:`occupancy` hold for obstacles whose coordinates lie within
+#: this many times the arm's reach of the origin. Beyond it the closed forms lose their digits
+#: (a 1 mm arm beside a polygon 10 km across had cells a link's length clear marked
+#: colliding): such an obstacle is refused by :func:`check_extent`, naming it. An obstacle
+#: wholly out of the arm's reach is left out instead, exactly: no link can touch it.
+MAX_EXTENT_RATIO = 1e5
+
+
+def _extent(ob) -> tuple:
+    """``(nearest, farthest)``: bounds on the distance of ``ob``'s points from the origin."""
+    if isinstance(ob, Circle):
+        d = float(np.hypot(*ob.center))
+        return d - ob.radius, d + ob.radius
+    v = ob.array
+    far = float(np.hypot(v[:, 0], v[:, 1]).max())
+    # Outside the polygon the origin is at least its distance from the farthest edge line.
+    e = np.roll(v, -1, axis=0) - v
+    off = (e[:, 0] * v[:, 1] - e[:, 1] * v[:, 0]) / np.hypot(e[:, 0], e[:, 1])
+    return float(max(off.max(), 0.0)), far
+
+
+def check_extent(arm, obstacles, margin=0.0) -> list:
+    """The obstacles :func:`occupancy` paints: those within the arm's reach, each refused when it
+    extends beyond :data:`MAX_EXTENT_RATIO` times the reach.
+
+    An obstacle farther from the base than the reach plus the largest distance a link must
+    keep (``link_radius + margin``) is dropped: no link can come near it.
+
+    Raises
+    ------
+    ValueError
+        Naming ``obstacles[i]``, the first one within reach that extends too far.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, Polygon
+    >>> arm = Arm([1.0, 1.0])
+    >>> len(check_extent(arm, [Circle((1.5, 0), 0.2), Circle((50.0, 0), 1.0)]))
+    1
+    >>> try:
+    ...     check_extent(Arm([1e-3]), [Polygon.rectangle((0.0005, -5e3), 1e4, 1e4)])
+    ... except ValueError as e:
+    ...     print(str(e)[:72])
+    obstacles[0] reaches 1.1e+04 from the base, more than 100000 times the a
+    """
+    reach = float(np.sum(arm.lengths))
+    near_enough = reach + float(required_distances(arm, margin).max())
+    kept = []
+    for i, ob in enumerate(obstacles):
+        near, far = _extent(check_obstacle(ob))
+        if near > near_enough:
+            continue
+        if far > MAX_EXTENT_RATIO * reach:
+            raise ValueError(
+                f"obstacles[{i}] reaches {far:.2g} from the base, more than {MAX_EXTENT_RATIO:g} "
+                f"times the arm's reach ({reach:.2g}) (rapp.cspace.MAX_EXTENT_RATIO): the "
+                "C-space intervals would lose their digits; cut it down to the region the arm "
+                "can reach"
+            )
+        kept.append(ob)
+    return kept
+
+
 def _per_link(arm, obstacles, margin) -> tuple:
     """``(arm0, per_link)``: zero-width links and the checked, grown obstacles each one meets."""
-    arm, obstacles = scene(arm, [check_obstacle(ob) for ob in obstacles], margin)
+    arm, obstacles = scene(arm, check_extent(arm, obstacles, margin), margin)
     if not any(ob.links is not None for ob in obstacles):
         return arm, [obstacles] * arm.n
     return arm, [[ob for ob in obstacles if applies(ob, j)] for j in range(arm.n)]
@@ -331,9 +400,9 @@ def certified_free(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     True
     """
     check_grid(arm, grid)
-    obstacles = [check_obstacle(ob) for ob in obstacles]
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
+    obstacles = check_extent(arm, obstacles, margin + float(need.max()))
     need = need + required_distances(arm, margin)  # the growths add (Minkowski sums of discs)
     if not obstacles:
         return np.ones(grid.shape, bool)

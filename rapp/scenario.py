@@ -41,6 +41,7 @@ import numpy as np
 from rapp.arm import Arm
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
 from rapp.collision import clearance, collides, segment_point_distance
+from rapp.cspace import check_extent
 from rapp.obstacles import Circle, Polygon
 from rapp import planners as planner_table
 from rapp.prm import MEMORY_BUDGET as PRM_MEMORY_BUDGET, roadmap_bytes
@@ -864,6 +865,11 @@ def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
         angle_unit=angle_unit, warnings=tuple(r.warnings), source=source, goal_path=goal_path,
         safety_margin=_gap(top.get("safety_margin", 0.0), "safety_margin"),
     )
+    try:  # an obstacle within reach but vastly larger than the arm: the C-space loses its digits
+        check_extent(arm, obstacles, scenario.safety_margin)
+    except ValueError as e:
+        field, _, message = str(e).partition(" ")
+        raise InvalidValue(message, field=field) from None
     if preflight_checks:
         preflight(scenario)
     return scenario
