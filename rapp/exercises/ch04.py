@@ -9,7 +9,7 @@ Examples
 >>> round(_interval_width(), 3)
 0.659
 >>> round(_thick_interval_width(), 3)
-0.815
+0.816
 """
 
 from __future__ import annotations
@@ -296,9 +296,6 @@ EXERCISES = (
                            "that grows the disc by the link's width (0.2 m); grow it by the radius."),
                           (lambda: _thick_interval_width() / 2, "that is the half-width; give the "
                                                                 "full width of the interval."),
-                          (lambda: 2 * float(np.arcsin((_EX3["r"] + _EX7_RADIUS) / _EX3["d"])),
-                           "that is the tangent case for the grown disc; can the link still reach "
-                           "the tangent point? Compare L with sqrt(d^2 - (r + 0.1)^2)."),
                           (lambda: np.degrees(_thick_interval_width()), "give the angle in radians, "
                                                                         "not degrees.")],
                 hint="grow the disc by the link's radius, then apply equation ch04-interval as in "
