@@ -302,8 +302,14 @@ def check_extent(arm, obstacles, margin=0.0) -> list:
     ...     print(str(e)[:72])
     obstacles[0] reaches 1.1e+04 from the base, more than 100000 times the a
     """
+    if not isinstance(obstacles, (list, tuple)):
+        obstacles = tuple(obstacles)
     reach = float(np.sum(arm.lengths))
     near_enough = reach + float(required_distances(arm, margin).max())
+    key = (tuple(map(id, obstacles)), reach, near_enough)
+    hit = _EXTENTS.get(key)  # a grid planner asks again with the same obstacles
+    if hit is not None:
+        return list(hit[1])
     kept = []
     for i, ob in enumerate(obstacles):
         near, far = _extent(check_obstacle(ob))
@@ -317,7 +323,13 @@ def check_extent(arm, obstacles, margin=0.0) -> list:
                 "can reach"
             )
         kept.append(ob)
+    if len(_EXTENTS) >= 64:
+        _EXTENTS.clear()
+    _EXTENTS[key] = (tuple(obstacles), tuple(kept))  # the obstacles kept: their ids stay theirs
     return kept
+
+
+_EXTENTS: dict = {}
 
 
 def _per_link(arm, obstacles, margin) -> tuple:
