@@ -7,6 +7,7 @@ of shape ``(..., n)`` and works on it in one numpy call.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -73,6 +74,24 @@ def _joint_limit(i: int, lim):
     return (lo, hi)
 
 
+def _link_radius(value, n: int) -> tuple:
+    """``link_radius`` as ``n`` floats, or a ValueError naming it."""
+    bad = ValueError(
+        f"link_radius must be one number or one per link ({n}), each finite, >= 0 and at most "
+        f"{MAX_COORDINATE:g}, got {value!r}"
+    )
+    try:
+        r = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise bad from None
+    if r.shape not in ((), (n,)):
+        raise bad
+    r = np.broadcast_to(r, (n,))
+    if not (np.all(np.isfinite(r)) and np.all(r >= 0) and np.all(r <= MAX_COORDINATE)):
+        raise bad
+    return tuple(float(v) for v in r)
+
+
 @dataclass(frozen=True, eq=False)
 class Arm:
     """A planar serial arm of revolute joints.
@@ -87,11 +106,17 @@ class Arm:
         means the joint turns freely and its angle wraps (a torus axis).
         Limits may be asymmetric (LC5) and must satisfy ``lo < hi`` and
         ``|lo|, |hi| <= MAX_ANGLE``.
+    link_radius : float or sequence of float, optional
+        The half-width of each link (one number for all, or one per link), finite and
+        ``>= 0``, default 0: link ``j`` is the capsule of points within ``link_radius[j]``
+        of its centre segment. Every collision test of :mod:`rapp.collision` and
+        :mod:`rapp.cspace` keeps link ``j`` at least ``link_radius[j] + margin`` from every
+        obstacle.
 
     Raises
     ------
     ValueError
-        Naming ``link_lengths`` or the offending ``joint_limits[i]``.
+        Naming ``link_lengths``, the offending ``joint_limits[i]`` or ``link_radius``.
 
     Examples
     --------
@@ -102,6 +127,8 @@ class Arm:
     [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]
     >>> arm.reach
     (0.0, 2.0)
+    >>> Arm([1.0, 1.0], link_radius=[0.05, 0.02]).link_radius
+    (0.05, 0.02)
     >>> Arm([1.0, 1.0], [1.0, 2.0])
     Traceback (most recent call last):
     ...
@@ -110,8 +137,9 @@ class Arm:
 
     link_lengths: tuple
     joint_limits: tuple | None = None
+    link_radius: tuple = ()
 
-    def __init__(self, link_lengths: Sequence[float], joint_limits=None):
+    def __init__(self, link_lengths: Sequence[float], joint_limits=None, link_radius=0.0):
         try:
             lengths = np.asarray(link_lengths, dtype=float)
         except (TypeError, ValueError):
@@ -146,6 +174,7 @@ class Arm:
             limits = tuple(_joint_limit(i, lim) for i, lim in enumerate(joint_limits))
         object.__setattr__(self, "link_lengths", tuple(float(v) for v in lengths))
         object.__setattr__(self, "joint_limits", limits)
+        object.__setattr__(self, "link_radius", _link_radius(link_radius, n))
         # Read-only arrays built once: planners ask for them per configuration.
         cached = {
             "_lengths": np.array(self.link_lengths),
@@ -162,10 +191,25 @@ class Arm:
             isinstance(other, Arm)
             and self.link_lengths == other.link_lengths
             and self.joint_limits == other.joint_limits
+            and self.link_radius == other.link_radius
         )
 
     def __hash__(self):
-        return hash((self.link_lengths, self.joint_limits))
+        return hash((self.link_lengths, self.joint_limits, self.link_radius))
+
+    def centre_lines(self) -> "Arm":
+        """This arm with zero-width links (``link_radius`` 0), every other field the same.
+
+        Examples
+        --------
+        >>> Arm([1.0], link_radius=0.1).centre_lines().link_radius
+        (0.0,)
+        """
+        if not any(self.link_radius):
+            return self
+        thin = copy.copy(self)
+        object.__setattr__(thin, "link_radius", (0.0,) * self.n)
+        return thin
 
     @property
     def n(self) -> int:

@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from rapp.checks import finite_number
 from rapp._kernels import collision as _backend
+from rapp._kernels.collision_numba import MASK_LINKS
 from rapp._kernels.collision_numpy import (
     MAX_PENDING_INTERVALS,
     check_obstacle,
@@ -36,6 +38,7 @@ from rapp._kernels.collision_numpy import (
     segment_point_distance,
     segment_polygon_distance,
 )
+from rapp.obstacles import Circle, Polygon, grown  # noqa: F401  (Circle, Polygon: doctests)
 
 __all__ = [
     "closest_point_on_segment",
@@ -46,6 +49,8 @@ __all__ = [
     "segment_hits_polygon",
     "segment_polygon_distance",
     "check_obstacle",
+    "scene",
+    "required_distances",
     "link_clearances",
     "segment_clearances",
     "collides",
@@ -84,30 +89,112 @@ def line_distance_mis(a, b, c) -> np.ndarray:
         return np.abs(ab[..., 0] * (a - c)[..., 1] - ab[..., 1] * (a - c)[..., 0]) / np.linalg.norm(ab, axis=-1)
 
 
-def link_clearances(arm, q, obstacles) -> np.ndarray:
-    """Clearance of every link from the nearest obstacle, shape ``(..., n)``.
+def required_distances(arm, margin=0.0) -> np.ndarray:
+    """The distance each link must keep from every obstacle: ``link_radius + margin``, ``(n,)``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> required_distances(Arm([1.0, 1.0], link_radius=[0.1, 0.05]), margin=0.02).tolist()
+    [0.12000000000000001, 0.07]
+    """
+    m = finite_number(margin, "margin")
+    if m < 0:
+        raise ValueError(f"margin must be a finite number >= 0, got {margin!r}")
+    return np.asarray(arm.link_radius, dtype=float) + m
+
+
+_SCENES: dict = {}
+
+
+def scene(arm, obstacles, margin=0.0) -> tuple:
+    """``(arm0, pieces)``: the same collision question with zero-width links.
+
+    Link ``j`` of ``arm`` (a capsule of radius ``arm.link_radius[j]``) keeps ``margin``
+    from an obstacle exactly when its centre segment misses the obstacle grown by
+    ``d_j = link_radius[j] + margin`` (:func:`rapp.obstacles.grown`). So every test here
+    asks about ``arm0`` (``arm`` with zero-width links) and ``pieces``: each obstacle
+    grown by each distinct ``d_j``, the pieces marked (:attr:`rapp.Circle.links`) with the
+    links that keep that distance. With zero radii and margin this is ``(arm, obstacles)``
+    itself; the same question returns the same (cached) pieces, so the compiled kernels
+    pack them once.
+
+    Raises
+    ------
+    ValueError
+        Naming ``margin`` (finite and >= 0) or an obstacle; ``distance`` when a growth is
+        too small for a polygon (see :func:`rapp.obstacles.grown`).
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> arm0, pieces = scene(Arm([1.0, 1.0], link_radius=0.1), [Circle((2, 0), 0.5)], margin=0.05)
+    >>> arm0.link_radius, pieces
+    ((0.0, 0.0), (Circle(center=(2.0, 0.0), radius=0.65),))
+    """
+    need = required_distances(arm, margin)
+    if not need.any():
+        return arm, obstacles
+    if not isinstance(obstacles, (list, tuple)):
+        obstacles = tuple(obstacles)
+    for ob in obstacles:
+        check_obstacle(ob)
+    key = (tuple(map(id, obstacles)), tuple(need.tolist()))
+    hit = _SCENES.get(key)
+    if hit is None:
+        values = sorted(set(need.tolist()))
+        if len(values) > 1 and arm.n > MASK_LINKS:
+            raise ValueError(f"link_radius: links of different radii are supported on arms of at "
+                             f"most {MASK_LINKS} links, got {arm.n}; give every link one radius")
+        pieces = []
+        for d in values:
+            links = tuple(int(j) for j in np.flatnonzero(need == d))
+            for ob in obstacles:
+                mine = links if ob.links is None else tuple(j for j in links if j in ob.links)
+                if mine:
+                    pieces.extend(grown(ob, d, None if len(values) == 1 and ob.links is None else mine))
+        if len(_SCENES) >= 64:
+            _SCENES.clear()
+        hit = _SCENES[key] = (tuple(obstacles), tuple(pieces))  # the obstacles kept: ids stay theirs
+    return arm.centre_lines(), hit[1]
+
+
+def link_clearances(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
+    """Clearance of every link from the nearest obstacle, beyond the distance it must keep: ``(..., n)``.
 
     A circle's clearance is the segment-to-centre distance minus the radius; a
     polygon's is the segment-to-polygon distance (0 when they intersect). With
     no obstacles every clearance is ``inf``. A value ``<= 0`` is a collision.
+    With link radii (:class:`rapp.Arm`) or a ``margin`` (metres, >= 0), link ``j``'s
+    value is its centre segment's distance from the nearest obstacle minus
+    ``link_radius[j] + margin`` (the gap left beyond the one required), measured
+    against the grown obstacles of :func:`scene` (0 where it enters one).
 
     Examples
     --------
     >>> from rapp import Arm, Circle
     >>> link_clearances(Arm([1.0, 1.0]), [0.0, 0.0], [Circle((1.5, 1.0), 0.5)]).tolist()
     [0.6180339887498949, 0.5]
+    >>> link_clearances(Arm([1.0, 1.0], link_radius=0.1), [0.0, 0.0], [Circle((1.5, 1.0), 0.5)],
+    ...                 margin=0.1).round(12).tolist()
+    [0.418033988750, 0.3]
     """
+    arm, obstacles = scene(arm, obstacles, margin)
     return _backend.link_clearances(arm, q, obstacles)
 
 
-def collides(arm, q, obstacles) -> np.ndarray:
+def collides(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
     """True where a configuration puts any link on any obstacle (touching counts).
 
     Parameters
     ----------
     arm : Arm
+        Its links are capsules of radius ``arm.link_radius`` (0: segments).
     q : array_like, shape (..., n)
     obstacles : iterable of Circle and Polygon
+    margin : float
+        Safety margin, >= 0: a link closer than ``link_radius + margin`` to an
+        obstacle (or exactly that far) collides (:func:`scene`).
 
     Returns
     -------
@@ -120,12 +207,18 @@ def collides(arm, q, obstacles) -> np.ndarray:
     >>> obs = [Circle((1.75, 0.75), 0.6), Polygon.rectangle((-2, -2), 1, 1)]
     >>> collides(arm, [[0.4, 0.0], [np.pi / 2, 0.0], [-2.4, 0.0]], obs).tolist()
     [True, False, True]
+    >>> collides(arm, [[np.pi / 2, 0.0]], [Circle((0.5, 2.0), 0.3)], margin=0.2).tolist()
+    [True]
     """
+    arm, obstacles = scene(arm, obstacles, margin)
     return _backend.collides(arm, q, obstacles)
 
 
-def clearance(arm, q, obstacles) -> np.ndarray:
+def clearance(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
     """Smallest distance from any link to any obstacle, shape ``(...)``; ``<= 0`` is a collision.
+
+    With link radii or a ``margin``, the smallest gap beyond the one required
+    (:func:`link_clearances`).
 
     Examples
     --------
@@ -133,7 +226,7 @@ def clearance(arm, q, obstacles) -> np.ndarray:
     >>> float(clearance(Arm([1.0, 1.0]), [0.0, 0.0], [Circle((1.0, 1.0), 0.5)]))
     0.5
     """
-    return link_clearances(arm, q, obstacles).min(axis=-1)
+    return link_clearances(arm, q, obstacles, margin=margin).min(axis=-1)
 
 
 def motion_bounds(arm, dq) -> np.ndarray:
@@ -165,7 +258,7 @@ def motion_bounds(arm, dq) -> np.ndarray:
 
 
 def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9,
-                           max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
+                           max_intervals: int = MAX_PENDING_INTERVALS, margin=0.0) -> np.ndarray:
     """Certify that every configuration on the joint-space segments ``q0 → q1`` is free.
 
     The straight segment ``q(t) = q0 + t (q1 - q0)``, ``t in [0, 1]``, is
@@ -202,6 +295,10 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
         Shortest parameter interval examined before giving up (conservatively).
     max_intervals : int
         Most sub-intervals pending at once (:data:`MAX_PENDING_INTERVALS`).
+    margin : float
+        Safety margin (>= 0) kept beyond the links' radii, as in :func:`collides`:
+        the certificate runs on the obstacles grown by it (:func:`scene`), whose
+        distance changes no faster than the links move.
 
     Returns
     -------
@@ -222,13 +319,16 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     >>> arm, obs = Arm([1.0, 1.0]), [Circle((0.0, 1.5), 0.3)]
     >>> segment_collision_free(arm, [[0.0, 0.0], [0.0, 0.0]], [[0.5, 0.0], [3.0, 0.0]], obs).tolist()
     [True, False]
+    >>> [bool(segment_collision_free(arm, [0.0, 0.0], [0.5, 0.0], obs, margin=m)) for m in (1.0, 1.1)]
+    [True, False]
     """
+    arm, obstacles = scene(arm, obstacles, margin)
     return _backend.segment_collision_free(arm, q0, q1, obstacles, min_interval=min_interval,
                                            max_intervals=max_intervals)
 
 
 def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9,
-                        max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
+                        max_intervals: int = MAX_PENDING_INTERVALS, margin=0.0) -> np.ndarray:
     """True where every straight joint-space segment of a polyline is certified free.
 
     Parameters
@@ -237,8 +337,8 @@ def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9,
         ``k >= 1`` configurations; wrapping joints must be unwrapped by the
         caller (``np.unwrap`` along the path) so that consecutive angles differ
         by the intended short step.
-    min_interval, max_intervals
-        Passed to :func:`segment_collision_free`.
+    min_interval, max_intervals, margin
+        Passed to :func:`segment_collision_free` (``margin``: also to :func:`collides`).
 
     Returns
     -------
@@ -262,10 +362,10 @@ def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9,
     if p.ndim < 2 or p.shape[-2] < 1:
         raise ValueError(f"path_q must have shape (..., k, {arm.n}) with k >= 1, got {p.shape}")
     if p.shape[-2] == 1:
-        ok = ~collides(arm, p[..., 0, :], obstacles)
+        ok = ~collides(arm, p[..., 0, :], obstacles, margin=margin)
     else:
         ok = segment_collision_free(
             arm, p[..., :-1, :], p[..., 1:, :], obstacles, min_interval=min_interval,
-            max_intervals=max_intervals,
+            max_intervals=max_intervals, margin=margin,
         ).all(axis=-1)
     return ok if ok.ndim else bool(ok)

@@ -29,10 +29,11 @@ from rapp._kernels import occupancy_numpy as _numpy
 from rapp._kernels.occupancy import COMPILE_FROM
 from rapp._kernels.occupancy_numpy import prefix_grid, prefix_step
 from rapp.arm import Arm, wrap_angle
-from rapp.collision import check_obstacle, motion_bounds
-from rapp.obstacles import Circle, Polygon
+from rapp.collision import check_obstacle, motion_bounds, required_distances, scene
+from rapp.obstacles import Circle, applies, grown
 
 __all__ = ["JointGrid", "occupancy", "occupancy_numpy", "grid_q", "certified_free", "cell_extent",
+           "check_extent", "MAX_EXTENT_RATIO",
            "check_grid", "prefix_grid", "prefix_step", "MAX_GRID_CELLS", "COMPILE_FROM"]
 
 #: Most cells (the product of the cells per joint) a :class:`JointGrid` accepts.
@@ -201,11 +202,11 @@ def check_grid(arm, grid):
     """ValueError naming ``grid`` unless it is a JointGrid of ``arm`` (whose size it has checked)."""
     if not isinstance(grid, JointGrid):
         raise ValueError(f"grid must be a rapp.JointGrid, got {type(grid).__name__}")
-    if grid.arm != arm:
+    if grid.arm.centre_lines() != arm.centre_lines():  # the links' width does not change the grid
         raise ValueError("grid was built for a different arm")
 
 
-def occupancy(arm, obstacles, grid) -> np.ndarray:
+def occupancy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     """Collision of every grid configuration: a bool array of ``grid.shape`` (True = collides).
 
     Link ``i`` depends on joints ``0..i`` only. On the grid of joints
@@ -227,9 +228,18 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     Parameters
     ----------
     arm : Arm
-        Must be the arm of ``grid``.
+        Must be the arm of ``grid``. Thick links (``arm.link_radius``) and a
+        ``margin`` (>= 0) are painted exactly: link ``j`` against the obstacles grown
+        by ``link_radius[j] + margin`` (:func:`rapp.collision.scene`), discs and
+        rectangles painted in the same closed form.
     obstacles : iterable of Circle and Polygon
+        Those wholly beyond the arm's reach are left out (no link can touch them); one
+        within reach must lie within :data:`MAX_EXTENT_RATIO` times the reach of the
+        origin, or it is refused (:func:`check_extent`): inside that range the cells are
+        those :func:`rapp.collision.collides` gives (tested up to the ratio, and for
+        joint angles up to 1e10 rad).
     grid : JointGrid
+    margin : float
 
     Examples
     --------
@@ -244,10 +254,93 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     """
     check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
-    return _backend.hits(arm, [obstacles] * arm.n, grid)
+    return _backend.hits(*_per_link(arm, obstacles, margin), grid)
 
 
-def occupancy_numpy(arm, obstacles, grid) -> np.ndarray:
+#: The painted intervals of :func:`occupancy` hold for obstacles whose coordinates lie within
+#: this many times the arm's reach of the origin. Beyond it the closed forms lose their digits
+#: (a 1 mm arm beside a polygon 10 km across had cells a link's length clear marked
+#: colliding): such an obstacle is refused by :func:`check_extent`, naming it. An obstacle
+#: wholly out of the arm's reach is left out instead, exactly: no link can touch it.
+MAX_EXTENT_RATIO = 1e5
+
+
+def _extent(ob) -> tuple:
+    """``(nearest, farthest)``: bounds on the distance of ``ob``'s points from the origin."""
+    if isinstance(ob, Circle):
+        d = float(np.hypot(*ob.center))
+        return d - ob.radius, d + ob.radius
+    v = ob.array
+    far = float(np.hypot(v[:, 0], v[:, 1]).max())
+    # Outside the polygon the origin is at least its distance from the farthest edge line.
+    e = np.roll(v, -1, axis=0) - v
+    off = (e[:, 0] * v[:, 1] - e[:, 1] * v[:, 0]) / np.hypot(e[:, 0], e[:, 1])
+    return float(max(off.max(), 0.0)), far
+
+
+def check_extent(arm, obstacles, margin=0.0) -> list:
+    """The obstacles :func:`occupancy` paints: those within the arm's reach, each refused when it
+    extends beyond :data:`MAX_EXTENT_RATIO` times the reach.
+
+    An obstacle farther from the base than the reach plus the largest distance a link must
+    keep (``link_radius + margin``) is dropped: no link can come near it.
+
+    Raises
+    ------
+    ValueError
+        Naming ``obstacles[i]``, the first one within reach that extends too far.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, Polygon
+    >>> arm = Arm([1.0, 1.0])
+    >>> len(check_extent(arm, [Circle((1.5, 0), 0.2), Circle((50.0, 0), 1.0)]))
+    1
+    >>> try:
+    ...     check_extent(Arm([1e-3]), [Polygon.rectangle((0.0005, -5e3), 1e4, 1e4)])
+    ... except ValueError as e:
+    ...     print(str(e)[:72])
+    obstacles[0] reaches 1.1e+04 from the base, more than 100000 times the a
+    """
+    if not isinstance(obstacles, (list, tuple)):
+        obstacles = tuple(obstacles)
+    reach = float(np.sum(arm.lengths))
+    near_enough = reach + float(required_distances(arm, margin).max())
+    key = (tuple(map(id, obstacles)), reach, near_enough)
+    hit = _EXTENTS.get(key)  # a grid planner asks again with the same obstacles
+    if hit is not None:
+        return list(hit[1])
+    kept = []
+    for i, ob in enumerate(obstacles):
+        near, far = _extent(check_obstacle(ob))
+        if near > near_enough:
+            continue
+        if far > MAX_EXTENT_RATIO * reach:
+            raise ValueError(
+                f"obstacles[{i}] reaches {far:.2g} from the base, more than {MAX_EXTENT_RATIO:g} "
+                f"times the arm's reach ({reach:.2g}) (rapp.cspace.MAX_EXTENT_RATIO): the "
+                "C-space intervals would lose their digits; cut it down to the region the arm "
+                "can reach"
+            )
+        kept.append(ob)
+    if len(_EXTENTS) >= 64:
+        _EXTENTS.clear()
+    _EXTENTS[key] = (tuple(obstacles), tuple(kept))  # the obstacles kept: their ids stay theirs
+    return kept
+
+
+_EXTENTS: dict = {}
+
+
+def _per_link(arm, obstacles, margin) -> tuple:
+    """``(arm0, per_link)``: zero-width links and the checked, grown obstacles each one meets."""
+    arm, obstacles = scene(arm, check_extent(arm, obstacles, margin), margin)
+    if not any(ob.links is not None for ob in obstacles):
+        return arm, [obstacles] * arm.n
+    return arm, [[ob for ob in obstacles if applies(ob, j)] for j in range(arm.n)]
+
+
+def occupancy_numpy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     """:func:`occupancy` by numpy alone: the fallback without numba, and the kernel's oracle.
 
     For each link, every prefix cell's interval of every obstacle is computed into
@@ -264,8 +357,7 @@ def occupancy_numpy(arm, obstacles, grid) -> np.ndarray:
     True
     """
     check_grid(arm, grid)
-    obstacles = [check_obstacle(ob) for ob in obstacles]
-    return _numpy.hits(arm, [obstacles] * arm.n, grid)
+    return _numpy.hits(*_per_link(arm, obstacles, margin), grid)
 
 
 def grid_q(grid) -> np.ndarray:
@@ -286,28 +378,7 @@ def grid_q(grid) -> np.ndarray:
 
 
 
-def _inflated(ob, r: float) -> list:
-    """Convex pieces whose union is the obstacle grown by ``r`` (its Minkowski sum with a disc).
-
-    A disc grows to a disc. A convex polygon grows to itself, plus a rectangle of depth ``r``
-    outside each edge, plus a disc of radius ``r`` at each vertex: every point within ``r`` of
-    the polygon lies in one of them (nearest point inside, on an edge, or at a vertex).
-    """
-    if isinstance(ob, Circle):
-        return [Circle(ob.center, ob.radius + r)]
-    v = ob.array
-    e = np.roll(v, -1, axis=0) - v
-    # Outward normals of a polygon stored counter-clockwise: the edge turned a quarter clockwise.
-    nrm = np.stack((e[:, 1], -e[:, 0]), axis=-1) / np.hypot(e[:, 0], e[:, 1])[:, None]
-    pieces = [ob]
-    for k in range(len(v)):
-        a, b = v[k], v[(k + 1) % len(v)]
-        pieces.append(Polygon([a, b, b + r * nrm[k], a + r * nrm[k]]))
-        pieces.append(Circle(a, r))
-    return pieces
-
-
-def certified_free(arm, obstacles, grid) -> np.ndarray:
+def certified_free(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     """Certified cells: a move of one grid step between two of them is collision-free.
 
     A cell is certified when at its centre every link ``j`` has clearance above
@@ -323,9 +394,10 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
     the plain occupancy).
 
     "Clearance of link ``j`` above ``r``" is "link ``j`` does not touch the obstacles grown by
-    ``r``" (:func:`_inflated`), so this is :func:`occupancy` of grown obstacles, one growth per
+    ``r``" (:func:`rapp.obstacles.grown`), so this is :func:`occupancy` of grown obstacles, one growth per
     link, painted as intervals on the prefix grids: no distance is computed on the grid
-    (by the compiled kernel where :func:`occupancy` uses it).
+    (by the compiled kernel where :func:`occupancy` uses it). Thick links and a ``margin``
+    add to the growth: link ``j``'s obstacles grow by ``link_radius[j] + margin + r``.
 
     Examples
     --------
@@ -340,14 +412,15 @@ def certified_free(arm, obstacles, grid) -> np.ndarray:
     True
     """
     check_grid(arm, grid)
-    obstacles = [check_obstacle(ob) for ob in obstacles]
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
+    obstacles = check_extent(arm, obstacles, margin + float(need.max()))
+    need = need + required_distances(arm, margin)  # the growths add (Minkowski sums of discs)
     if not obstacles:
         return np.ones(grid.shape, bool)
-    grown = [[piece for ob in obstacles for piece in _inflated(ob, float(need[j]))]
-             for j in range(n)]
-    hit = _backend.hits(arm, grown, grid)  # link j against the obstacles grown for it
+    pieces = [[piece for ob in obstacles if applies(ob, j) for piece in grown(ob, float(need[j]))]
+              for j in range(n)]
+    hit = _backend.hits(arm, pieces, grid)  # link j against the obstacles grown for it
     return np.logical_not(hit, out=hit)
 
 

@@ -27,7 +27,7 @@ from itertools import product
 import numpy as np
 
 from rapp.arm import Arm
-from rapp.collision import motion_bounds, segment_collision_free
+from rapp.collision import motion_bounds, scene, segment_collision_free
 from rapp.cspace import JointGrid, certified_free, occupancy
 from rapp.errors import GridTooCoarse, NoPathFound
 from rapp.obstacles import Circle
@@ -240,7 +240,8 @@ def default_cells(n: int) -> int:
 
 
 def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_weight: float = 1.0,
-               max_expansions=None, raise_on_failure: bool = True) -> PlannerResult:
+               max_expansions=None, raise_on_failure: bool = True,
+               margin: float = 0.0) -> PlannerResult:
     """A certified polyline from ``start`` to the nearest reachable of ``goal``, by A* on a grid.
 
     A* runs first on the certified cells (no move needs checking); if they
@@ -261,6 +262,9 @@ def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_wei
         Passed to :func:`rapp.search.astar_search`.
     raise_on_failure : bool
         Raise :class:`~rapp.errors.NoPathFound` (default) or return ``success=False``.
+    margin : float
+        Safety margin (metres, >= 0) every link keeps beyond its radius
+        (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
 
     Returns
     -------
@@ -285,7 +289,8 @@ def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_wei
     [-4.2832, 0.0]
     """
     try:
-        return _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions)
+        return _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions,
+                           margin)
     except NoPathFound as err:
         if raise_on_failure:
             raise
@@ -294,7 +299,7 @@ def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_wei
         return PlannerResult(np.empty((0, arm.n)), False, float("inf"), {}, status)
 
 
-def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions):
+def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions, margin):
     if cells is None:
         cells = default_cells(arm.n)
     start = arm.check_q(start, "start")
@@ -302,8 +307,11 @@ def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expans
     obstacles = list(obstacles)
     t0 = time.perf_counter()
     grid = JointGrid(arm, cells)
-    occ = occupancy(arm, obstacles, grid)
-    safe = certified_free(arm, obstacles, grid) if obstacles else ~occ
+    occ = occupancy(arm, obstacles, grid, margin=margin)
+    safe = certified_free(arm, obstacles, grid, margin=margin) if obstacles else ~occ
+    # The moves are certified with zero-width links against the grown obstacles: the same test.
+    arm, obstacles = scene(arm, obstacles, margin)
+    obstacles = list(obstacles)
     t1 = time.perf_counter()
     kw = {"heuristic_weight": heuristic_weight, "max_expansions": max_expansions}
     try:

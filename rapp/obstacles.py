@@ -6,14 +6,14 @@ tests live in :mod:`rapp.collision`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
 
 from rapp.arm import MAX_COORDINATE
 
-__all__ = ["Circle", "Polygon"]
+__all__ = ["Circle", "Polygon", "grown", "applies", "check_links"]
 
 #: A rectangle's width and height must each be at least this fraction of its
 #: largest dimension (the other side, or the corner's distance from the axes).
@@ -38,8 +38,12 @@ class Circle:
 
     center: tuple
     radius: float
+    #: The links (0-based) this obstacle applies to, or None for every link. Set on the
+    #: pieces :func:`grown` makes for one link's distance; a scenario's obstacles keep None.
+    links: tuple | None = field(default=None, repr=False)
 
     def __post_init__(self):
+        object.__setattr__(self, "links", check_links(self.links))
         try:
             c = np.asarray(self.center, dtype=float)
         except (TypeError, ValueError):
@@ -74,6 +78,110 @@ class Circle:
         # A point so far away that |d|^2 overflows is outside: inf <= r^2 is False.
         with np.errstate(over="ignore"):
             return np.einsum("...i,...i->...", d, d) <= self.radius**2
+
+
+def check_links(links):
+    """``links`` as a sorted tuple of distinct link indices (ints >= 0), or None (every link).
+
+    Examples
+    --------
+    >>> check_links([2, 0]), check_links(None)
+    ((0, 2), None)
+    >>> check_links([-1])
+    Traceback (most recent call last):
+    ...
+    ValueError: links must be None or a non-empty list of link indices >= 0, got [-1]
+    """
+    if links is None:
+        return None
+    bad = ValueError(f"links must be None or a non-empty list of link indices >= 0, got {links!r}")
+    try:
+        out = tuple(sorted({int(i) for i in links}))
+    except (TypeError, ValueError):
+        raise bad from None
+    if not out or out[0] < 0 or any(int(i) != i for i in links):
+        raise bad
+    return out
+
+
+def applies(ob, link: int) -> bool:
+    """True when obstacle ``ob`` applies to link ``link`` (its :attr:`~Circle.links` hold it).
+
+    Examples
+    --------
+    >>> applies(Circle((0, 0), 1.0), 3), applies(Circle((0, 0), 1.0, links=(0,)), 3)
+    (True, False)
+    """
+    return ob.links is None or link in ob.links
+
+
+def grown(ob, distance: float, links=None) -> tuple:
+    """Exact convex pieces whose union is ``ob`` grown by ``distance`` (its Minkowski sum with a disc).
+
+    Every point within ``distance`` of the obstacle, and no other, lies in one of the
+    pieces. A disc of radius ``r`` grows into the disc of radius ``r + distance``. A
+    convex polygon grows into itself, a rectangle of depth ``distance`` outside each
+    edge, and a disc of radius ``distance`` at each vertex: the nearest point of the
+    polygon to a point outside it lies inside an edge (the point is in that edge's
+    rectangle) or at a vertex (the point is in that vertex's disc). These are the shapes
+    rapp already tests and paints in closed form, so a segment is within ``distance`` of
+    ``ob`` exactly when it touches a piece: a link of radius ``r`` (a capsule) keeps a
+    margin ``m`` from ``ob`` exactly when its centre segment misses ``grown(ob, r + m)``.
+
+    Parameters
+    ----------
+    ob : Circle or Polygon
+    distance : float
+        Finite and ``>= 0``; 0 gives ``ob`` itself. An edge's rectangle thinner than
+        float64 can store (below about 4e-12 of the edge, or 4e-15 of the vertices'
+        coordinates) is widened to that thickness: the pieces then hold points up to
+        that rounding distance farther, never fewer.
+    links : sequence of int, optional
+        The :attr:`Circle.links` of every piece (default: those of ``ob``).
+
+    Raises
+    ------
+    ValueError
+        Naming ``distance``.
+
+    Examples
+    --------
+    >>> grown(Circle((0, 0), 1.0), 0.5)
+    (Circle(center=(0.0, 0.0), radius=1.5),)
+    >>> pieces = grown(Polygon.rectangle((0, 0), 2, 1), 0.1)
+    >>> len(pieces), sum(isinstance(p, Circle) for p in pieces)    # itself, 4 rectangles, 4 discs
+    (9, 4)
+    >>> any(bool(p.contains((2.05, 1.05))) for p in pieces), any(bool(p.contains((2.08, 1.08))) for p in pieces)
+    (True, False)
+    """
+    d = _number(distance, "distance")
+    if not (np.isfinite(d) and d >= 0):
+        raise ValueError(f"distance must be a finite number >= 0, got {distance!r}")
+    links = ob.links if links is None else check_links(links)
+    if d == 0:
+        return (ob if links == ob.links else replace(ob, links=links),)
+    if isinstance(ob, Circle):
+        return (Circle(ob.center, ob.radius + d, links=links),)
+    v = ob.array
+    e = np.roll(v, -1, axis=0) - v
+    # Outward normals of a polygon stored counter-clockwise: the edge turned a quarter clockwise.
+    nrm = np.stack((e[:, 1], -e[:, 0]), axis=-1) / np.hypot(e[:, 0], e[:, 1])[:, None]
+    pieces = [ob if links == ob.links else replace(ob, links=links)]
+    for k in range(len(v)):
+        a, b = v[k], v[(k + 1) % len(v)]
+        # A rectangle thinner than float64 resolves beside its edge and corners (about 1e-12 of
+        # them) cannot be stored: it is widened to the thinnest that can, which only adds
+        # points at rounding distance (a test stays conservative: it never misses a hit).
+        depth = max(d, 4e-12 * float(np.abs(e[k]).max()), 16 * np.finfo(float).eps * float(np.abs(v).max()))
+        try:
+            pieces.append(Polygon([a, b, b + depth * nrm[k], a + depth * nrm[k]], links=links))
+        except ValueError:
+            raise ValueError(
+                f"distance {d:g} is too small beside an edge of length {np.hypot(*e[k]):g} at "
+                f"{tuple(a.tolist())}: float64 cannot tell the grown edge's rectangle from a line"
+            ) from None
+        pieces.append(Circle(a, d, links=links))
+    return tuple(pieces)
 
 
 def _points(points) -> np.ndarray:
@@ -135,8 +243,11 @@ class Polygon:
     """
 
     vertices: tuple
+    #: As :attr:`Circle.links`: the links this obstacle applies to, None for every link.
+    links: tuple | None = field(default=None, repr=False)
 
     def __post_init__(self):
+        object.__setattr__(self, "links", check_links(self.links))
         try:
             v = np.asarray(self.vertices, dtype=float)
         except (TypeError, ValueError):

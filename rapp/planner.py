@@ -49,6 +49,7 @@ from dataclasses import replace
 import numpy as np
 
 from rapp.cartesian import line_path
+from rapp.collision import scene
 from rapp.errors import InvalidSetting, InvalidValue, NoPathFound
 from rapp import planners as planner_table
 from rapp.ik import free_ik_solutions
@@ -72,8 +73,8 @@ def _goal_configurations(scenario: Scenario) -> tuple[np.ndarray, int]:
     """Free goal configurations (g, n) and how many IK solutions there were."""
     if scenario.goal_q is not None:
         return np.array([scenario.goal_q], float), 1
-    return free_ik_solutions(scenario.arm, scenario.goal_xy, scenario.obstacles,
-                             q0=scenario.start_array)
+    arm, obstacles = scene(scenario.arm, scenario.obstacles, scenario.safety_margin)
+    return free_ik_solutions(arm, scenario.goal_xy, obstacles, q0=scenario.start_array)
 
 
 def _search(scenario: Scenario, goal_qs: np.ndarray) -> PlannerResult:
@@ -85,7 +86,7 @@ def _search(scenario: Scenario, goal_qs: np.ndarray) -> PlannerResult:
     p = scenario.planner
     t0 = time.perf_counter()
     result = planner_table.run(p.algorithm, scenario.arm, scenario.start_array, goal_qs,
-                               scenario.obstacles, **p.values())
+                               scenario.obstacles, margin=scenario.safety_margin, **p.values())
     elapsed = time.perf_counter() - t0
     path = np.asarray(result.path, float)
     if not result.success or path.ndim != 2 or len(path) == 0:
@@ -142,7 +143,9 @@ def plan(scenario) -> Plan:
     algorithm = scenario.planner.algorithm
     if algorithm not in planner_table.PLANNERS:
         raise InvalidValue(f"unknown planner {algorithm!r}", field="planner.algorithm")
-    arm, obs = scenario.arm, scenario.obstacles
+    # Thick links and a safety margin: every test below is of zero-width links against the
+    # obstacles grown by the distance each link keeps, the same question (rapp.collision.scene).
+    arm, obs = scene(scenario.arm, scenario.obstacles, scenario.safety_margin)
     times = {}
     t_all = time.perf_counter()
 

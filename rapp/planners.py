@@ -2,8 +2,11 @@
 
 Every planner follows one contract::
 
-    function(arm, start, goal, obstacles=(), *, <its settings>, raise_on_failure=True)
-        -> rapp.paths.PlannerResult      # .path .success .cost, and its own .details
+    function(arm, start, goal, obstacles=(), *, <its settings>, raise_on_failure=True,
+             margin=0.0) -> rapp.paths.PlannerResult      # .path .success .cost, .details
+
+``margin`` (metres) is kept by every link beyond its radius (``arm.link_radius``): the
+planner turns both into zero-width links among grown obstacles (:func:`rapp.collision.scene`).
 
 ``start`` is one configuration (n,), ``goal`` one or several (g, n) (every free IK
 solution of a Cartesian goal), ``obstacles`` circles and polygons; the path runs from the
@@ -288,6 +291,8 @@ def run(name: str, arm, start, goal, obstacles=(), **settings) -> PlannerResult:
     kw = {s.key: settings.get(s.key, s.default) for s in p.settings}
     if "raise_on_failure" in settings:
         kw["raise_on_failure"] = settings["raise_on_failure"]
+    if settings.get("margin"):  # passed when there is one: a planner written before margins runs
+        kw["margin"] = settings["margin"]
     if p.check is not None:
         p.check(arm, start, goal, **kw)
     return p.function(arm, start, goal, obstacles, **kw)

@@ -53,6 +53,7 @@ __all__ = [
     "plot_obstacles",
     "plot_workspace",
     "plot_cspace",
+    "plot_cspace_growth",
     "plot_plan",
     "plot_profiles",
     "plot_metrics",
@@ -532,6 +533,55 @@ def plot_cspace(occupancy, grid, ax=None, path=None, start=None, goal=None, *, t
     if labelled:
         _legend(ax, loc="upper right")
     return style_axes(ax)
+
+
+def plot_cspace_growth(occupancies, grid, radii, ax=None, *, unit="m"):
+    """C-space obstacles as the links thicken: one occupancy per link radius, nested shades.
+
+    Parameters
+    ----------
+    occupancies : sequence of bool arrays of ``grid.shape`` (two joints)
+        The occupancy for each radius of ``radii``, in increasing order of radius (each holds
+        the one before: a thicker link touches wherever a thinner one does).
+    grid : rapp.JointGrid
+    radii : sequence of float
+        The link radius of each occupancy, shown in the legend.
+
+    A cell is drawn in the shade of the thinnest link that collides there: the darkest
+    region is the zero-width C-space obstacle, each lighter ring what the next radius adds.
+
+    Returns
+    -------
+    Axes
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> axes = [np.linspace(-np.pi, np.pi, 8, endpoint=False)] * 2
+    >>> grid = SimpleNamespace(axes=axes, shape=(8, 8), wraps=(True, True))
+    >>> thin = np.eye(8, dtype=bool)
+    >>> ax = plot_cspace_growth([thin, thin | np.roll(thin, 1, 0)], grid, [0.0, 0.1])
+    >>> len(ax.images), len(ax.get_legend().get_texts())
+    (1, 2)
+    >>> plt.close(ax.figure)
+    """
+    occ = np.asarray([np.asarray(o, dtype=bool) for o in occupancies])
+    if occ.ndim != 3 or len(occ) != len(radii):
+        raise ValueError("plot_cspace_growth draws one two-joint occupancy per radius")
+    k = len(occ)
+    # Index of the thinnest link colliding at each cell; k where none does.
+    level = np.where(occ.any(axis=0), np.argmax(occ, axis=0), k)
+    shades = [matplotlib.colormaps["Greys"](0.85 - 0.6 * i / max(k - 1, 1)) for i in range(k)]
+    ax = plot_cspace(np.zeros(occ.shape[1:], bool), grid, ax,
+                     title="C-space obstacles as the links thicken")
+    ext = cell_extent(grid)
+    ax.images[0].remove()
+    ax.imshow(level.T, origin="lower", extent=ext, cmap=ListedColormap(shades + ["white"]),
+              vmin=-0.5, vmax=k + 0.5, interpolation="nearest", aspect="equal", zorder=0)
+    handles = [patches.Patch(color=shades[i], label=f"link radius {r:g} {unit}")
+               for i, r in enumerate(radii)]
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
+    return ax
 
 
 #: Size (inches) of :func:`plot_plan`'s figure; ``python -m rapp plan --plot`` draws at 100 dpi.

@@ -30,7 +30,7 @@ import numpy as np
 
 from rapp import heap, progress, sampling_kernel
 from rapp.checks import positive_integer
-from rapp.collision import MAX_PENDING_INTERVALS, collides
+from rapp.collision import MAX_PENDING_INTERVALS, collides, scene
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.jit import jit
 from rapp.paths import NODE_CAP, TIME_BUDGET_SPENT, PlannerResult, tree_result
@@ -173,7 +173,8 @@ def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None):
 
 def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int = 10, seed=0,
         max_iterations: int = 500, time_budget: float | None = None,
-        max_samples: int | None = None, raise_on_failure: bool = True) -> PlannerResult:
+        max_samples: int | None = None, raise_on_failure: bool = True,
+        margin: float = 0.0) -> PlannerResult:
     """Plan with a lazy probabilistic roadmap from ``start`` to a goal configuration.
 
     Parameters
@@ -191,6 +192,9 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
         failure.
     time_budget : float, optional
         Seconds at most.
+    margin : float
+        Safety margin (metres, >= 0) every link keeps beyond its radius
+        (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
 
     Returns
     -------
@@ -206,6 +210,7 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
     >>> res.success, bool(np.allclose(arm.wrap(res.path[-1]), [2.5, 0.0]))
     (True, True)
     """
+    arm, obstacles = scene(arm, list(obstacles), margin)
     obstacles = list(obstacles)
     samples = positive_integer(samples, "samples")
     neighbours = positive_integer(neighbours, "neighbours")

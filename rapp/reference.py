@@ -20,6 +20,9 @@ reference              the fast function it checks
 :func:`link_clearances` :func:`rapp.collision.link_clearances`
 :func:`segment_collision_free` :func:`rapp.collision.segment_collision_free` (the
                        bisection as numpy arrays, level by level)
+:func:`link_gaps`      :func:`rapp.collision.link_clearances` of thick links
+                       (a capsule's distance from each obstacle, one at a time,
+                       with no grown shapes: :func:`capsule_distance`)
 =====================  ==========================================================
 
 The package never calls them: its numpy backend without numba is :mod:`rapp._kernels`'
@@ -47,16 +50,18 @@ from rapp.collision import (
     check_obstacle,
     check_segments,
     motion_bounds,
+    scene,
     segment_clearances,
+    segment_hits_circle,
     segment_hits_polygon,
     segment_point_distance,
 )
 from rapp.errors import CertificationLimit
 from rapp.cspace import check_grid, prefix_grid
-from rapp.obstacles import Circle
+from rapp.obstacles import Circle, applies
 
 __all__ = ["occupancy", "certified_free", "circle_hits", "polygon_hits", "collides", "link_clearances",
-           "segment_collision_free"]
+           "segment_collision_free", "capsule_distance", "link_gaps"]
 
 
 def circle_hits(P, cos_phi, sin_phi, L, center, r):
@@ -113,7 +118,7 @@ def polygon_hits(P, cos_phi, sin_phi, L, poly):
     return ~(sep | above | below)
 
 
-def occupancy(arm, obstacles, grid) -> np.ndarray:
+def occupancy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     """:func:`rapp.cspace.occupancy` the straightforward way: every link against every obstacle on
     every cell of its prefix grid, by closed-form hit tests (:func:`circle_hits`,
     :func:`polygon_hits`). The arguments are those of :func:`rapp.cspace.occupancy`.
@@ -129,7 +134,7 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
     (True, True)
     """
     check_grid(arm, grid)
-    obstacles = [check_obstacle(ob) for ob in obstacles]
+    arm, obstacles = scene(arm, [check_obstacle(ob) for ob in obstacles], margin)
     shape, n = grid.shape, arm.n
     occ = np.zeros(shape, dtype=bool)
     circles = [ob for ob in obstacles if isinstance(ob, Circle)]
@@ -145,14 +150,16 @@ def occupancy(arm, obstacles, grid) -> np.ndarray:
         cos_phi = cp * ct - sp * st
         sin_phi = sp * ct + cp * st
         for ob in circles:
-            hit |= circle_hits(P, cos_phi, sin_phi, L, ob.center, ob.radius)
+            if applies(ob, i):
+                hit |= circle_hits(P, cos_phi, sin_phi, L, ob.center, ob.radius)
         for ob in polys:
-            hit |= polygon_hits(P, cos_phi, sin_phi, L, ob)
+            if applies(ob, i):
+                hit |= polygon_hits(P, cos_phi, sin_phi, L, ob)
         occ |= hit.reshape(hit.shape + (1,) * (n - i - 1))
     return occ
 
 
-def certified_free(arm, obstacles, grid, *, chunk: int = 200_000) -> np.ndarray:
+def certified_free(arm, obstacles, grid, *, chunk: int = 200_000, margin=0.0) -> np.ndarray:
     """:func:`rapp.cspace.certified_free` the straightforward way: the clearance of each link,
     computed on every cell of its prefix grid, against half the largest motion of that link in
     one grid step (chunks of ``chunk`` configurations bound the memory).
@@ -167,7 +174,7 @@ def certified_free(arm, obstacles, grid, *, chunk: int = 200_000) -> np.ndarray:
     True
     """
     check_grid(arm, grid)
-    obstacles = [check_obstacle(ob) for ob in obstacles]
+    arm, obstacles = scene(arm, [check_obstacle(ob) for ob in obstacles], margin)
     chunk = positive_integer(chunk, "chunk")
     n = arm.n
     need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
@@ -184,7 +191,7 @@ def certified_free(arm, obstacles, grid, *, chunk: int = 200_000) -> np.ndarray:
             for k in range(j + 1):
                 q[:, k] = axes[k][idx[k]]
             pts = arm.joint_positions(q)
-            d = segment_clearances(pts[:, j, :], pts[:, j + 1, :], obstacles)
+            d = segment_clearances(pts[:, j, :], pts[:, j + 1, :], obstacles, link=j)
             ok[lo:lo + chunk] = d > need[j]
         out &= ok.reshape(prefix + (1,) * (n - j - 1))
     return out
@@ -213,7 +220,7 @@ def collides(arm, q, obstacles) -> np.ndarray:
     a, b = pts[..., :-1, :], pts[..., 1:, :]
     circles, polygons = [], []
     for ob in obstacles:
-        (circles if isinstance(check_obstacle(ob), Circle) else polygons).append(ob)
+        (circles if isinstance(check_obstacle(ob), Circle) and ob.links is None else polygons).append(ob)
     hit = np.zeros(a.shape[:-1], dtype=bool)
     if circles:
         # Every link against every disc in one broadcast (links on axis -2, discs on -1): the
@@ -224,7 +231,12 @@ def collides(arm, q, obstacles) -> np.ndarray:
         d = segment_point_distance(a[..., None, :], b[..., None, :], centers)
         hit |= (d <= radii).any(axis=-1)
     for ob in polygons:
-        hit |= segment_hits_polygon(a, b, ob)
+        if ob.links is None:
+            hit |= segment_hits_polygon(a, b, ob)
+        else:  # applies to some links only: their own test, the others left alone
+            own = (segment_hits_circle(a, b, ob.center, ob.radius) if isinstance(ob, Circle)
+                   else segment_hits_polygon(a, b, ob))
+            hit |= own & np.isin(np.arange(arm.n), ob.links)
     return hit.any(axis=-1)
 
 
@@ -336,3 +348,77 @@ def _limit_message(arm, q0, q1, bounds, clearance, cap):
         f"shorter than {2 * clearance / sweep:.3g} of the segment. Use units in which the arm "
         "and its clearances are of comparable size, or shorter segments"
     )
+
+
+def capsule_distance(a, b, radius, ob) -> float:
+    """Distance from the capsule of segment ``ab`` and ``radius`` to one obstacle; <= 0 is a hit.
+
+    One segment, plain Python floats, no grown shapes: for a disc, the distance from its
+    centre to the segment (the clipped projection) minus both radii; for a convex
+    polygon, 0 when the segment has a point inside it (an end inside, or a crossing with
+    an edge found by orientation signs), else the smallest of the four end-to-edge and
+    vertex-to-segment distances (disjoint convex sets are nearest at a vertex of one),
+    minus the radius.
+
+    Examples
+    --------
+    >>> from rapp import Circle, Polygon
+    >>> capsule_distance((0, 0), (2, 0), 0.1, Circle((1, 1), 0.5))
+    0.4
+    >>> capsule_distance((0, 0), (2, 0), 0.1, Polygon.rectangle((3, -1), 1, 2))
+    0.9
+    """
+    def point_segment(p, u, v):
+        (px, py), (ux, uy), (vx, vy) = p, u, v
+        ex, ey = vx - ux, vy - uy
+        den = ex * ex + ey * ey
+        t = 0.0 if den == 0 else min(1.0, max(0.0, ((px - ux) * ex + (py - uy) * ey) / den))
+        return math.hypot(ux + t * ex - px, uy + t * ey - py)
+
+    def orient(p, u, v):
+        return (u[0] - p[0]) * (v[1] - p[1]) - (u[1] - p[1]) * (v[0] - p[0])
+
+    def on_segment(p, u, v):  # p is collinear with u, v: is it between them?
+        return min(u[0], v[0]) <= p[0] <= max(u[0], v[0]) and min(u[1], v[1]) <= p[1] <= max(u[1], v[1])
+
+    def cross(u, w):  # do segments ab and uw share a point? (the textbook orientation test)
+        o1, o2, o3, o4 = orient(a, b, u), orient(a, b, w), orient(u, w, a), orient(u, w, b)
+        if o1 * o2 < 0 and o3 * o4 < 0:
+            return True
+        return ((o1 == 0 and on_segment(u, a, b)) or (o2 == 0 and on_segment(w, a, b))
+                or (o3 == 0 and on_segment(a, u, w)) or (o4 == 0 and on_segment(b, u, w)))
+
+    a, b = tuple(map(float, a)), tuple(map(float, b))
+    if isinstance(ob, Circle):
+        return point_segment(ob.center, a, b) - ob.radius - radius
+    v = ob.vertices  # counter-clockwise
+    k = len(v)
+    edges = [(v[i], v[(i + 1) % k]) for i in range(k)]
+    inside = any(all(orient(u, w, p) >= 0 for u, w in edges) for p in (a, b))
+    crossing = any(cross(u, w) for u, w in edges)
+    if inside or crossing:
+        return -radius
+    d = min(min(point_segment(p, u, w) for u, w in edges) for p in (a, b))
+    d = min(d, min(point_segment(p, a, b) for p in v))
+    return d - radius
+
+
+def link_gaps(arm, q, obstacles) -> np.ndarray:
+    """Each link's gap to the nearest obstacle, as capsules (:func:`capsule_distance`): ``(n,)``.
+
+    One configuration ``q`` ``(n,)``, a loop over links and obstacles. Link ``j`` keeps a
+    margin ``m`` exactly when its gap is greater than ``m``, which is what
+    :func:`rapp.collision.link_clearances` with ``margin=m`` measures beyond ``m``.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> link_gaps(Arm([1.0, 1.0], link_radius=0.1), [0.0, 0.0], [Circle((1.5, 1.0), 0.5)]).round(6).tolist()
+    [0.518034, 0.4]
+    """
+    pts = arm.joint_positions(q)
+    out = np.full(arm.n, np.inf)
+    for j in range(arm.n):
+        for ob in obstacles:
+            out[j] = min(out[j], capsule_distance(pts[j], pts[j + 1], arm.link_radius[j], ob))
+    return out

@@ -71,7 +71,7 @@ import numpy as np
 
 from rapp._kernels import collision as collision_backend
 from rapp import progress
-from rapp.collision import collides, segment_collision_free
+from rapp.collision import collides, scene, segment_collision_free
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.ik import jacobian
 from rapp.paths import ITERATION_CAP, NO_PATH, TIME_BUDGET_SPENT, PlannerResult, tree_result
@@ -160,6 +160,7 @@ def rrt(
     raise_on_failure: bool = True,
     trace: list | None = None,
     time_budget: float | None = None,
+    margin: float = 0.0,
 ) -> PlannerResult:
     """Grow an RRT in joint space from ``start`` until it reaches the goal.
 
@@ -195,6 +196,9 @@ def rrt(
     time_budget : float, optional
         Seconds at most (as for the other sampling planners); a run cut short
         by it depends on the machine, a run without it does not.
+    margin : float
+        Safety margin (metres, >= 0) every link keeps beyond its radius
+        (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
 
     Returns
     -------
@@ -222,6 +226,7 @@ def rrt(
     >>> np.array_equal(again.path, res.path), sum(s.accepted for s in steps) == len(res.nodes) - 1
     (True, True)
     """
+    arm, obstacles = scene(arm, list(obstacles), margin)
     obstacles = list(obstacles)
     start, goals, gxy, step = _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias,
                                                    goal_threshold, steer)

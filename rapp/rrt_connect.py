@@ -24,7 +24,7 @@ import numpy as np
 
 from rapp import progress
 from rapp.checks import finite_number
-from rapp.collision import reach_matrix, link_clearances
+from rapp.collision import reach_matrix, link_clearances, scene
 from rapp import sampling_kernel
 from rapp._kernels import collision as collision_backend
 from rapp.collision import MAX_PENDING_INTERVALS
@@ -77,12 +77,17 @@ class _Clearance:
 
     def __init__(self, arm, obstacles, touch):
         self.arm, self.obstacles, self.touch = arm, obstacles, touch
-        # Discs first, then the polygons' bounding discs.
-        centers = [ob.center for ob in obstacles if isinstance(ob, Circle)]
-        radii = [ob.radius for ob in obstacles if isinstance(ob, Circle)]
+        # Discs first, then the polygons' bounding discs. A disc that applies to some links only
+        # (rapp.collision.scene) is bounded like a polygon: the exact clearance decides near it.
+        discs = [ob for ob in obstacles if isinstance(ob, Circle) and ob.links is None]
+        centers = [ob.center for ob in discs]
+        radii = [ob.radius for ob in discs]
         self.discs = len(radii)
         for ob in obstacles:
-            if not isinstance(ob, Circle):
+            if isinstance(ob, Circle) and ob.links is not None:
+                centers.append(ob.center)
+                radii.append(ob.radius)
+            elif not isinstance(ob, Circle):
                 v = np.asarray(ob.vertices, float)
                 c = v.mean(axis=0)
                 centers.append(c)
@@ -168,7 +173,7 @@ def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reac
 
 def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
                 max_iterations: int = 20000, time_budget: float | None = None,
-                raise_on_failure: bool = True) -> PlannerResult:
+                raise_on_failure: bool = True, margin: float = 0.0) -> PlannerResult:
     """Plan from ``start`` to a goal configuration with two trees that grow toward each other.
 
     Parameters
@@ -188,6 +193,9 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
         Seconds at most.
     raise_on_failure : bool
         Raise :class:`rapp.NoPathFound` (default) or return ``success=False``.
+    margin : float
+        Safety margin (metres, >= 0) every link keeps beyond its radius
+        (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
 
     Returns
     -------
@@ -204,6 +212,7 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     >>> res.success, res.path[0].tolist(), bool(np.allclose(arm.wrap(res.path[-1]), [2.5, 0.0]))
     (True, [0.0, 0.0], True)
     """
+    arm, obstacles = scene(arm, list(obstacles), margin)
     obstacles = list(obstacles)
     step = finite_number(step, "step", above=0.0)
     if not MIN_STEP <= step <= MAX_STEP:

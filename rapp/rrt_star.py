@@ -27,7 +27,7 @@ import numpy as np
 from rapp import sampling_kernel
 from rapp._kernels import collision as collision_backend
 from rapp.checks import finite_number
-from rapp.collision import MAX_PENDING_INTERVALS, link_clearances, reach_matrix
+from rapp.collision import MAX_PENDING_INTERVALS, link_clearances, reach_matrix, scene
 from rapp._kernels.collision import pack
 from rapp.errors import NoPathFound
 from rapp.paths import PlannerResult, tree_result
@@ -97,7 +97,8 @@ def _shift_subtree_cost(tree: Tree, root: int, delta: float) -> None:
 def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.1, goal_bias: float = 0.1,
              goal_threshold: float = 0.01, seed=0, max_iterations: int = 3000,
              time_budget: float | None = None, gamma: float | None = None,
-             radius: float | None = None, raise_on_failure: bool = True) -> PlannerResult:
+             radius: float | None = None, raise_on_failure: bool = True,
+             margin: float = 0.0) -> PlannerResult:
     """Plan with RRT*: the best path found to a goal configuration within the budget.
 
     It runs for the whole budget (an anytime planner), so ``max_iterations`` sets how good the
@@ -123,6 +124,9 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.1, goal_bias: fl
     gamma : float, optional
         Radius constant of ``gamma (log m / m)^(1/n)``; by default large enough for asymptotic
         optimality on the joint space's volume.
+    margin : float
+        Safety margin (metres, >= 0) every link keeps beyond its radius
+        (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
 
     Examples
     --------
@@ -132,6 +136,7 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.1, goal_bias: fl
     >>> res.success, bool(np.allclose(arm.wrap(res.path[-1]), [2.5, 0.0]))
     (True, True)
     """
+    arm, obstacles = scene(arm, list(obstacles), margin)
     obstacles = list(obstacles)
     step = finite_number(step, "step", above=0.0)
     radius = step if radius is None else finite_number(radius, "radius", above=0.0)

@@ -41,6 +41,7 @@ import numpy as np
 from rapp.arm import Arm
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
 from rapp.collision import clearance, collides, segment_point_distance
+from rapp.cspace import check_extent
 from rapp.obstacles import Circle, Polygon
 from rapp import planners as planner_table
 from rapp.grid_route import default_cells
@@ -84,6 +85,9 @@ L_MIN, L_MAX, R_MAX = 0.1, 2.0, 0.5
 #: planar planner is used on (millimetres to kilometres), narrow enough that every number the
 #: pipeline derives from them stays far from overflow and rounding trouble.
 MIN_LENGTH, MAX_LENGTH = 1e-3, 1e3
+#: Smallest non-zero link radius or safety margin (m): a polygon's edge (at most a few 1e4 m
+#: in a scenario) grown by less than 1e-12 of its length flattens to a line in float64.
+MIN_GAP = 1e-6
 MAX_COORDINATE = 1e4
 MAX_ANGLE = 100.0
 MIN_DURATION, MAX_DURATION = 1e-3, 1e6
@@ -155,7 +159,7 @@ PROFILES = ("cubic", "quintic", "spline", "trapezoidal")
 GOAL_PATHS = ("line",)
 
 _TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
-             "description")
+             "description", "safety_margin")
 _TRAJECTORY_KEYS = ("duration", "profile", "samples", "max_velocity", "max_acceleration")
 #: The keys ``planner`` accepts and those only sampling planners read (A* validates them, then
 #: warns they are ignored), from the planner table at import (the loader reads the table).
@@ -260,6 +264,8 @@ class Scenario:
     warnings: tuple = ()
     source: str = "<mapping>"
     goal_path: str | None = None
+    #: Metres every link keeps beyond its radius (``arm.link_radius``) from every obstacle.
+    safety_margin: float = 0.0
 
     def __eq__(self, other):
         # The source and the declared unit say where the values came from, not what they are.
@@ -299,14 +305,19 @@ class Scenario:
         keys = ("cells", "heuristic_weight", "max_expansions", "seed") + tuple(p.values())
         planner = {"algorithm": p.algorithm, **{k: getattr(p, k) for k in dict.fromkeys(keys)}}
         planner["cells"] = list(p.cells)
+        arm = {
+            "link_lengths": list(self.arm.link_lengths),
+            "joint_limits": None if all(x is None for x in limits)
+            else [None if x is None else list(x) for x in limits],
+        }
+        if any(self.arm.link_radius):  # written only when set: older files round-trip unchanged
+            arm["link_radius"] = list(self.arm.link_radius)
+        extra = {"safety_margin": self.safety_margin} if self.safety_margin else {}
         return {
             "name": self.name,
             "description": self.description,
-            "arm": {
-                "link_lengths": list(self.arm.link_lengths),
-                "joint_limits": None if all(x is None for x in limits)
-                else [None if x is None else list(x) for x in limits],
-            },
+            "arm": arm,
+            **extra,
             "obstacles": obs,
             "start": list(self.start),
             "goal": self._goal_dict(),
@@ -611,7 +622,7 @@ class _Reader:
 
 
 def _parse_arm(r: _Reader, v) -> Arm:
-    arm_d = _object(v, "arm", required=("link_lengths",), optional=("joint_limits",))
+    arm_d = _object(v, "arm", required=("link_lengths",), optional=("joint_limits", "link_radius"))
     items = _list(arm_d["link_lengths"], "arm.link_lengths")
     if not items:
         raise InvalidValue("the arm needs at least one link", field="arm.link_lengths")
@@ -624,9 +635,10 @@ def _parse_arm(r: _Reader, v) -> Arm:
             r.warnings.append(f"arm.link_lengths[{i}] = {L:g} m is outside the SRS range "
                               f"[{L_MIN}, {L_MAX}] m")
     n = len(lengths)
+    radius = _link_radius(r, arm_d.get("link_radius", 0.0), n)
     limits_v = arm_d.get("joint_limits")
     if limits_v is None:
-        return Arm(lengths)
+        return Arm(lengths, link_radius=radius)
     items = _list(limits_v, "arm.joint_limits", n, f"entries (one per joint; the arm has {n})")
     limits = []
     for i, lim in enumerate(items):
@@ -641,7 +653,24 @@ def _parse_arm(r: _Reader, v) -> Arm:
             raise InvalidValue(f"spans {hi - lo:.4g} rad > 2 pi; use null for a free joint", field=f)
         r.warn_outside_pi([lo, hi], f)
         limits.append((lo, hi))
-    return Arm(lengths, limits)
+    return Arm(lengths, limits, link_radius=radius)
+
+
+def _gap(v, field: str) -> float:
+    """A width or margin in metres: finite, >= 0 and at most MAX_LENGTH."""
+    x = _number(v, field)
+    if not (x == 0 or MIN_GAP <= x <= MAX_LENGTH):
+        raise InvalidValue(f"must be 0 or lie in [{MIN_GAP:g}, {MAX_LENGTH:g}] m, got {x:g}",
+                           field=field)
+    return x
+
+
+def _link_radius(r: "_Reader", v, n: int) -> list:
+    """``arm.link_radius``: one number for every link, or a list of one per link."""
+    if isinstance(v, list):
+        items = _list(v, "arm.link_radius", n, f"entries (one per link; the arm has {n})")
+        return [_gap(x, f"arm.link_radius[{i}]") for i, x in enumerate(items)]
+    return [_gap(v, "arm.link_radius")] * n
 
 
 def _build(constructor, field: str, *args):
@@ -826,7 +855,13 @@ def _parse(data: Any, source: str, preflight_checks: bool) -> Scenario:
         planner=planner, trajectory=trajectory, name=_string(top.get("name", ""), "name"),
         description=_string(top.get("description", ""), "description"),
         angle_unit=angle_unit, warnings=tuple(r.warnings), source=source, goal_path=goal_path,
+        safety_margin=_gap(top.get("safety_margin", 0.0), "safety_margin"),
     )
+    try:  # an obstacle within reach but vastly larger than the arm: the C-space loses its digits
+        check_extent(arm, obstacles, scenario.safety_margin)
+    except ValueError as e:
+        field, _, message = str(e).partition(" ")
+        raise InvalidValue(message, field=field) from None
     if preflight_checks:
         preflight(scenario)
     return scenario
@@ -1067,6 +1102,10 @@ def echo(scenario: Scenario) -> str:
         rows.append(("description", s.description))
     rows.append(("links", f"{s.arm.n}: [" + ", ".join(_fmt(v) for v in s.arm.link_lengths)
                  + "] m"))
+    if any(s.arm.link_radius):
+        rows.append(("link radius", "[" + ", ".join(_fmt(v) for v in s.arm.link_radius) + "] m"))
+    if s.safety_margin:
+        rows.append(("safety margin", f"{_fmt(s.safety_margin)} m from every obstacle"))
     for i, lim in enumerate(s.arm.joint_limits):
         rows.append((f"joint {i}", "free (wraps)" if lim is None else "limits " + ang(lim)))
     r_in, r_out = s.arm.reach

@@ -6,7 +6,10 @@ passing report is evidence and a failing one says by how much:
 * ``collision-free``: every straight joint-space segment between consecutive
   samples is certified free (:func:`rapp.collision.segment_collision_free`, a
   proof over the whole segment, not a test of the samples alone);
-* ``min clearance``: the smallest link-obstacle distance over the samples;
+* ``min clearance``: the smallest link-obstacle distance over the samples; with
+  thick links (``arm.link_radius``) or a ``safety_margin``, the smallest gap beyond
+  the one required (``link_radius + safety_margin``), and both checks above test
+  the zero-width links against the obstacles grown by it (:func:`rapp.collision.scene`);
 * ``joint limits``: the largest violation of a limit;
 * ``starts at start`` and ``goal reached``: the first sample is the start, and
   the last one is the joint goal within 0.01 rad or puts the end effector
@@ -38,11 +41,11 @@ MIS of 2D-RAPP (seed 001): ``verifyOutput``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from rapp.collision import clearance, collides, segment_collision_free, segment_point_distance
+from rapp.collision import clearance, collides, scene, segment_collision_free, segment_point_distance
 from rapp.time_scaling import peak_rates
 from rapp.trajectory import PiecewisePolynomial
 
@@ -198,6 +201,18 @@ def _check_collision(arm, obs, q) -> list:
     return checks
 
 
+def _check_required(arm, obs, q, margin) -> list:
+    """:func:`_check_collision` of thick links with a margin: zero-width links, grown obstacles."""
+    thin, grown = scene(arm, obs, margin)
+    checks = _check_collision(thin, list(grown), q)
+    if thin is arm and not margin:
+        return checks
+    need = ", ".join(f"{r + margin:g}" for r in arm.link_radius)
+    return [replace(c, detail=f"smallest gap over the samples beyond the distance each link must keep "
+                              f"(link radius + safety margin: [{need}] m); must be > 0")
+            if c.name == "min clearance" else c for c in checks]
+
+
 def _check_limits(arm, q) -> Check:
     lo, hi, lim = arm.lower, arm.upper, arm.limited
     viol = np.where(lim, np.maximum(lo - q, q - hi), -np.inf).max() if lim.any() else -np.inf
@@ -331,8 +346,8 @@ def verify(plan, scenario) -> Report:
     if not finite:
         return Report.from_checks([shape_check, Check(
             "finite", False, None, None, "", "t, q, q', q'' or xy holds NaN or infinity")])
-    checks = [shape_check, *_check_collision(arm, obs, q), _check_limits(arm, q),
-              *_check_ends(arm, q, scenario)]
+    checks = [shape_check, *_check_required(arm, obs, q, getattr(scenario, "safety_margin", 0.0)),
+              _check_limits(arm, q), *_check_ends(arm, q, scenario)]
     if k >= 2:
         checks.append(_check_continuity(t, q, qd, qdd))
     tr = scenario.trajectory

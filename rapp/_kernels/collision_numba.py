@@ -37,7 +37,7 @@ import numpy as np
 from rapp.obstacles import Circle, Polygon
 from rapp.jit import jit, numba_available
 
-__all__ = ["pack", "by_identity", "kernels", "loaded", "Kernels", "LOAD_FROM"]
+__all__ = ["pack", "by_identity", "kernels", "loaded", "Kernels", "LOAD_FROM", "link_mask", "MASK_LINKS"]
 
 #: The compiled functions (see :func:`kernels`).
 Kernels = namedtuple("Kernels", "collides collides_one clearances certify")
@@ -46,10 +46,10 @@ Kernels = namedtuple("Kernels", "collides collides_one clearances certify")
 def pack(obstacles) -> tuple:
     """Obstacles as the kernel's arrays ``(circles, pv, pn, pr, offsets)``.
 
-    ``circles`` is ``(c, 3)``: centre and radius. Polygon ``p`` owns rows
+    ``circles`` is ``(c, 4)``: centre, radius and :func:`link_mask`. Polygon ``p`` owns rows
     ``offsets[p]:offsets[p + 1]`` of ``pv`` (vertices), ``pn`` (edge normals) and ``pr``
-    (the polygon's own projection on each normal, min and max), as
-    :attr:`rapp.Polygon.separating_axes` gives them. Obstacles other than Circle and
+    (the polygon's own projection on each normal, min and max, as
+    :attr:`rapp.Polygon.separating_axes` gives them, and its :func:`link_mask`). Obstacles other than Circle and
     Polygon raise the ValueError of :func:`rapp.collision.check_obstacle`.
 
     Examples
@@ -57,7 +57,7 @@ def pack(obstacles) -> tuple:
     >>> from rapp import Circle, Polygon
     >>> c, pv, pn, pr, off = pack([Circle((0, 1), 0.5), Polygon.rectangle((0, 0), 1, 1)])
     >>> c.tolist(), pv.shape, off.tolist()
-    ([[0.0, 1.0, 0.5]], (4, 2), [0, 4])
+    ([[0.0, 1.0, 0.5, -1.0]], (4, 2), [0, 4])
     """
     return by_identity(_PACKED, obstacles, _pack)
 
@@ -95,20 +95,20 @@ def _pack(obstacles) -> tuple:
     circles, pv, pn, pr, offsets = [], [], [], [], [0]
     for ob in obstacles:
         if isinstance(ob, Circle):
-            circles.append((ob.center[0], ob.center[1], ob.radius))
+            circles.append((ob.center[0], ob.center[1], ob.radius, link_mask(ob)))
         elif isinstance(ob, Polygon):
             v, normals, lo, hi = ob.separating_axes
             pv.append(v)
             pn.append(normals)
-            pr.append(np.stack((lo, hi), axis=-1))
+            pr.append(np.stack((lo, hi, np.full(len(v), link_mask(ob))), axis=-1))
             offsets.append(offsets[-1] + len(v))
         else:
             raise ValueError(f"obstacles must be rapp.Circle or rapp.Polygon, got {type(ob).__name__}")
     out = (
-        np.array(circles, dtype=float).reshape(-1, 3),
+        np.array(circles, dtype=float).reshape(-1, 4),
         np.concatenate(pv) if pv else np.zeros((0, 2)),
         np.concatenate(pn) if pn else np.zeros((0, 2)),
-        np.concatenate(pr) if pr else np.zeros((0, 2)),
+        np.concatenate(pr) if pr else np.zeros((0, 3)),
         np.array(offsets, dtype=np.int64),
     )
     for arr in out:
@@ -117,6 +117,33 @@ def _pack(obstacles) -> tuple:
 
 
 _PACKED: dict = {}
+
+#: Link masks are bits of a float64 (exact below 2**53): obstacles for some links only
+#: (:func:`rapp.collision.scene`) name links 0 .. MASK_LINKS - 1.
+MASK_LINKS = 52
+
+
+def link_mask(ob) -> float:
+    """The links obstacle ``ob`` applies to as the kernel reads them: -1 for every link, else
+    the sum of ``2**j`` over its links (:attr:`rapp.Circle.links`).
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> link_mask(Circle((0, 0), 1.0)), link_mask(Circle((0, 0), 1.0, links=(0, 2)))
+    (-1.0, 5.0)
+    """
+    if ob.links is None:
+        return -1.0
+    if ob.links[-1] >= MASK_LINKS:
+        raise ValueError(f"an obstacle for some links only may name links below {MASK_LINKS}, "
+                         f"got {ob.links}")
+    return float(sum(1 << j for j in ob.links))
+
+
+def _applies(mask, j):
+    """The kernel's :func:`rapp.obstacles.applies`: mask -1 is every link, else bit ``j``."""
+    return mask < 0 or (int(mask) >> j) & 1 == 1
 
 
 # ---------------------------------------------------------------- the loops, compiled by kernels()
@@ -184,22 +211,30 @@ def _polygon_distance(ax, ay, bx, by, pv, pn, pr, s, e):
     return d
 
 
-def _link_hits(ax, ay, bx, by, circles, pv, pn, pr, offsets):
+def _link_hits(pts, j, circles, pv, pn, pr, offsets):
+    """Link ``j`` (from ``pts[j]`` to ``pts[j + 1]``) touches an obstacle that applies to it."""
+    ax, ay, bx, by = pts[j, 0], pts[j, 1], pts[j + 1, 0], pts[j + 1, 1]
     for c in range(circles.shape[0]):
-        if _point_distance(ax, ay, bx, by, circles[c, 0], circles[c, 1]) <= circles[c, 2]:
+        if _applies(circles[c, 3], j) and \
+                _point_distance(ax, ay, bx, by, circles[c, 0], circles[c, 1]) <= circles[c, 2]:
             return True
     for p in range(offsets.shape[0] - 1):
-        if _hits_polygon(ax, ay, bx, by, pv, pn, pr, offsets[p], offsets[p + 1]):
+        if _applies(pr[offsets[p], 2], j) and \
+                _hits_polygon(ax, ay, bx, by, pv, pn, pr, offsets[p], offsets[p + 1]):
             return True
     return False
 
 
-def _link_clearance(ax, ay, bx, by, circles, pv, pn, pr, offsets):
+def _link_clearance(pts, j, circles, pv, pn, pr, offsets):
+    """Clearance of link ``j`` from the obstacles that apply to it."""
+    ax, ay, bx, by = pts[j, 0], pts[j, 1], pts[j + 1, 0], pts[j + 1, 1]
     d = np.inf
     for c in range(circles.shape[0]):
-        d = min(d, _point_distance(ax, ay, bx, by, circles[c, 0], circles[c, 1]) - circles[c, 2])
+        if _applies(circles[c, 3], j):
+            d = min(d, _point_distance(ax, ay, bx, by, circles[c, 0], circles[c, 1]) - circles[c, 2])
     for p in range(offsets.shape[0] - 1):
-        d = min(d, _polygon_distance(ax, ay, bx, by, pv, pn, pr, offsets[p], offsets[p + 1]))
+        if _applies(pr[offsets[p], 2], j):
+            d = min(d, _polygon_distance(ax, ay, bx, by, pv, pn, pr, offsets[p], offsets[p + 1]))
     return d
 
 
@@ -226,7 +261,7 @@ def _hits(lengths, q, pts, circles, pv, pn, pr, offsets, max_abs):
             return -1
     _fk(lengths, q, pts)
     for j in range(n):
-        if _link_hits(pts[j, 0], pts[j, 1], pts[j + 1, 0], pts[j + 1, 1], circles, pv, pn, pr, offsets):
+        if _link_hits(pts, j, circles, pv, pn, pr, offsets):
             return 1
     return 0
 
@@ -245,8 +280,7 @@ def _clearances(lengths, q, circles, pv, pn, pr, offsets):
     for i in range(m):
         _fk(lengths, q[i], pts)
         for j in range(n):
-            out[i, j] = _link_clearance(pts[j, 0], pts[j, 1], pts[j + 1, 0], pts[j + 1, 1],
-                                        circles, pv, pn, pr, offsets)
+            out[i, j] = _link_clearance(pts, j, circles, pv, pn, pr, offsets)
     return out
 
 
@@ -281,8 +315,7 @@ def _certify(lengths, q0, dq, bounds, circles, pv, pn, pr, offsets, min_interval
                 _fk(lengths, q, pts)
                 certified = True
                 for j in range(n):
-                    d = _link_clearance(pts[j, 0], pts[j, 1], pts[j + 1, 0], pts[j + 1, 1],
-                                        circles, pv, pn, pr, offsets)
+                    d = _link_clearance(pts, j, circles, pv, pn, pr, offsets)
                     if d <= touch:
                         out[i] = 0
                         break
@@ -351,7 +384,7 @@ def kernels():
         return None
     g = globals()
     # The helpers are compiled first, so that the kernels calling them find compiled functions.
-    for name in ("_fk", "_point_distance", "_hits_polygon", "_polygon_distance", "_link_hits",
+    for name in ("_fk", "_point_distance", "_applies", "_hits_polygon", "_polygon_distance", "_link_hits",
                  "_link_clearance", "_hits"):
         g[name] = jit(g[name])
     return Kernels(jit(_collides), jit(_collides_one), jit(_clearances), jit(_certify))

@@ -214,20 +214,27 @@ def check_obstacle(ob):
     return ob
 
 
-def segment_clearances(a, b, obstacles) -> np.ndarray:
+def segment_clearances(a, b, obstacles, *, link=None) -> np.ndarray:
     """Clearance of segments ``ab`` (..., 2) from the nearest obstacle, shape ``(...)``.
 
     The link-level work of :func:`link_clearances`, for callers that already
-    hold the segment end points (e.g. one link on a whole grid).
+    hold the segment end points (e.g. one link on a whole grid). An obstacle that
+    applies to some links only (:attr:`rapp.Circle.links`) counts for the segments
+    that are those links: with ``link=None`` the segments are the links ``0..n-1``
+    along axis -2 (as :func:`link_clearances` lays them out), with ``link=j`` they
+    are all link ``j``.
 
     Examples
     --------
     >>> from rapp import Circle
     >>> float(segment_clearances(np.array([0.0, 0.0]), np.array([2.0, 0.0]), [Circle((1.0, 1.0), 0.5)]))
     0.5
+    >>> a, b = np.zeros((2, 2)), np.array([[2.0, 0.0], [2.0, 0.0]])   # two links, side by side
+    >>> segment_clearances(a, b, [Circle((1.0, 1.0), 0.5, links=(1,))]).tolist()
+    [inf, 0.5]
     """
     out = np.full(np.broadcast_shapes(a.shape, b.shape)[:-1], np.inf)
-    circles = [ob for ob in obstacles if isinstance(check_obstacle(ob), Circle)]
+    circles = [ob for ob in obstacles if isinstance(check_obstacle(ob), Circle) and ob.links is None]
     if circles:
         # Every disc in one broadcast (discs on a new last axis): the arithmetic of one disc at
         # a time with a fixed number of numpy calls.
@@ -236,9 +243,25 @@ def segment_clearances(a, b, obstacles) -> np.ndarray:
         d = segment_point_distance(a[..., None, :], b[..., None, :], centers) - radii
         np.minimum(out, d.min(axis=-1), out=out)
     for ob in obstacles:
-        if not isinstance(ob, Circle):
-            np.minimum(out, segment_polygon_distance(a, b, ob), out=out)
+        if ob.links is None:
+            if not isinstance(ob, Circle):
+                np.minimum(out, segment_polygon_distance(a, b, ob), out=out)
+            continue
+        mine = _link_mask(ob, link, out.shape[-1] if out.ndim else 0)
+        if mine is False:
+            continue
+        d = (segment_circle_distance(a, b, ob.center, ob.radius) if isinstance(ob, Circle)
+             else segment_polygon_distance(a, b, ob))
+        np.minimum(out, np.where(mine, d, np.inf), out=out)
     return out
+
+
+def _link_mask(ob, link, n):
+    """Where obstacle ``ob`` applies: True/False for segments that are all link ``link``, or a
+    bool ``(n,)`` over links laid out on the last axis (``link`` None)."""
+    if link is not None:
+        return link in ob.links
+    return np.isin(np.arange(n), ob.links)
 
 
 def reach_matrix(arm) -> np.ndarray:
@@ -307,7 +330,7 @@ def collides(arm, q, obstacles) -> np.ndarray:
     a, b = pts[..., :-1, :], pts[..., 1:, :]
     circles, polygons = [], []
     for ob in obstacles:
-        (circles if isinstance(check_obstacle(ob), Circle) else polygons).append(ob)
+        (circles if isinstance(check_obstacle(ob), Circle) and ob.links is None else polygons).append(ob)
     hit = np.zeros(a.shape[:-1], dtype=bool)
     if circles:
         # Every link against every disc in one broadcast (links on axis -2, discs on -1): the
@@ -318,7 +341,12 @@ def collides(arm, q, obstacles) -> np.ndarray:
         d = segment_point_distance(a[..., None, :], b[..., None, :], centers)
         hit |= (d <= radii).any(axis=-1)
     for ob in polygons:
-        hit |= segment_hits_polygon(a, b, ob)
+        if ob.links is None:
+            hit |= segment_hits_polygon(a, b, ob)
+        else:  # for some links only (rapp.collision.scene): their own test, the others left alone
+            own = (segment_hits_circle(a, b, ob.center, ob.radius) if isinstance(ob, Circle)
+                   else segment_hits_polygon(a, b, ob))
+            hit |= own & _link_mask(ob, None, arm.n)
     return hit.any(axis=-1)
 
 

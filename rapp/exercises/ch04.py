@@ -3,11 +3,13 @@
 Examples
 --------
 >>> [ex.id for ex in EXERCISES]
-['4.1', '4.2', '4.3', '4.4', '4.5', '4.6']
+['4.1', '4.2', '4.3', '4.4', '4.5', '4.6', '4.7']
 >>> _cells_of([np.pi / 2, 3.0], 12)
 [9, 0]
 >>> round(_interval_width(), 3)
 0.659
+>>> round(_thick_interval_width(), 3)
+0.816
 """
 
 from __future__ import annotations
@@ -99,9 +101,10 @@ def _compare_cell(got, want, args) -> str | None:
 _EX3 = dict(L=1.3, d=1.5, r=0.5)
 
 
-def _half_width_by_bisection(L, d, r) -> float:
-    """Largest angle between the link and the centre at which the package says the link hits."""
-    arm, disc = Arm([L]), [Circle((d, 0.0), r)]
+def _half_width_by_bisection(L, d, r, radius=0.0) -> float:
+    """Largest angle between the link (of that ``radius``) and the centre at which the package
+    says the link hits."""
+    arm, disc = Arm([L], link_radius=radius), [Circle((d, 0.0), r)]
     lo, hi = 0.0, np.pi   # the link at 0 points at the centre; here it hits there and not at pi
     for _ in range(60):
         mid = 0.5 * (lo + hi)
@@ -118,6 +121,22 @@ def _interval_width() -> float:
 
 def _tangent_width() -> float:
     return 2 * float(np.arcsin(_EX3["r"] / _EX3["d"]))
+
+
+# --- 4.7: the interval of a thick link --------------------------------------------------------
+
+_EX7_RADIUS = 0.1
+
+
+def _thick_interval_width(radius=_EX7_RADIUS) -> float:
+    """The full width of 4.3's interval for a link of that radius, by bisection on rapp.collides."""
+    return 2 * _half_width_by_bisection(**_EX3, radius=radius)
+
+
+def _tip_width(r) -> float:
+    """Equation ch04-interval's tip case for a disc of radius ``r`` (4.3's link and distance)."""
+    L, d = _EX3["L"], _EX3["d"]
+    return 2 * float(np.arccos((L * L + d * d - r * r) / (2 * L * d)))
 
 
 # --- 4.4: full columns -----------------------------------------------------------------------
@@ -264,5 +283,22 @@ EXERCISES = (
                           (lambda: 2.25, "at that distance link 2 still reaches the disc, but only link "
                                          "1 fills whole columns.")],
                 hint="link 1 touches the disc while its near edge, at distance d - r, is within L."),
+    ),
+    Exercise(
+        "4.7", 4, "numeric", "The interval of a thick link", 2,
+        "a number: the full width (rad) of the interval of directions in which the link of "
+        "Exercise 4.3, now 0.1 m in radius, touches the disc",
+        numeric(_thick_interval_width,
+                mistakes=[(_interval_width, "that is the zero-width link of Exercise 4.3; a link of "
+                                            "radius 0.1 m touches the disc when its centre line "
+                                            "touches the disc grown by 0.1 m."),
+                          (lambda: _tip_width(_EX3["r"] + 2 * _EX7_RADIUS),
+                           "that grows the disc by the link's width (0.2 m); grow it by the radius."),
+                          (lambda: _thick_interval_width() / 2, "that is the half-width; give the "
+                                                                "full width of the interval."),
+                          (lambda: np.degrees(_thick_interval_width()), "give the angle in radians, "
+                                                                        "not degrees.")],
+                hint="grow the disc by the link's radius, then apply equation ch04-interval as in "
+                     "Exercise 4.3."),
     ),
 )

@@ -169,6 +169,17 @@ VARIANTS: dict[str, Variant] = {
         lambda p: 2 * _half_width(p["L"], p["d"], p["r"]),
         mistakes=lambda p: [(_half_width(p["L"], p["d"], p["r"]), "that is the half-width; the question asks "
                                                                    "for the full width.")]),
+    "4.7": Variant(
+        lambda r: (lambda d, rad, rho: {"d": d, "r": rad, "rho": rho,
+                                        "L": _u(r, d - rad - rho + 0.1, d + 0.2, 1)})(
+            _u(r, 1.2, 2.0, 1), _u(r, 0.3, 0.6, 1), _u(r, 0.05, 0.15, 2)),
+        lambda p: f"A link of length L = {p['L']} m and radius {p['rho']} m (a capsule) starts at a point at "
+                  f"distance d = {p['d']} m from the centre of a disc of radius r = {p['r']} m. Over what "
+                  "angle, the full width of the interval of link directions, does the link touch the disc? "
+                  "Answer in radians.",
+        lambda p: 2 * _half_width(p["L"], p["d"], p["r"], p["rho"]),
+        mistakes=lambda p: [(2 * _half_width(p["L"], p["d"], p["r"]),
+                             "that is the zero-width link; grow the disc by the link's radius.")]),
     "5.1": Variant(
         lambda r: {"M": int(r.integers(60, 121)), "a": [int(v) for v in r.integers(0, 60, 2)],
                    "b": [int(v) for v in r.integers(0, 60, 2)]},
@@ -211,12 +222,13 @@ VARIANTS: dict[str, Variant] = {
 }
 
 
-def _half_width(L: float, d: float, r: float) -> float:
-    """Largest angle between the link and the centre at which rapp.collides says the link hits."""
+def _half_width(L: float, d: float, r: float, radius: float = 0.0) -> float:
+    """Largest angle between the link (of that ``radius``) and the centre at which rapp.collides
+    says the link hits."""
     from rapp.collision import collides
     from rapp.obstacles import Circle
 
-    arm, disc = Arm([L]), [Circle((d, 0.0), r)]
+    arm, disc = Arm([L], link_radius=radius), [Circle((d, 0.0), r)]
     lo, hi = 0.0, np.pi
     for _ in range(60):
         mid = 0.5 * (lo + hi)

@@ -101,3 +101,14 @@ def test_4_6_the_reach_of_link_1(book_exercises):
     assert "near edge" in check("4.6", 1.0).message
     assert "link 2" in check("4.6", 2.25).message.lower() or "only link" in check("4.6", 2.25).message
     assert not check("4.6", 1.4)
+
+
+def test_4_7_the_interval_of_a_thick_link(book_exercises):
+    grown_tip = 2 * np.arccos((1.3**2 + 1.5**2 - 0.6**2) / (2 * 1.3 * 1.5))  # disc grown to 0.6
+    assert check("4.7", grown_tip) and check("4.7", 0.816)
+    assert "0.816" in book_exercises["4.7"]["solution"]
+    assert "zero-width" in check("4.7", 0.659).message
+    assert "width (0.2 m)" in check("4.7", 2 * np.arccos((1.3**2 + 1.5**2 - 0.7**2) / 3.9)).message
+    assert "half-width" in check("4.7", grown_tip / 2).message
+    assert "degrees" in check("4.7", np.degrees(grown_tip)).message
+    assert not check("4.7", 0.9)
