@@ -122,11 +122,13 @@ function render({ model, el: host }) {
     sweepBtn = button("▶ sweep θ₁", () => {
       flush();
       if (sweepTimer) { stopSweep(); draw(); return; }
-      if (S.sweep >= G.gridM() - 1 || S.sweep < 0) S.sweep = 0;
+      S.sweep = 0;
       sweepBtn.textContent = "❚❚ pause";
       sweepStep();
     });
-    const col = slider("θ₁ column", 0, S.M - 1, 1, 0, (v) => { stopSweep(); S.sweep = Math.min(v, G.gridM() - 1); });
+    // It opens half built, at theta1 = 0: the picture shows what the sweep does before it runs.
+    S.sweep = Math.floor(S.M / 2);
+    const col = slider("θ₁ column", 0, S.M - 1, 1, S.sweep, (v) => { stopSweep(); S.sweep = Math.min(v, G.gridM() - 1); });
     S.sweepSlider = col;
   }
 
@@ -210,6 +212,7 @@ function render({ model, el: host }) {
       if (shown) x.place(x.where());
     }
     if (moveBtn) moveBtn.disabled = G.painted();
+    if (S.sweepSlider) S.sweepSlider.max = String(G.gridM() - 1);
     root.setAttribute("data-rapp-motion", String(S.motion));
     root.setAttribute("data-rapp-sweep", String(S.sweep));
     const txt = statusText(S, G, crossings);
@@ -257,7 +260,7 @@ function render({ model, el: host }) {
   let sweepTimer = null;
   function sweepStep() {
     sweepTimer = null;
-    if (S.sweepSlider) S.sweepSlider.value = String(S.sweep);
+    if (S.sweepSlider) { S.sweepSlider.value = String(S.sweep); S.sweepSlider.nextSibling.textContent = String(S.sweep); }
     draw();
     if (S.sweep >= G.gridM() - 1) { sweepBtn.textContent = "▶ sweep θ₁"; return; }
     S.sweep += 1;

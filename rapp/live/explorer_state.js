@@ -76,7 +76,7 @@ function makeState(model) {
     playing: false, // the search, a few expansions per frame
     perFrame: 4,
     motion: -1, // the arm moving along the path: the index of the path cell shown, -1 = not
-    sweep: -1, // chapter 4's sweep: the theta1 column reached, -1 = not sweeping
+    sweep: -1, // chapter 4's sweep: the last theta1 column painted (-1: no sweep)
     dirty: true,
     frame: 0,
     occ: null,
