@@ -103,8 +103,11 @@ rl.on("line", (line) => {
 NODE_M = 360
 
 
-def node_vs_numba(rounds: int = 12, per_round: int = 5) -> dict:
-    """The page's A* under node against rapp.astar (numba), CPU time per search, interleaved."""
+def node_vs_numba(rounds: int = 12, per_round: int = 20, warm_up: int = 200) -> dict:
+    """The page's A* under node against rapp.astar (numba), CPU time per search, interleaved.
+
+    Both are timed warm: node after ``warm_up`` searches (V8 compiles the loop once it is hot, as
+    it is after a reader's first drags), rapp.astar with its compiled kernel loaded."""
     import subprocess
     import tempfile
     import time
@@ -129,7 +132,7 @@ def node_vs_numba(rounds: int = 12, per_round: int = 5) -> dict:
                 proc.stdin.write(f"{n}\n")
                 proc.stdin.flush()
                 return json.loads(proc.stdout.readline())
-            ask(per_round)  # warm-up: V8 compiles the hot loops
+            ask(warm_up)  # warm-up: V8 compiles the hot loops
             node_us, setup_us, numba_us = [], [], []
             for _ in range(rounds):
                 got = ask(per_round)
@@ -147,6 +150,7 @@ def node_vs_numba(rounds: int = 12, per_round: int = 5) -> dict:
     return {
         "what": f"A* on the {NODE_M} x {NODE_M} C-space of the scene above, {want} steps, CPU time per search",
         "runs": rounds * per_round,
+        "node_warm_up_runs": warm_up,
         "node_us_median": round(med["node"], 1),
         "node_setup_us_median": round(med["setup"], 1),
         "numba_us_median": round(med["numba"], 1),

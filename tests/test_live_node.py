@@ -116,7 +116,7 @@ def cases():
         if rng.random() < 0.1:
             ends[1] = np.argwhere(grid)[0] if grid.any() else ends[1]  # a blocked goal
         wraps = [bool(v) for v in rng.integers(0, 2, 2)]
-        w = float(rng.choice([1.0, 1.0, 1.25, 1.5, 2.0]))
+        w = float(rng.choice([1.0, 1.0, 1.25, 1.5, 2.0, 1.1, 2.7]))  # 1.1 and 2.7: the unpacked heap
         try:
             path = rapp.astar(grid, tuple(ends[0]), tuple(ends[1]), wraps=wraps, heuristic_weight=w)
         except rapp.NoPathFound:

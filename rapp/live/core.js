@@ -282,7 +282,19 @@
     this.expansions = 0; this.reached = 0; this.status = "running"; this.path = null; this.current = -1;
     if (this.blockedEnd) { this.status = "blocked"; return; }
     B.stamp[s] = this.gen; B.g[s] = 0; B.closed[s] = 0; B.parent[s] = -1; this.reached = 1;
-    this.push(weight * (h0[start[0]] + h1[start[1]]), s);
+    // With 4 w an integer (the explorer's weights go in steps of 1/4), f is a multiple of 1/4 and
+    // the order (f, -g, cell) is the order (4 f, h, cell): g = f - w h, so the larger g is the
+    // smaller h. Packed into one double, K = ((4 f) (hmax + 1) + h) size + cell, the heap
+    // compares one number; otherwise (or when K could pass 2^53) it compares (f, key) pairs.
+    var hmax = 0, hm1 = 0;
+    for (a = 0; a < M0; a++) hmax = Math.max(hmax, h0[a]);
+    for (b = 0; b < M1; b++) hm1 = Math.max(hm1, h1[b]);
+    hmax += hm1;
+    this.hn = hmax + 1;
+    this.packed = Number.isInteger(4 * weight) && (4 * (size + weight * hmax) + 1) * this.hn * size < 9007199254740992;
+    var h = h0[start[0]] + h1[start[1]];
+    if (this.packed) { B.hf[0] = (4 * weight * h * this.hn + h) * size + s; this.len = 1; }
+    else this.push(weight * h, s);
     if (s === t) { this.status = "found"; this.path = [s]; }
   }
 
@@ -345,10 +357,80 @@
     return ((top % this.size) + this.size) % this.size;
   };
 
+  // The search's loop with one packed key per heap entry (see the constructor).
+  Search.prototype.stepPacked = function (k) {
+    var B = this.buf, gen = this.gen, stamp = B.stamp, g = B.g, parent = B.parent, closed = B.closed;
+    var occ = this.occupied, M0 = this.M0, M1 = this.M1, size = this.size, hn = this.hn, w4 = 4 * this.weight;
+    var h0 = this.h0, h1 = this.h1, wr0 = this.wraps[0], wr1 = this.wraps[1];
+    var hp = B.hf, len = this.len, reached = this.reached, t = this.t;
+    var done = 0, nbv = new Int32Array(4), nbh = new Float64Array(4);
+    while (done < k) {
+      if (len === 0) { this.status = "unreachable"; break; }
+      var top = hp[0], n = --len;
+      if (n > 0) {
+        var x = hp[n], i = 0;
+        for (;;) {
+          var j = 2 * i + 1;
+          if (j >= n) break;
+          if (j + 1 < n && hp[j + 1] < hp[j]) j++;
+          if (hp[j] < x) { hp[i] = hp[j]; i = j; } else break;
+        }
+        hp[i] = x;
+      }
+      var u = top % size;
+      if (closed[u]) continue;
+      if (u === t) {
+        this.status = "found";
+        var path = [u];
+        while (path[path.length - 1] !== this.s) path.push(parent[path[path.length - 1]]);
+        this.path = path.reverse();
+        break;
+      }
+      closed[u] = 1;
+      this.current = u;
+      this.expansions++;
+      done++;
+      var gv = g[u] + 1, i0 = (u / M1) | 0, i1 = u - i0 * M1;
+      var up = i0 + 1 < M0 ? i0 + 1 : wr0 ? 0 : -1, dn = i0 > 0 ? i0 - 1 : wr0 ? M0 - 1 : -1;
+      var rt = i1 + 1 < M1 ? i1 + 1 : wr1 ? 0 : -1, lf = i1 > 0 ? i1 - 1 : wr1 ? M1 - 1 : -1;
+      nbv[0] = up < 0 ? -1 : up * M1 + i1; nbh[0] = up < 0 ? 0 : h0[up] + h1[i1];
+      nbv[1] = dn < 0 ? -1 : dn * M1 + i1; nbh[1] = dn < 0 ? 0 : h0[dn] + h1[i1];
+      nbv[2] = rt < 0 ? -1 : u - i1 + rt; nbh[2] = rt < 0 ? 0 : h0[i0] + h1[rt];
+      nbv[3] = lf < 0 ? -1 : u - i1 + lf; nbh[3] = lf < 0 ? 0 : h0[i0] + h1[lf];
+      for (var q = 0; q < 4; q++) {
+        var v = nbv[q];
+        if (v < 0) continue;
+        if (stamp[v] === gen) {
+          if (closed[v] || gv >= g[v]) continue;
+        } else {
+          if (occ[v]) continue;
+          stamp[v] = gen; closed[v] = 0; reached++;
+        }
+        g[v] = gv;
+        parent[v] = u;
+        var hv = nbh[q], key = ((4 * gv + w4 * hv) * hn + hv) * size + v;
+        if (len === hp.length) {
+          var np = new Float64Array(2 * len);
+          np.set(hp); B.hf = hp = np; B.hk = new Float64Array(2 * len);
+        }
+        var c = len++;
+        while (c > 0) {
+          var p = (c - 1) >> 1;
+          if (hp[p] < key) break;
+          hp[c] = hp[p]; c = p;
+        }
+        hp[c] = key;
+      }
+    }
+    this.len = len; this.reached = reached;
+    return this.status;
+  };
+
   /** Run at most k expansions (Infinity: to the end). Returns the status. */
   Search.prototype.step = function (k) {
     if (this.status !== "running") return this.status;
     this.mine();
+    if (this.packed) return this.stepPacked(k);
     // The heap is inlined (push: sift up, pop: sift down) and the counters kept in locals: the
     // loop is the explorer's per-drag cost.
     var B = this.buf, gen = this.gen, stamp = B.stamp, g = B.g, parent = B.parent, closed = B.closed;
