@@ -154,7 +154,8 @@ def test_astar_under_node_matches_rapp(cases):
 
 def test_a_search_can_be_resumed_and_reused():
     """The explorer steps a search a few expansions at a time and starts a new one on every
-    drag, reusing its buffers: each gives rapp.astar's path, on a grid of any previous size."""
+    drag, reusing its buffers: each gives rapp.astar's path, on a grid of any previous size, and
+    its closed set and open list (drawn by the explorer) hold as many cells as it counts."""
     rng = np.random.default_rng(5)
     grids = [rng.random((int(a), int(b))) < 0.25 for a, b in rng.integers(8, 40, (6, 2))]
     probs = []
@@ -174,6 +175,9 @@ process.stdin.on("end", () => {
   for (const [g, shape, a, b] of probs) {
     const S = new R.Search(g, shape, a, b, {buffers: buf});
     let n = 0; while (S.step(3) === "running") n++;
+    let closed = 0;
+    for (let k = 0; k < shape[0] * shape[1]; k++) closed += S.isClosed(k);
+    if (closed !== S.expansions || S.openCells().length !== S.openCount()) throw new Error("counts");
     out.push([S.status, S.path ? R.toCells(S.path, shape[1]) : null, S.expansions, S.openCount()]);
   }
   process.stdout.write(JSON.stringify(out));

@@ -89,12 +89,12 @@ function render({ model, el: host }) {
     });
     sel.addEventListener("change", () => switchSource(sel.value));
     slider("weight w", 1, 3, 0.25, S.weight, (v) => { S.weight = v; S.dirty = true; });
-    playBtn = button("▶ search", () => {
+    playBtn = button("▶ play", () => {
       flush();
       stopMotion();
       if (!S.playing && S.run.status !== "running") restartSearch();
       S.playing = !S.playing;
-      playBtn.textContent = S.playing ? "❚❚ pause" : "▶ search";
+      playBtn.textContent = S.playing ? "❚❚ pause" : "▶ play";
       tick();
     });
     button("step", () => {
@@ -102,16 +102,16 @@ function render({ model, el: host }) {
       stopMotion();
       if (S.run.status !== "running") restartSearch();
       S.playing = false;
-      playBtn.textContent = "▶ search";
+      playBtn.textContent = "▶ play";
       S.run.step(1);
       draw();
     });
-    button("to the end", () => { flush(); S.playing = false; playBtn.textContent = "▶ search"; S.run.step(Infinity); draw(); });
+    button("to the end", () => { flush(); S.playing = false; playBtn.textContent = "▶ play"; S.run.step(Infinity); draw(); });
     slider("speed", 1, 40, 1, S.perFrame, (v) => { S.perFrame = v; });
     moveBtn = button("▶ move the arm", () => {
       flush();
       if (S.motion >= 0 && motionTimer) { stopMotion(); draw(); return; }
-      if (S.run.status !== "running" || S.playing) { S.playing = false; playBtn.textContent = "▶ search"; S.run.step(Infinity); }
+      if (S.run.status !== "running" || S.playing) { S.playing = false; playBtn.textContent = "▶ play"; S.run.step(Infinity); }
       if (S.run.status !== "found") { draw(); return; }
       S.motion = 0;
       moveBtn.textContent = "❚❚ stop the arm";
@@ -236,7 +236,7 @@ function render({ model, el: host }) {
     draw();
     if (S.run.status !== "running") {
       S.playing = false;
-      playBtn.textContent = "▶ search";
+      playBtn.textContent = "▶ play";
       return;
     }
     requestAnimationFrame(tick);

@@ -185,7 +185,8 @@ function statusText(S, G, crossings) {
   }
   if (!S.search) {
     const ci = G.qCell(S.q);
-    parts.push(`The arm at θ = (${fmt(S.q[0])}, ${fmt(S.q[1])}) rad ` + (occ[ci[0] * M + ci[1]] ? "collides." : "is free."));
+    parts.push(`The arm at θ = (${fmt(S.q[0])}, ${fmt(S.q[1])}) rad, cell (${ci[0]}, ${ci[1]}), ` +
+      (occ[ci[0] * M + ci[1]] ? "collides." : "is free."));
     return parts.join(" ");
   }
   if (S.snapped) parts.push(S.snapped);
@@ -194,7 +195,8 @@ function statusText(S, G, crossings) {
   const w = S.weight === 1 ? "" : ` (heuristic weight ${S.weight})`;
   if (X.status === "found") {
     const n = crossings[0] + crossings[1];
-    parts.push(`A*${w} found a path of ${X.path.length - 1} steps after expanding ${X.expansions} cells` +
+    parts.push(`A*${w} found a path of ${X.path.length - 1} steps after expanding ${X.expansions} cells ` +
+      `(${X.openCount()} left on the open list)` +
       (n ? `; it crosses the seam ${n === 1 ? "once" : n === 2 ? "twice" : n + " times"}.` : "; it does not cross the seam."));
     // Said once the arm arrives (not at every step: a screen reader would say each one).
     if (S.motion >= X.path.length - 1) parts.push("The arm has moved along it to the goal.");
