@@ -189,3 +189,33 @@ process.stdin.on("end", () => {
         assert (status == "found") == (want is not None)
         if want is not None:
             assert [tuple(c) for c in path] == want and expansions >= len(want) - 1 and open_ >= 1
+
+
+def test_a_search_reads_only_the_cells_it_touches():
+    """The set-up costs the cells the search touches, not the grid (issue 37.4): on a 1000 x 1000
+    grid a short search reads a few dozen cells of `occupied`, and a search on reused buffers
+    writes none of the grid's cells before it starts."""
+    script = r"""
+const vm = require("vm"); let t = ""; process.stdin.on("data", (d) => (t += d));
+process.stdin.on("end", () => {
+  vm.runInThisContext(JSON.parse(t).core); const R = globalThis.rappLive;
+  const M = 1000, grid = new Uint8Array(M * M);
+  let reads = 0;
+  const occ = new Proxy(grid, {get: (a, k) => { if (typeof k === "string" && /^\d+$/.test(k)) reads++; return a[k]; }});
+  const buf = R.searchBuffers(), out = [];
+  for (const [a, b] of [[[500, 500], [500, 507]], [[10, 10], [13, 12]], [[999, 0], [0, 999]]]) {
+    reads = 0;
+    const S = new R.Search(occ, [M, M], a, b, {buffers: buf});
+    const setup = reads;
+    S.step(Infinity);
+    out.push([setup, reads, S.reached, S.expansions, S.path.length - 1]);
+  }
+  process.stdout.write(JSON.stringify(out));
+});"""
+    done = subprocess.run([NODE, "-e", script], input=json.dumps({"core": live.core_js()}), capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    for (setup, reads, reached, expansions, steps), want in zip(json.loads(done.stdout), (7, 5, 2)):
+        assert steps == want  # the last pair is 2 steps apart across both seams
+        assert setup == 2  # the start's cell and the goal's
+        assert reads <= 2 + 4 * expansions and reached <= 1 + 4 * expansions <= 4 * 1000
