@@ -173,6 +173,166 @@ def test_astar_crosses_the_seam_and_stops_at_walls(page):
 # benchmarks/bench_live.py (rapp/recorded/live.json), never in a timed unit test.
 
 
+# ------------------------------------------------------------------ the explorers on a phone
+
+HARNESS = """async ([esm, state]) => {
+  const url = URL.createObjectURL(new Blob([esm], {type: "text/javascript"}));
+  const mod = await import(url);
+  const model = {s: state, get(k) { return this.s[k]; }, set(k, v) { this.s[k] = v; }, save_changes() {}, on() {}};
+  const host = document.createElement("div");
+  document.body.appendChild(host);
+  mod.default.render({model, el: host});
+}"""
+STATE = ["scenario", "cells", "q", "search", "source", "start", "goal", "weight", "walls", "paint_cells", "sweep"]
+
+
+@pytest.fixture()
+def phone(pw):
+    """A 390 x 844 touch screen (device pixel ratio 3), as issue 33 measured the book."""
+    browser = pw.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"])
+    pg = browser.new_page(viewport={"width": 390, "height": 844}, device_scale_factor=3, has_touch=True, is_mobile=True)
+    errors = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.set_content("<html><head><meta name=viewport content='width=device-width'></head><body style='margin:8px'></body></html>")
+
+    def show(widget):
+        pg.evaluate(HARNESS, [live.explorer_js(), {k: getattr(widget, k) for k in STATE}])
+        root = pg.locator("[data-rapp-live]").last
+        pg.wait_for_function("r => +r.dataset.rappFrame >= 1", arg=root.element_handle())
+        pg.wait_for_timeout(100)  # handles are placed on the frame after the first drawing
+        return root
+
+    pg.show = show
+    yield pg
+    browser.close()
+    assert not errors, errors
+
+
+def touch_drag(pg, x0, y0, x1, y1, steps=8):
+    """A finger's drag: touch events through the DevTools protocol (Chromium makes them pointer events)."""
+    cdp = pg.context.new_cdp_session(pg)
+    cdp.send("Input.dispatchTouchEvent", {"type": "touchStart", "touchPoints": [{"x": x0, "y": y0}]})
+    for k in range(1, steps + 1):
+        x, y = x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps
+        cdp.send("Input.dispatchTouchEvent", {"type": "touchMove", "touchPoints": [{"x": x, "y": y}]})
+        pg.wait_for_timeout(20)
+    cdp.send("Input.dispatchTouchEvent", {"type": "touchEnd", "touchPoints": []})
+    pg.wait_for_timeout(150)
+
+
+def centre(box):
+    return box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+
+
+def test_on_a_phone_both_panels_fit_and_handles_take_a_finger(phone):
+    root = phone.show(live.astar_explorer("default", cells=100, goal=(-2.9, -1.5)))
+    root.scroll_into_view_if_needed()
+    ws, cs = (root.locator(f'canvas[data-rapp-drag="{n}"]').bounding_box() for n in ("workspace", "cspace"))
+    assert ws["x"] + ws["width"] <= cs["x"] and cs["x"] + cs["width"] <= 390  # side by side
+    assert abs(ws["y"] - cs["y"]) < 40 and root.bounding_box()["height"] <= 844
+    handles = root.locator('[role="slider"][data-rapp-drag]')
+    assert handles.count() == 3 + 2 + 2  # obstacles, elbow and tip, start and goal
+    for k in range(handles.count()):
+        box = handles.nth(k).bounding_box()
+        assert box["width"] >= 32 and box["height"] >= 32
+    ticks = root.locator(".rl-xt").inner_text() + root.locator(".rl-yt").inner_text()
+    assert all(t in ticks for t in ("−π", "0", "π"))
+
+
+def test_a_finger_drags_an_obstacle_and_it_stays_on_the_canvas(phone):
+    root = phone.show(live.cspace_explorer(cells=60))
+    h = root.locator('[data-rapp-drag="obstacle-0"]')
+    before = h.get_attribute("aria-valuetext")
+    frame = int(root.get_attribute("data-rapp-frame"))
+    x, y = centre(h.bounding_box())
+    touch_drag(phone, x, y, 389, y - 400)  # far beyond the canvas's top right corner
+    assert int(root.get_attribute("data-rapp-frame")) > frame
+    after = h.get_attribute("aria-valuetext")
+    assert after != before and "obstacle 1 at" in after
+    cx, cy = (float(v.replace("−", "-")) for v in after.split("(")[1].split(")")[0].split(", "))
+    half = 1.0 + 1.0 + 0.35  # the canvas shows the reach plus a margin
+    assert abs(cx) + 0.6 <= half + 1e-9 and abs(cy) + 0.6 <= half + 1e-9  # the disc (radius 0.6) inside
+    canvas = root.locator('canvas[data-rapp-drag="workspace"]').bounding_box()
+    hx, hy = centre(h.bounding_box())
+    assert canvas["x"] <= hx <= canvas["x"] + canvas["width"] and canvas["y"] <= hy <= canvas["y"] + canvas["height"]
+    assert "Obstacle 1 is at" in root.locator(".rl-status").inner_text()
+
+
+def test_every_handle_by_keyboard_announces_its_value(phone):
+    root = phone.show(live.cspace_explorer(cells=60, q=(0.45, 0.2)))
+    status = root.locator(".rl-status")
+    assert status.get_attribute("aria-live") == "polite"
+    assert "% of the cells collide" in status.inner_text()
+    names = []
+    phone.locator("body").focus()
+    for _ in range(12):  # Tab through the page: the sliders, then every handle
+        phone.keyboard.press("Tab")
+        names.append(phone.evaluate("() => document.activeElement.dataset.rappDrag || ''"))
+    assert {"obstacle-0", "obstacle-1", "obstacle-2", "elbow", "tip", "configuration"} <= set(names)
+    elbow = root.locator('[data-rapp-drag="elbow"]')
+    assert elbow.get_attribute("aria-valuetext") == "θ₁ 0.45 rad" and elbow.get_attribute("aria-valuenow") == "0.45"
+    elbow.focus()
+    phone.keyboard.press("ArrowRight")
+    phone.wait_for_timeout(100)
+    assert elbow.get_attribute("aria-valuetext") == "θ₁ 0.50 rad"
+    ob = root.locator('[data-rapp-drag="obstacle-0"]')
+    ob.focus()
+    phone.keyboard.press("ArrowUp")
+    phone.wait_for_timeout(100)
+    assert ob.get_attribute("aria-valuetext") == "obstacle 1 at (1.75, 0.80) m"
+    text = status.inner_text()
+    assert "Obstacle 1 is at (1.75, 0.80) m" in text and ("is free." in text or "collides." in text)
+
+
+def test_the_arm_moves_along_the_path_it_found(phone):
+    sc = rapp.load_scenario("default")
+    grid = rapp.JointGrid(sc.arm, 100)
+    root = phone.show(live.astar_explorer("default", cells=100, goal=(-2.9, -1.5)))
+    want = len(rapp.astar(rapp.occupancy(sc.arm, sc.obstacles, grid), tuple(grid.index([0.0, 0.0])),
+                          tuple(grid.index([-2.9, -1.5])))) - 1
+    assert f"path of {want} steps" in root.locator(".rl-status").inner_text()
+    assert root.get_attribute("data-rapp-motion") == "-1"
+    root.get_by_role("button", name="▶ move the arm").click()
+    phone.wait_for_function("r => +r.dataset.rappMotion > 5", arg=root.element_handle())
+    assert root.locator('[data-rapp-drag="elbow"]').is_hidden()  # the start's handles wait
+    phone.wait_for_function(f"r => +r.dataset.rappMotion === {want}", arg=root.element_handle(), timeout=20_000)
+    assert "moved along it to the goal" in root.locator(".rl-status").inner_text()
+
+
+def test_the_menu_keeps_each_grids_start_and_goal(phone):
+    root = phone.show(live.astar_explorer("default", cells=100, goal=(-2.9, -1.5)))
+    goal = root.locator('[data-rapp-drag="goal"]')
+    goal.focus()
+    phone.keyboard.press("ArrowUp")
+    phone.wait_for_timeout(100)
+    moved = goal.get_attribute("aria-valuetext")
+    sel = root.locator("select")
+    sel.select_option("paint")
+    phone.wait_for_timeout(100)
+    assert "cell (20, 12)" in goal.get_attribute("aria-valuetext")  # the painted grid's own goal
+    sel.select_option("cspace")
+    phone.wait_for_timeout(100)
+    assert goal.get_attribute("aria-valuetext") == moved
+    assert "A* found a path" in root.locator(".rl-status").inner_text()
+
+
+def test_the_sweep_builds_one_obstacle_column_by_column(phone):
+    sc = rapp.load_scenario("default")
+    M = 60
+    layer = rapp.occupancy(sc.arm, sc.obstacles[:1], rapp.JointGrid(sc.arm, M))
+    root = phone.show(live.sweep_explorer(obstacle=0, cells=M))
+    root.get_by_role("button", name="▶ sweep θ₁").click()
+    phone.wait_for_function("r => +r.dataset.rappSweep >= 10", arg=root.element_handle())
+    root.get_by_role("button", name="❚❚ pause").click()
+    col = int(root.get_attribute("data-rapp-sweep"))
+    assert f"column {col + 1} of {M}" in root.locator(".rl-status").inner_text()
+    for c in (0, 17, 45):
+        root.locator("input[aria-label='θ₁ column']").fill(str(c))
+        phone.wait_for_timeout(80)
+        text = root.locator(".rl-status").inner_text()
+        assert f"column {c + 1} of {M}" in text and f"at {int(layer[c].sum())} of the {M} values" in text, text
+
+
 # ------------------------------------------------------------------ the same explorer in JupyterLab
 
 def _lab_notebook(path) -> None:

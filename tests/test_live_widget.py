@@ -27,6 +27,37 @@ def test_explorers_start_where_the_grid_puts_their_configurations():
     assert c.q == [0.45, 0.2] and not c.search and "rappLive" in c._esm and "export default" in c._esm
 
 
+def test_the_sweep_explorer_starts_on_its_obstacle():
+    w = live.sweep_explorer("default", obstacle=2, cells=48, q2=0.3)
+    assert (w.sweep, w.cells, w.q, w.search) == (2, 48, [0.0, 0.3], False)
+    assert live.cspace_explorer().sweep == -1 and live.astar_explorer().sweep == -1
+
+
+def test_the_explorer_module_is_its_parts_in_order():
+    """One ES module (anywidget stores one string; the static book loads nothing else), made of
+    the core, the state, the drawing, the dragging and the page, and exporting render."""
+    from pathlib import Path
+
+    esm = live.explorer_js()
+    here = Path(live.__file__).parent
+    offsets = [esm.index((here / name).read_text(encoding="utf-8")) for name in live.PARTS]
+    assert offsets == sorted(offsets) and offsets[0] == 0
+    assert esm.count("export default") == 1 and esm.rstrip().endswith("export default { render };")
+    assert "import " not in esm.replace("await import(", "")
+
+
+def test_the_explorer_module_parses_under_node(tmp_path):
+    import shutil
+    import subprocess
+
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("no node on PATH")
+    (tmp_path / "explorer.mjs").write_text(live.explorer_js(), encoding="utf-8")
+    done = subprocess.run([node, "--check", str(tmp_path / "explorer.mjs")], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+
+
 @pytest.mark.parametrize("call, field", [
     (lambda: live.cspace_explorer(cells=300), "cells"),
     (lambda: live.cspace_explorer((rapp.Arm([1.0, 1.0, 1.0]), []),), "scenario"),
@@ -34,6 +65,8 @@ def test_explorers_start_where_the_grid_puts_their_configurations():
     (lambda: live.astar_explorer(weight=0.5), "weight"),
     (lambda: live.astar_explorer(source="maze"), "source"),
     (lambda: live.astar_explorer(source="paint", paint_cells=100), "paint_cells"),
+    (lambda: live.sweep_explorer(obstacle=3), "obstacle"),
+    (lambda: live.sweep_explorer(cells=10), "cells"),
 ])
 def test_bad_input_names_the_field(call, field):
     with pytest.raises(ValueError, match=f"^{field}"):

@@ -3,7 +3,11 @@
 The JavaScript (``rapp/live/*.js``, shipped with the package) implements the book's own
 definitions: ``core.js`` ports the closed-form intervals of :func:`rapp.occupancy` and the A* of
 :func:`rapp.astar` (GD1, the same tie-breaking), and ``tests/test_live.py`` holds it to them in
-headless Chromium. The widgets are anywidget widgets: their ES module is stored in the widget
+headless Chromium and ``tests/test_live_node.py`` under node. The explorer itself is split by
+what it does: ``explorer_state.js`` (the state, the maps between metres, angles, cells and pixels,
+the status sentences), ``explorer_draw.js`` (drawing), ``explorer_drag.js`` (handles for a finger,
+a mouse and the keyboard) and ``explorer.js`` (the page and its controls); :func:`explorer_js`
+joins them, after ``core.js``, into the one ES module anywidget needs. The widgets are anywidget widgets: their ES module is stored in the widget
 state, so the same explorer runs in JupyterLab and, with the vendored anywidget front end, in the
 static HTML book, offline.
 
@@ -18,7 +22,10 @@ from __future__ import annotations
 from functools import cache
 from pathlib import Path
 
-__all__ = ["core_js", "explorer_js", "scenario_dict", "cspace_explorer", "astar_explorer"]
+__all__ = ["core_js", "explorer_js", "scenario_dict", "cspace_explorer", "astar_explorer", "sweep_explorer"]
+
+#: The explorer module's parts, in the order they are joined (each uses the ones before it).
+PARTS = ("core.js", "explorer_state.js", "explorer_draw.js", "explorer_drag.js", "explorer.js")
 
 HERE = Path(__file__).resolve().parent
 
@@ -34,8 +41,9 @@ def core_js() -> str:
 
 
 def explorer_js() -> str:
-    """The explorers' ES module: :func:`core_js` followed by ``explorer.js``."""
-    return _read("core.js") + "\n" + _read("explorer.js")
+    """The explorers' ES module: the files of :data:`PARTS` joined in order (one module, so the
+    static book needs no module loader and works offline)."""
+    return "\n".join(_read(name) for name in PARTS)
 
 
 def scenario_dict(scenario) -> dict:
@@ -83,6 +91,7 @@ def _widget_class():
             weight = t.Float(1.0).tag(sync=True)
             walls = t.List([]).tag(sync=True)
             paint_cells = t.Int(24).tag(sync=True)
+            sweep = t.Int(-1).tag(sync=True)
 
         _Explorer = Explorer
     return _Explorer
@@ -113,6 +122,39 @@ def cspace_explorer(scenario="default", *, cells=90, q=(0.0, 0.0)):
     if not 24 <= cells <= 180:
         raise ValueError(f"cells must be between 24 and 180, got {cells}")
     return _widget_class()(scenario=scenario_dict(scenario), cells=cells, q=[float(v) for v in q])
+
+
+def sweep_explorer(scenario="default", *, obstacle=0, cells=90, q2=0.0):
+    """Chapter 4's sweep: theta1 turns and one obstacle's C-space region is built column by column.
+
+    The page shows the arm at each grid angle theta1 with link 2 drawn (faint red) at every theta2
+    that hits the obstacle; that column of the C-space is painted, and a play control turns theta1
+    from -pi to pi (LaValle's figure of a C-space obstacle built point by point). The obstacles
+    can be dragged; the column is recomputed in the page.
+
+    Parameters
+    ----------
+    scenario : as :func:`cspace_explorer`
+    obstacle : int
+        Which obstacle (0-based) the sweep builds.
+    cells : int
+        Cells per joint (24 to 180).
+    q2 : float
+        theta2 of the arm drawn solid, radians.
+
+    Examples
+    --------
+    >>> w = sweep_explorer(obstacle=1, cells=60)
+    >>> w.sweep, w.cells, w.search
+    (1, 60, False)
+    """
+    sc = scenario_dict(scenario)
+    cells = int(cells)
+    if not 24 <= cells <= 180:
+        raise ValueError(f"cells must be between 24 and 180, got {cells}")
+    if not 0 <= int(obstacle) < len(sc["obstacles"]):
+        raise ValueError(f"obstacle must be between 0 and {len(sc['obstacles']) - 1}, got {obstacle}")
+    return _widget_class()(scenario=sc, cells=cells, q=[0.0, float(q2)], sweep=int(obstacle))
 
 
 def astar_explorer(scenario="default", *, cells=60, start=(0.0, 0.0), goal=(2.2, 0.5),

@@ -232,7 +232,33 @@
 
   // ------------------------------------------------------------------ A*
   // A search that can be run a few expansions at a time (the explorer animates it) or to the end
-  // (astar). State: g (-1 = closed or blocked), parent, a binary heap ordered by (f, -g, cell).
+  // (astar). Its set-up costs the cells it touches, not the grid: g, parent and the closed flag of
+  // a cell are valid only while its stamp equals the search's generation, so a new search on
+  // reused buffers (searchBuffers) starts by bumping one counter; a blocked cell is read from
+  // `occupied` when first touched. The open list is a binary heap ordered by (f, -g, cell).
+  function SearchBuffers() {
+    this.size = 0; this.gen = 0;
+    this.stamp = this.g = this.parent = this.closed = null;
+    this.hf = new Float64Array(1024); this.hk = new Float64Array(1024);
+  }
+
+  SearchBuffers.prototype.claim = function (size) {
+    if (this.size < size) {
+      this.stamp = new Uint32Array(size); this.g = new Int32Array(size);
+      this.parent = new Int32Array(size); this.closed = new Uint8Array(size);
+      this.size = size; this.gen = 0;
+    }
+    if (++this.gen === 4294967295) { this.stamp.fill(0); this.gen = 1; }
+    return this.gen;
+  };
+
+  /** Buffers a caller reuses across searches (one search at a time on them). */
+  function searchBuffers() {
+    return new SearchBuffers();
+  }
+
+  var shared = new SearchBuffers(); // astar() runs to the end before it returns
+
   function Search(occupied, shape, start, goal, opts) {
     opts = opts || {};
     var M0 = shape[0], M1 = shape[1], size = M0 * M1;
@@ -249,30 +275,62 @@
     var h0 = new Float64Array(M0), h1 = new Float64Array(M1);
     for (var a = 0; a < M0; a++) { var d0 = Math.abs(a - goal[0]); h0[a] = wraps[0] && M0 - d0 < d0 ? M0 - d0 : d0; }
     for (var b = 0; b < M1; b++) { var d1 = Math.abs(b - goal[1]); h1[b] = wraps[1] && M1 - d1 < d1 ? M1 - d1 : d1; }
-    this.g = new Int32Array(size);
-    this.parent = new Int32Array(size).fill(-1);
-    for (var i = 0; i < size; i++) this.g[i] = occupied[i] ? -1 : 2147483647;
-    this.closed = new Uint8Array(size);
+    var B = opts.buffers || new SearchBuffers();
+    this.gen = B.claim(size); this.buf = B; this.occupied = occupied;
     this.M0 = M0; this.M1 = M1; this.size = size; this.wraps = wraps; this.weight = weight;
-    this.h0 = h0; this.h1 = h1; this.s = s; this.t = t;
-    this.hf = new Float64Array(1024); this.hk = new Float64Array(1024); this.len = 0;
-    this.expansions = 0; this.status = "running"; this.path = null; this.current = -1;
+    this.h0 = h0; this.h1 = h1; this.s = s; this.t = t; this.len = 0;
+    this.expansions = 0; this.reached = 0; this.status = "running"; this.path = null; this.current = -1;
     if (this.blockedEnd) { this.status = "blocked"; return; }
-    this.g[s] = 0;
-    this.push(weight * (h0[start[0]] + h1[start[1]]), s);
+    B.stamp[s] = this.gen; B.g[s] = 0; B.closed[s] = 0; B.parent[s] = -1; this.reached = 1;
+    // With 4 w an integer (the explorer's weights go in steps of 1/4), f is a multiple of 1/4 and
+    // the order (f, -g, cell) is the order (4 f, h, cell): g = f - w h, so the larger g is the
+    // smaller h. Packed into one double, K = ((4 f) (hmax + 1) + h) size + cell, the heap
+    // compares one number; otherwise (or when K could pass 2^53) it compares (f, key) pairs.
+    var hmax = 0, hm1 = 0;
+    for (a = 0; a < M0; a++) hmax = Math.max(hmax, h0[a]);
+    for (b = 0; b < M1; b++) hm1 = Math.max(hm1, h1[b]);
+    hmax += hm1;
+    this.hn = hmax + 1;
+    this.packed = Number.isInteger(4 * weight) && (4 * (size + weight * hmax) + 1) * this.hn * size < 9007199254740992;
+    var h = h0[start[0]] + h1[start[1]];
+    if (this.packed) { B.hf[0] = (4 * weight * h * this.hn + h) * size + s; this.len = 1; }
+    else this.push(weight * h, s);
     if (s === t) { this.status = "found"; this.path = [s]; }
   }
 
-  Search.prototype.less = function (i, j) {
-    return this.hf[i] < this.hf[j] || (this.hf[i] === this.hf[j] && this.hk[i] < this.hk[j]);
+  Search.prototype.mine = function () {
+    if (this.buf.gen !== this.gen) fail("a newer search reuses this search's buffers");
+  };
+
+  /** Whether a cell has been expanded (the closed set). */
+  Search.prototype.isClosed = function (k) {
+    return this.buf.stamp[k] === this.gen && this.buf.closed[k] === 1;
+  };
+
+  /** Whether a cell is on the open list: reached, not expanded. */
+  Search.prototype.isOpen = function (k) {
+    return this.buf.stamp[k] === this.gen && this.buf.closed[k] === 0;
+  };
+
+  /** The number of open cells (every reached cell is expanded at most once). */
+  Search.prototype.openCount = function () {
+    return this.reached - this.expansions;
+  };
+
+  /** Open cells: reached, not closed. */
+  Search.prototype.openCells = function () {
+    var out = [];
+    for (var i = 0; i < this.size; i++) if (this.isOpen(i)) out.push(i);
+    return out;
   };
 
   Search.prototype.push = function (f, key) {
-    if (this.len === this.hf.length) {
+    var B = this.buf;
+    if (this.len === B.hf.length) {
       var nf = new Float64Array(2 * this.len), nk = new Float64Array(2 * this.len);
-      nf.set(this.hf); nk.set(this.hk); this.hf = nf; this.hk = nk;
+      nf.set(B.hf); nk.set(B.hk); B.hf = nf; B.hk = nk;
     }
-    var i = this.len++, hf = this.hf, hk = this.hk;
+    var i = this.len++, hf = B.hf, hk = B.hk;
     while (i > 0) {
       var p = (i - 1) >> 1;
       if (hf[p] < f || (hf[p] === f && hk[p] < key)) break;
@@ -282,7 +340,7 @@
   };
 
   Search.prototype.pop = function () {
-    var hf = this.hf, hk = this.hk, top = hk[0];
+    var hf = this.buf.hf, hk = this.buf.hk, top = hk[0];
     var n = --this.len;
     if (n > 0) {
       var xf = hf[n], xk = hk[n], i = 0;
@@ -299,19 +357,32 @@
     return ((top % this.size) + this.size) % this.size;
   };
 
-  /** Run at most k expansions (Infinity: to the end). Returns the status. */
-  Search.prototype.step = function (k) {
-    var M0 = this.M0, M1 = this.M1, size = this.size, g = this.g, closed = this.closed;
-    var w = this.weight, h0 = this.h0, h1 = this.h1, wr0 = this.wraps[0], wr1 = this.wraps[1];
-    var done = 0, nb = [0, 0, 0, 0];
-    while (this.status === "running" && done < k) {
-      if (this.len === 0) { this.status = "unreachable"; break; }
-      var u = this.pop();
+  // The search's loop with one packed key per heap entry (see the constructor).
+  Search.prototype.stepPacked = function (k) {
+    var B = this.buf, gen = this.gen, stamp = B.stamp, g = B.g, parent = B.parent, closed = B.closed;
+    var occ = this.occupied, M0 = this.M0, M1 = this.M1, size = this.size, hn = this.hn, w4 = 4 * this.weight;
+    var h0 = this.h0, h1 = this.h1, wr0 = this.wraps[0], wr1 = this.wraps[1];
+    var hp = B.hf, len = this.len, reached = this.reached, t = this.t;
+    var done = 0, nbv = new Int32Array(4), nbh = new Float64Array(4);
+    while (done < k) {
+      if (len === 0) { this.status = "unreachable"; break; }
+      var top = hp[0], n = --len;
+      if (n > 0) {
+        var x = hp[n], i = 0;
+        for (;;) {
+          var j = 2 * i + 1;
+          if (j >= n) break;
+          if (j + 1 < n && hp[j + 1] < hp[j]) j++;
+          if (hp[j] < x) { hp[i] = hp[j]; i = j; } else break;
+        }
+        hp[i] = x;
+      }
+      var u = top % size;
       if (closed[u]) continue;
-      if (u === this.t) {
+      if (u === t) {
         this.status = "found";
         var path = [u];
-        while (path[path.length - 1] !== this.s) path.push(this.parent[path[path.length - 1]]);
+        while (path[path.length - 1] !== this.s) path.push(parent[path[path.length - 1]]);
         this.path = path.reverse();
         break;
       }
@@ -319,28 +390,119 @@
       this.current = u;
       this.expansions++;
       done++;
-      var gv = g[u] + 1, i0 = (u / M1) | 0, i1 = u - i0 * M1, m = 0;
-      if (i0 + 1 < M0) nb[m++] = u + M1; else if (wr0) nb[m++] = i1;
-      if (i0 > 0) nb[m++] = u - M1; else if (wr0) nb[m++] = (M0 - 1) * M1 + i1;
-      if (i1 + 1 < M1) nb[m++] = u + 1; else if (wr1) nb[m++] = u - i1;
-      if (i1 > 0) nb[m++] = u - 1; else if (wr1) nb[m++] = u + M1 - 1;
-      for (var q = 0; q < m; q++) {
-        var v = nb[q];
-        if (closed[v] || g[v] < 0 || gv >= g[v]) continue;
+      var gv = g[u] + 1, i0 = (u / M1) | 0, i1 = u - i0 * M1;
+      var up = i0 + 1 < M0 ? i0 + 1 : wr0 ? 0 : -1, dn = i0 > 0 ? i0 - 1 : wr0 ? M0 - 1 : -1;
+      var rt = i1 + 1 < M1 ? i1 + 1 : wr1 ? 0 : -1, lf = i1 > 0 ? i1 - 1 : wr1 ? M1 - 1 : -1;
+      nbv[0] = up < 0 ? -1 : up * M1 + i1; nbh[0] = up < 0 ? 0 : h0[up] + h1[i1];
+      nbv[1] = dn < 0 ? -1 : dn * M1 + i1; nbh[1] = dn < 0 ? 0 : h0[dn] + h1[i1];
+      nbv[2] = rt < 0 ? -1 : u - i1 + rt; nbh[2] = rt < 0 ? 0 : h0[i0] + h1[rt];
+      nbv[3] = lf < 0 ? -1 : u - i1 + lf; nbh[3] = lf < 0 ? 0 : h0[i0] + h1[lf];
+      for (var q = 0; q < 4; q++) {
+        var v = nbv[q];
+        if (v < 0) continue;
+        if (stamp[v] === gen) {
+          if (closed[v] || gv >= g[v]) continue;
+        } else {
+          if (occ[v]) continue;
+          stamp[v] = gen; closed[v] = 0; reached++;
+        }
         g[v] = gv;
-        this.parent[v] = u;
-        var v0 = (v / M1) | 0;
-        this.push(gv + w * (h0[v0] + h1[v - v0 * M1]), v - gv * size);
+        parent[v] = u;
+        var hv = nbh[q], key = ((4 * gv + w4 * hv) * hn + hv) * size + v;
+        if (len === hp.length) {
+          var np = new Float64Array(2 * len);
+          np.set(hp); B.hf = hp = np; B.hk = new Float64Array(2 * len);
+        }
+        var c = len++;
+        while (c > 0) {
+          var p = (c - 1) >> 1;
+          if (hp[p] < key) break;
+          hp[c] = hp[p]; c = p;
+        }
+        hp[c] = key;
       }
     }
+    this.len = len; this.reached = reached;
     return this.status;
   };
 
-  /** Open cells: reached, not closed. */
-  Search.prototype.openCells = function () {
-    var out = [];
-    for (var i = 0; i < this.size; i++) if (this.g[i] >= 0 && this.g[i] < 2147483647 && !this.closed[i]) out.push(i);
-    return out;
+  /** Run at most k expansions (Infinity: to the end). Returns the status. */
+  Search.prototype.step = function (k) {
+    if (this.status !== "running") return this.status;
+    this.mine();
+    if (this.packed) return this.stepPacked(k);
+    // The heap is inlined (push: sift up, pop: sift down) and the counters kept in locals: the
+    // loop is the explorer's per-drag cost.
+    var B = this.buf, gen = this.gen, stamp = B.stamp, g = B.g, parent = B.parent, closed = B.closed;
+    var occ = this.occupied, M0 = this.M0, M1 = this.M1, size = this.size;
+    var w = this.weight, h0 = this.h0, h1 = this.h1, wr0 = this.wraps[0], wr1 = this.wraps[1];
+    var hf = B.hf, hk = B.hk, len = this.len, reached = this.reached, t = this.t;
+    var done = 0, nbv = new Int32Array(4), nbh = new Float64Array(4);
+    while (done < k) {
+      if (len === 0) { this.status = "unreachable"; break; }
+      // pop
+      var top = hk[0], n = --len;
+      if (n > 0) {
+        var xf = hf[n], xk = hk[n], i = 0;
+        for (;;) {
+          var j = 2 * i + 1;
+          if (j >= n) break;
+          var r = j + 1;
+          if (r < n && (hf[r] < hf[j] || (hf[r] === hf[j] && hk[r] < hk[j]))) j = r;
+          if (hf[j] < xf || (hf[j] === xf && hk[j] < xk)) { hf[i] = hf[j]; hk[i] = hk[j]; i = j; } else break;
+        }
+        hf[i] = xf; hk[i] = xk;
+      }
+      var gu = Math.ceil(-top / size); // key = cell - g * size, 0 <= cell < size
+      var u = top + gu * size;
+      if (closed[u]) continue;
+      if (u === t) {
+        this.status = "found";
+        var path = [u];
+        while (path[path.length - 1] !== this.s) path.push(parent[path[path.length - 1]]);
+        this.path = path.reverse();
+        break;
+      }
+      closed[u] = 1;
+      this.current = u;
+      this.expansions++;
+      done++;
+      var gv = g[u] + 1, i0 = (u / M1) | 0, i1 = u - i0 * M1;
+      // The 4 neighbours and their heuristics (a row's h0 and a column's h1 are known here).
+      var up = i0 + 1 < M0 ? i0 + 1 : wr0 ? 0 : -1, dn = i0 > 0 ? i0 - 1 : wr0 ? M0 - 1 : -1;
+      var rt = i1 + 1 < M1 ? i1 + 1 : wr1 ? 0 : -1, lf = i1 > 0 ? i1 - 1 : wr1 ? M1 - 1 : -1;
+      nbv[0] = up < 0 ? -1 : up * M1 + i1; nbh[0] = up < 0 ? 0 : h0[up] + h1[i1];
+      nbv[1] = dn < 0 ? -1 : dn * M1 + i1; nbh[1] = dn < 0 ? 0 : h0[dn] + h1[i1];
+      nbv[2] = rt < 0 ? -1 : u - i1 + rt; nbh[2] = rt < 0 ? 0 : h0[i0] + h1[rt];
+      nbv[3] = lf < 0 ? -1 : u - i1 + lf; nbh[3] = lf < 0 ? 0 : h0[i0] + h1[lf];
+      for (var q = 0; q < 4; q++) {
+        var v = nbv[q];
+        if (v < 0) continue;
+        if (stamp[v] === gen) {
+          if (closed[v] || gv >= g[v]) continue;
+        } else {
+          if (occ[v]) continue; // blocked: never stamped
+          stamp[v] = gen; closed[v] = 0; reached++;
+        }
+        g[v] = gv;
+        parent[v] = u;
+        var f = gv + w * nbh[q], key = v - gv * size;
+        // push
+        if (len === hf.length) {
+          var nf = new Float64Array(2 * len), nk = new Float64Array(2 * len);
+          nf.set(hf); nk.set(hk); B.hf = hf = nf; B.hk = hk = nk;
+        }
+        var c = len++;
+        while (c > 0) {
+          var p = (c - 1) >> 1;
+          if (hf[p] < f || (hf[p] === f && hk[p] < key)) break;
+          hf[c] = hf[p]; hk[c] = hk[p]; c = p;
+        }
+        hf[c] = f; hk[c] = key;
+      }
+    }
+    this.len = len; this.reached = reached;
+    return this.status;
   };
 
   function toCells(flat, M1) {
@@ -349,7 +511,10 @@
 
   /** The path of rapp.astar, start to goal, as [i, j] cells; throws when there is none. */
   function astar(occupied, shape, start, goal, opts) {
-    var S = new Search(occupied, shape, start, goal, opts);
+    var o = {}, key;
+    for (key in opts || {}) o[key] = opts[key];
+    if (!o.buffers) o.buffers = shared;
+    var S = new Search(occupied, shape, start, goal, o);
     S.step(Infinity);
     if (S.status !== "found") fail(S.status === "blocked" ? "the " + S.blockedEnd + " cell is blocked" : "no path");
     return toCells(S.path, shape[1]);
@@ -362,6 +527,7 @@
     occupancy: occupancy,
     occupancyOf: occupancyOf,
     Search: Search,
+    searchBuffers: searchBuffers,
     astar: astar,
     toCells: toCells,
   };
