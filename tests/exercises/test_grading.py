@@ -108,6 +108,7 @@ def test_a_class_of_30_is_graded_in_bounded_time(tmp_path):
     assert "ended" in feedback and "Exercise 5.3 (1/1, correct)" in feedback
     assert "SyntaxError" in (tmp_path / "fb" / "s08_syntax.txt").read_text()
     assert "not a notebook" in (tmp_path / "fb" / "s28_not_json.txt").read_text()
+    assert "while running: cell" in (tmp_path / "fb" / "s27_notebook.txt").read_text()
     assert all(len(line) <= 2200 for f in (tmp_path / "fb").iterdir() for line in f.read_text().splitlines())
     print(f"30 students in {elapsed:.1f} s ({elapsed / 30:.2f} s per student)")
     assert elapsed < 300
