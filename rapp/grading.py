@@ -340,15 +340,19 @@ class _Found:
 
 
 def _shown(name: str) -> str:
-    """A file name as text: bytes that are not UTF-8 written as \\xNN."""
-    return name.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    """A file name as text: bytes that are not UTF-8 written as ``%XX``.
+
+    >>> _shown(b"caf\\xe9".decode("utf-8", "surrogateescape"))
+    'caf%E9'
+    """
+    return "".join(f"%{ord(c) - 0xDC00:02X}" if 0xDC80 <= ord(c) <= 0xDCFF else c for c in str(name))
 
 
 def find_submissions(folder: Path) -> tuple[dict[str, _Found], list[str]]:
     """Student id → submission (``.ipynb`` preferred over ``.py``), and lines about skipped files.
 
     Extensions are matched whatever their case; a hidden file is skipped (and said so); a name
-    that is not UTF-8 is graded under its name with the bad bytes written ``\\xNN``; a link out of
+    that is not UTF-8 is graded under its name with the bad bytes written ``%XX``; a link out of
     the folder, a FIFO, a device or a file over :data:`MAX_SUBMISSION` bytes is reported for its
     student and not run.
     """

@@ -157,12 +157,12 @@ TOLERANCE = ("*Precision:* give at least three significant figures: an answer wi
              "exact value (or within 0.0005 of it) is right.")
 """The tolerance policy, as every exercise with a real-valued answer prints it."""
 
-TOLERANCE_ANGLES = ("*Precision:* give at least three significant figures: angles are compared on their "
-                    "difference wrapped to one turn, which must be within 0.5 % of the exact value or of "
-                    "your own (or within 0.0005 rad), so whole turns may be added to any angle.")
-"""The policy of an exercise whose answer is made of angles: the *angular tolerance*.
+TOLERANCE_ANGLES = TOLERANCE[:-1] + "; angles may differ by whole turns."
+"""The policy of an exercise whose answer is made of angles, as the book prints it; in full, the
+*angular tolerance* (:func:`close` with ``angles``):
 
-An angle ``a`` is right for the exact ``w`` when ``|wrap(a - w)| <= max(0.005 |w|, 0.005 |a|, 0.0005)``:
+An angle ``a`` is right for the exact ``w`` when
+``|wrap(a - w)| <= max(0.005 |w|, 0.005 min(|a|, 4 pi), 0.0005)``:
 an answer rounded to three significant figures passes even when it is given whole turns away
 (``6.28`` for ``0``, ``-4.71`` for ``pi / 2``), because its rounding is 0.5 % of its own size.
 """
@@ -189,13 +189,13 @@ def close(got: Any, want: Any, factor: float = 1.0, *, angles: bool = False,
         return False
     diff = g - w
     with np.errstate(invalid="ignore", over="ignore"):
-        scale = np.maximum(rel_tol * np.abs(w), abs_tol)
+        scale = factor * np.maximum(rel_tol * np.abs(w), abs_tol)
         if angles:
-            # The wrapped difference, against the larger of the two values' own 0.5 %: an angle
-            # given whole turns away (6.28 for 0) is rounded on its own magnitude, not on 0's.
+            # The wrapped difference; an angle given whole turns away (6.28 for 0) was rounded on
+            # its own magnitude, so 0.5 % of it (up to two turns, never widened by ``factor``) passes.
             diff = (diff + np.pi) % (2 * np.pi) - np.pi
-            scale = np.maximum(scale, rel_tol * np.abs(g))
-        return bool(np.all(np.abs(diff) <= factor * scale))
+            scale = np.maximum(scale, rel_tol * np.minimum(np.abs(g), 4 * np.pi))
+        return bool(np.all(np.abs(diff) <= scale))
 
 
 def _distance(a: np.ndarray, b: np.ndarray, angles: bool) -> float:
