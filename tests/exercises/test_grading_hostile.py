@@ -141,6 +141,18 @@ def _tree_digest(folder: Path) -> str:
     return digest.hexdigest()
 
 
+def _sandboxes_left() -> list[int]:
+    """Processes of this machine still running a submission (a forked child of one included)."""
+    left = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            if b"serve_submission" in Path(f"/proc/{pid}/cmdline").read_bytes():
+                left.append(int(pid))
+        except OSError:
+            pass
+    return left
+
+
 def _grade(*args) -> tuple[int, str, str]:
     out, err = io.StringIO(), io.StringIO()
     old = sys.stdout, sys.stderr
@@ -174,7 +186,8 @@ def test_hostile_submissions_leave_the_key_classmates_package_and_later_students
                                                  'def h(a, b, shape):\n    seen.append((a, b, shape))\n'
                                                  '    return search.toroidal_manhattan(a, b, shape)\n'
                                                  'answers = {"1.1": [1.5708, 0, 0], "5.2": h}\n')
-    (subs / "m_forks.py").write_text("import os\nfor _ in range(10000):\n    try:\n        os.fork()\n"
+    (subs / "m_forks.py").write_text("import os, time\nfor _ in range(10000):\n    try:\n"
+                                     "        if os.fork() == 0:\n            time.sleep(10**6)\n"
                                      "    except OSError:\n        break\n" + HONEST)
     (subs / "m_fills_disk.py").write_text("open('/tmp/big', 'wb').write(b'0' * 2**28)\n" + HONEST)
     (subs / "zz_victim.py").write_text(HONEST)
@@ -186,6 +199,7 @@ def test_hostile_submissions_leave_the_key_classmates_package_and_later_students
     code, out, err = _grade(subs, "--exercises", "1.1,5.2:2", "--roster", roster, "--key", key,
                             "--out", tmp_path / "grades.csv", "--feedback", fb, "--time", "20")
     assert code == 0, err
+    assert not _sandboxes_left(), "a submission's processes outlived its grading"
     rows = list(csv.DictReader((tmp_path / "grades.csv").open()))
     verdicts = {(r["student"], r["exercise"]): r["verdict"] for r in rows}
     assert {r["student"] for r in rows} == set(students)
