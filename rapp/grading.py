@@ -421,23 +421,43 @@ def _binds() -> list[str]:
         if p != "/" and not p.startswith("/usr/"):
             args += ["--ro-bind", p, p]
     args += ["--ro-bind", os.path.dirname(os.path.abspath(rapp.__file__)), "/opt/rapp/rapp"]
-    return args
+    # The folders leading to each mount, made first and open to user 65534 (bwrap's own are 0700).
+    targets = [args[i + 2] for i, a in enumerate(args) if a in ("--ro-bind", "--ro-bind-try")]
+    parents = sorted({str(p) for t in targets for p in Path(t).parents if str(p) != "/"}, key=len)
+    made = []
+    for folder in parents:
+        made += ["--perms", "0755", "--dir", folder]
+    return made + args
 
 
 def _bwrap_argv(bwrap: str, submission: Path | None, inner_name: str) -> list[str]:
-    """The bubblewrap command line around a child (see the module docstring)."""
-    argv = [bwrap, "--unshare-user", "--uid", "65534", "--gid", "65534", "--unshare-pid", "--unshare-ipc",
-            "--unshare-net", "--unshare-uts", "--unshare-cgroup-try", "--hostname", "sandbox",
-            "--die-with-parent", "--new-session", "--disable-userns", "--cap-drop", "ALL",
+    """The bubblewrap command line around a child (see the module docstring), ending with the
+    command that drops to user 65534 where the grader is root.
+
+    As root, bwrap makes the namespaces itself and ``setpriv`` then becomes user 65534 with no
+    capabilities: a real unprivileged user, whom the kernel holds to the process limit (a user
+    namespace mapped onto root would be exempt from it). Otherwise a user namespace maps the
+    grader's user to 65534 inside.
+    """
+    if os.geteuid() == 0:
+        user = ["--unshare-pid"]
+        drop = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "--inh-caps=-all",
+                "--bounding-set=-all", "--nnp", "--"]
+    else:
+        user = ["--unshare-user", "--uid", "65534", "--gid", "65534", "--disable-userns", "--cap-drop", "ALL",
+                "--unshare-pid"]
+        drop = []
+    argv = [bwrap, *user, "--unshare-ipc", "--unshare-net", "--unshare-uts", "--unshare-cgroup-try",
+            "--hostname", "sandbox", "--die-with-parent", "--new-session",
             *_binds(), "--proc", "/proc", "--dev", "/dev",
-            "--size", str(256 * 2**20), "--tmpfs", "/tmp", "--size", str(256 * 2**20), "--tmpfs", "/home/student",
-            "--dir", "/submission"]
+            "--perms", "1777", "--size", str(256 * 2**20), "--tmpfs", "/tmp",
+            "--perms", "0777", "--size", str(256 * 2**20), "--tmpfs", "/home/student", "--dir", "/submission"]
     if submission is not None:
         argv += ["--ro-bind", str(submission), f"/submission/{inner_name}"]
     argv += ["--chdir", "/home/student", "--clearenv"]
     for k, v in _child_env(True).items():
         argv += ["--setenv", k, v]
-    return argv
+    return argv + drop
 
 
 def _child_env(isolated: bool) -> dict:
@@ -483,7 +503,7 @@ def serve_submission(argv: list[str]) -> None:
     exercises (:data:`SOLVED_BY`), executes the submission and answers the grader's questions on
     the two pipes; it is not meant to be called in a process of one's own.
     """
-    from rapp.exercises.sandbox import Limits, _start_cpu_budget, confine, send_message, serve, to_plain
+    from rapp.exercises.sandbox import Limits, start_cpu_budget, confine, send_message, serve, to_plain
 
     path, rfd, wfd = argv[0], int(argv[1]), int(argv[2])
     config = json.loads(argv[3])
@@ -496,7 +516,7 @@ def serve_submission(argv: list[str]) -> None:
     try:
         import rapp.exercises  # noqa: F401  (loads the modules whose functions are guarded)
         _guard_solutions(config.get("solves", {}))
-        _start_cpu_budget(config["run"])
+        start_cpu_budget(config["run"])
         namespace, notes = _execute(Path(path))
         answers = _answers_of(namespace)
         for ex_id in config.get("solves", {}):
@@ -702,6 +722,7 @@ class _Submission:
         copy = Path(self._tmp) / inner
         with open(self.path, "rb") as src, open(copy, "wb") as dst:  # a bounded copy, never a link
             dst.write(src.read(MAX_SUBMISSION + 1)[:MAX_SUBMISSION])
+        os.chmod(copy, 0o644)  # user 65534 reads it; the folder around it stays the grader's (0700)
         p_read, c_write = os.pipe()
         c_read, p_write = os.pipe()
         cpu = self.limits.run + self.budget + 10
@@ -1134,8 +1155,10 @@ def run(args, out, err) -> int:
     if not limits.isolate:
         print(f"rapp: warning: {_REACH}.", file=err)
     failed: list[str] = []
+    results: list[StudentResult] = []  # everyone graded so far: written even if the run stops
 
     def progress(r: StudentResult) -> None:
+        results.append(r)
         try:
             write_feedback(r, Path(args.feedback))
             if fmt == "gradescope":
@@ -1147,9 +1170,8 @@ def run(args, out, err) -> int:
         print(line, file=out, flush=True)
 
     skipped: list[str] = []
-    results: list[StudentResult] = []
     try:
-        results = grade_class(folder, weights, roster, limits, progress, key, skipped)
+        grade_class(folder, weights, roster, limits, progress, key, skipped)
     finally:
         key = None
         if fmt == "csv":

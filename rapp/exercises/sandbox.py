@@ -45,7 +45,8 @@ from typing import Any
 import numpy as np
 
 __all__ = ["Limits", "Sandbox", "Remote", "Opaque", "Redacted", "SandboxError", "Raised", "TimedOut", "Died",
-           "MAX_MESSAGE", "bounded", "error_class", "to_plain", "from_plain", "confine", "serve", "send_message"]
+           "MAX_MESSAGE", "bounded", "error_class", "to_plain", "from_plain", "confine", "start_cpu_budget", "serve",
+           "send_message"]
 
 MAX_MESSAGE = 2000
 """Characters: the longest message a verdict carries (an exception's text is cut to fit)."""
@@ -397,7 +398,7 @@ def confine(limits: Limits) -> None:
     _install_seccomp()
 
 
-def _start_cpu_budget(seconds: float) -> None:
+def start_cpu_budget(seconds: float) -> None:
     """From now on the child may spend ``seconds`` more of CPU time (soft RLIMIT_CPU; the hard
     limit :func:`confine` set still bounds its whole life). Past it the kernel sends SIGXCPU."""
     import resource
@@ -452,7 +453,7 @@ def serve(objects: Any, rfd: int, wfd: int) -> None:
         except BaseException:
             return
         if budget is not None:
-            _start_cpu_budget(budget)
+            start_cpu_budget(budget)
         try:
             if op == "keys":
                 reply = {"ok": to_plain([str(k) for k in objects.keys()])}

@@ -382,3 +382,26 @@ def test_gradescope_and_canvas_formats(tmp_path):
     rows = list(csv.reader((tmp_path / "canvas.csv").open()))
     assert rows[0] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "Homework 3"]
     assert rows[1][0].strip() == "Points Possible" and rows[1][-1] == "3" and rows[2] == ["ann", "", "", "ann", "", "1"]
+
+
+def test_every_function_said_to_solve_an_exercise_exists_and_the_exercise_is_implement():
+    from rapp.exercises import catalog
+    from rapp.grading import SOLVED_BY, _resolve  # noqa: the test reads the table as the child does
+
+    kinds = {ex.id: ex.kind for ex in catalog()}
+    assert set(SOLVED_BY) == {i for i, k in kinds.items() if k == "implement"}
+    for ex_id, names in SOLVED_BY.items():
+        for dotted in names:
+            owner, attr, obj = _resolve(dotted)
+            assert callable(getattr(owner, attr)), dotted
+
+
+@needs_bwrap
+@pytest.mark.slow
+def test_an_answer_that_is_rapps_own_function_scores_nothing(tmp_path):
+    path = tmp_path / "lazy.py"
+    path.write_text("import rapp\nanswers = {'1.5': rapp.wrap_angle, '5.2': lambda a, b, s: "
+                    "rapp.exercises.ch05.search.toroidal_manhattan(a, b, s)}\n")
+    r = grade_submission(path, {"1.5": 1.0, "5.2": 1.0}, GradeLimits(run=20))
+    assert [row[3] for row in r.rows] == ["wrong", "wrong"]
+    assert all("delegates to rapp" in row[4] for row in r.rows), r.rows
