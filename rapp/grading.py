@@ -4,8 +4,9 @@
 
 A submission is a notebook (``.ipynb``) or a Python file (``.py``) named after the student
 (``alice.ipynb`` is student ``alice``). Each runs in its own sandbox, isolated by the operating
-system with bubblewrap (``bwrap``): its own user, process, IPC, network, UTS and mount
-namespaces, an unprivileged user id, its own ``/proc``, a read-only view of the Python
+system with bubblewrap (``bwrap``): its own process, IPC, network, UTS and mount namespaces, as
+the unprivileged user 65534 (a user namespace maps it, or, where the grader is root, ``setpriv``
+becomes it with no capabilities), its own ``/proc``, a read-only view of the Python
 environment and of the rapp package, private ``/tmp`` and home folders, and of the class only
 its own file (a copy). Inside, the limits of :mod:`rapp.exercises.sandbox` apply as a second
 layer: CPU time (so a loaded machine never fails a correct answer; a generous wall-clock
@@ -749,7 +750,8 @@ class _Submission:
         try:
             ready = self.box.receive()
         except SandboxError as exc:
-            self.error = (f"did not finish running within {self.limits.run:g} s of CPU time"
+            self.error = (f"did not finish running within {self.limits.run:g} s of CPU time (or "
+                          f"{wall_backstop(self.limits.run):g} s of waiting)"
                           if "no answer within" in str(exc) or "CPU" in str(exc) or "XCPU" in str(exc)
                           else f"stopped while running: {exc}")
             self.close()
@@ -890,7 +892,8 @@ def _grade_into(result: StudentResult, path: Path, items: list, limits: GradeLim
             if ex_id in SOLVED_BY and "DelegatesToRapp" in message:
                 verdict, message = None, _delegation_message(ex_id)
             elif "did not finish within" in message or "used up its CPU time" in message:
-                message = message.replace(f"within {ex.time_limit:g} s", f"within {ex.time_limit:g} s of CPU time")
+                message = message.replace(f"within {ex.time_limit:g} s", f"within {ex.time_limit:g} s of CPU time "
+                                          f"(or {wall_backstop(ex.time_limit):g} s of waiting)")
             result.rows.append((ex_id, weight if verdict else 0.0, weight,
                                 "correct" if verdict else "wrong", message))
             if sub.box.dead:  # the answer hung or ended the process: start it again for the next one

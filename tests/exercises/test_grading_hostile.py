@@ -142,14 +142,20 @@ def _tree_digest(folder: Path) -> str:
 
 
 def _sandboxes_left() -> list[int]:
-    """Processes of this machine still running a submission (a forked child of one included)."""
-    left = []
-    for pid in filter(str.isdigit, os.listdir("/proc")):
-        try:
-            if b"serve_submission" in Path(f"/proc/{pid}/cmdline").read_bytes():
-                left.append(int(pid))
-        except OSError:
-            pass
+    """Processes still running a submission as user 65534 (a forked child of one included), after
+    a few seconds for the kernel to end what a closed sandbox held."""
+    for _ in range(50):
+        left = []
+        for pid in filter(str.isdigit, os.listdir("/proc")):
+            try:
+                if os.stat(f"/proc/{pid}").st_uid == 65534 and \
+                        b"serve_submission" in Path(f"/proc/{pid}/cmdline").read_bytes():
+                    left.append(int(pid))
+            except OSError:
+                pass
+        if not left:
+            return left
+        time.sleep(0.1)
     return left
 
 
