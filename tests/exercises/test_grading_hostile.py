@@ -195,7 +195,9 @@ def test_hostile_submissions_leave_the_key_classmates_package_and_later_students
     (subs / "m_forks.py").write_text("import os, time\nfor _ in range(10000):\n    try:\n"
                                      "        if os.fork() == 0:\n            time.sleep(10**6)\n"
                                      "    except OSError:\n        break\n" + HONEST)
-    (subs / "m_fills_disk.py").write_text("open('/tmp/big', 'wb').write(b'0' * 2**28)\n" + HONEST)
+    (subs / "m_fills_disk.py").write_text("for i in range(8):\n    try:\n"
+                                          "        open(f'/tmp/big{i}', 'wb').write(b'0' * 2**27)\n"
+                                          "    except OSError:\n        pass\n" + HONEST)
     (subs / "zz_victim.py").write_text(HONEST)
     victim_before = (subs / "zz_victim.py").read_bytes()
     students = sorted(p.stem for p in subs.iterdir())
@@ -356,9 +358,8 @@ def _busy(seconds: float) -> subprocess.Popen:
 def test_a_class_graded_under_a_cpu_hog_judges_every_honest_answer_right(tmp_path):
     subs = tmp_path / "subs"
     subs.mkdir()
-    honest = GD1 + ('from rapp.arm import wrap_angle\nimport numpy as np\n'
-                    'def wrap(a):\n    return float((a + np.pi) % (2 * np.pi) - np.pi) if (a + np.pi) % (2 * np.pi) '
-                    '!= 0 else float(np.pi)\n'
+    honest = GD1 + ('import numpy as np\n'
+                    'def wrap(a):\n    return float((a + np.pi) % (2 * np.pi) - np.pi)\n'
                     'answers = {"5.1": 71, "5.2": h, "5.3": 15, "1.5": wrap}\n')
     for i in range(5):
         (subs / f"s{i}.py").write_text(honest)
