@@ -19,6 +19,7 @@ __all__ = ["EXERCISES"]
 
 #: The arm and the configuration of Exercises 2.1 and 2.2.
 _LENGTHS = (1.0, 0.8, 0.5)
+_REACH_LENGTHS = (1.2, 0.7, 0.6)  # 2.1's arm: not one whose reach the chapter prints
 _Q = (np.pi / 2, -np.pi / 2, np.pi / 2)
 
 
@@ -142,16 +143,16 @@ EXERCISES = (
     Exercise(
         "2.1", 2, "numeric", "The reach of a three-link arm", 1,
         "a pair (r_min, r_max) in metres",
-        numeric(lambda: Arm(_LENGTHS).reach,
-                mistakes=[(lambda: (2 * max(_LENGTHS) - sum(_LENGTHS), sum(_LENGTHS)),
+        numeric(lambda: Arm(_REACH_LENGTHS).reach,
+                mistakes=[(lambda: (2 * max(_REACH_LENGTHS) - sum(_REACH_LENGTHS), sum(_REACH_LENGTHS)),
                            "a radius is never negative: when the longest link is shorter than the others "
                            "together, the inner radius is 0."),
-                          (lambda: (abs(_LENGTHS[0] - _LENGTHS[1]), sum(_LENGTHS)),
+                          (lambda: (abs(_REACH_LENGTHS[0] - _REACH_LENGTHS[1]), sum(_REACH_LENGTHS)),
                            "that inner radius is the two-link formula |L1 - L2|; this arm has three links."),
-                          (lambda: (abs(_LENGTHS[0] - _LENGTHS[1] - _LENGTHS[2]), sum(_LENGTHS)),
+                          (lambda: (abs(_REACH_LENGTHS[0] - _REACH_LENGTHS[1] - _REACH_LENGTHS[2]), sum(_REACH_LENGTHS)),
                            "links 2 and 3 need not both fold back along link 1: they can bend towards "
                            "each other and close a triangle."),
-                          (lambda: Arm(_LENGTHS).reach[::-1], "the order is (r_min, r_max).")],
+                          (lambda: Arm(_REACH_LENGTHS).reach[::-1], "the order is (r_min, r_max).")],
                 hint="r_max is the arm stretched out; for r_min fold the longest link back on the others."),
     ),
     Exercise(

@@ -89,6 +89,9 @@ def _compare_hit(got, want, args) -> str | None:
 
 # --- 3.3: a false collision of the MIS --------------------------------------------------------
 
+_CHAPTER_LINK = ((0.0, 0.0), (1.0, 0.0))  # the chapter's worked example and explorer use this link
+
+
 def _judge_mis_counterexample(answer) -> Judgement:
     """``(a, b, center, radius)``: the MIS's line test reports a hit, the segment is clear."""
     if answer is None:
@@ -107,6 +110,10 @@ def _judge_mis_counterexample(answer) -> Judgement:
     if not np.any(a != b):
         return Judgement(False, "a and b are the same point: the MIS's formula divides by the link's "
                                 "length, which is 0; a link has a length.")
+    if np.allclose(a, _CHAPTER_LINK[0]) and np.allclose(b, _CHAPTER_LINK[1]) or \
+            np.allclose(a, _CHAPTER_LINK[1]) and np.allclose(b, _CHAPTER_LINK[0]):
+        return Judgement(False, "that is the chapter's link from (0, 0) to (1, 0); construct your own "
+                                "case, on a link of your own, as the exercise asks.")
     line = float(line_distance_mis(a, b, center))
     seg = float(segment_point_distance(a, b, center))
     if line > radius:

@@ -158,7 +158,14 @@ TOLERANCE = ("*Precision:* give at least three significant figures: an answer wi
 """The tolerance policy, as every exercise with a real-valued answer prints it."""
 
 TOLERANCE_ANGLES = TOLERANCE[:-1] + "; angles may differ by whole turns."
-"""The policy of an exercise whose answer is made of angles."""
+"""The policy of an exercise whose answer is made of angles, as the book prints it; in full, the
+*angular tolerance* (:func:`close` with ``angles``):
+
+An angle ``a`` is right for the exact ``w`` when
+``|wrap(a - w)| <= max(0.005 |w|, 0.005 min(|a|, 4 pi), 0.0005)``:
+an answer rounded to three significant figures passes even when it is given whole turns away
+(``6.28`` for ``0``, ``-4.71`` for ``pi / 2``), because its rounding is 0.5 % of its own size.
+"""
 
 TOLERANCE_COUNT = "*Precision:* a whole number, exactly."
 """The policy of an exercise whose answer is a count."""
@@ -174,15 +181,21 @@ def close(got: Any, want: Any, factor: float = 1.0, *, angles: bool = False,
     (True, True, False)
     >>> close(1.4, 2 ** 0.5, CLOSE_FACTOR), close(np.pi / 2 + 2 * np.pi, np.pi / 2, angles=True)
     (True, True)
+    >>> close([6.28, 1.57, -4.71], [0.0, np.pi / 2, np.pi / 2], angles=True)
+    True
     """
     g, w = np.asarray(got, dtype=float), np.asarray(want, dtype=float)
     if g.shape != w.shape:
         return False
     diff = g - w
-    if angles:
-        diff = (diff + np.pi) % (2 * np.pi) - np.pi
     with np.errstate(invalid="ignore", over="ignore"):
-        return bool(np.all(np.abs(diff) <= factor * np.maximum(rel_tol * np.abs(w), abs_tol)))
+        scale = factor * np.maximum(rel_tol * np.abs(w), abs_tol)
+        if angles:
+            # The wrapped difference; an angle given whole turns away (6.28 for 0) was rounded on
+            # its own magnitude, so 0.5 % of it (up to two turns, never widened by ``factor``) passes.
+            diff = (diff + np.pi) % (2 * np.pi) - np.pi
+            scale = np.maximum(scale, rel_tol * np.minimum(np.abs(g), 4 * np.pi))
+        return bool(np.all(np.abs(diff) <= scale))
 
 
 def _distance(a: np.ndarray, b: np.ndarray, angles: bool) -> float:

@@ -44,8 +44,9 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Limits", "Sandbox", "Remote", "Opaque", "SandboxError", "Raised", "TimedOut", "Died",
-           "MAX_MESSAGE", "bounded", "to_plain", "from_plain", "confine", "serve", "send_message"]
+__all__ = ["Limits", "Sandbox", "Remote", "Opaque", "Redacted", "SandboxError", "Raised", "TimedOut", "Died",
+           "MAX_MESSAGE", "bounded", "error_class", "to_plain", "from_plain", "confine", "start_cpu_budget", "serve",
+           "send_message"]
 
 MAX_MESSAGE = 2000
 """Characters: the longest message a verdict carries (an exception's text is cut to fit)."""
@@ -94,11 +95,17 @@ class Limits:
         Seconds of CPU time (default: ``wall`` + 1).
     memory : int
         Bytes of address space the child may add to what it starts with.
+    files, processes, file_size : int or None
+        Open files, processes (of the child's user, counted by the kernel) and bytes per written
+        file; None leaves the limit as it is (what a reader's own ``check`` does).
     """
 
     wall: float = 5.0
     cpu: float | None = None
     memory: int = 1 << 30
+    files: int | None = None
+    processes: int | None = None
+    file_size: int | None = None
 
 
 @dataclass(frozen=True)
@@ -190,10 +197,40 @@ def _nd_items(arr: np.ndarray) -> Any:
     return arr.tolist()
 
 
-def from_plain(data: Any, depth: int = 0) -> Any:
+class Redacted(str):
+    """A string the child sent, kept out of every message: its text is empty, its repr says
+    only how long it was (what :func:`from_plain` gives for a string when ``redact``)."""
+
+    def __new__(cls, length: int):
+        self = super().__new__(cls, "")
+        self.length = int(length)
+        return self
+
+    def __repr__(self) -> str:
+        return f"<a string of {self.length} characters>"
+
+    __str__ = __repr__
+
+
+def error_class(text: Any) -> str:
+    """The exception's class name at the start of ``"Type: message"``, and nothing the
+    reader's code wrote: letters, digits, ``_`` and ``.``, at most 60 characters.
+
+    Examples
+    --------
+    >>> error_class("ValueError: the key is 0123abcd"), error_class("<script>: x")
+    ('ValueError', 'an exception')
+    """
+    import re
+    m = re.match(r"[A-Za-z_][A-Za-z0-9_.]{0,59}(?=:|$)", str(text))
+    return m.group(0) if m else "an exception"
+
+
+def from_plain(data: Any, depth: int = 0, redact: bool = False) -> Any:
     """Rebuild in the parent what :func:`to_plain` sent: fresh builtins, arrays and rapp values.
 
-    Anything malformed raises ``ValueError``.
+    Anything malformed raises ``ValueError``. With ``redact``, every string is a
+    :class:`Redacted` and an opaque object keeps only its (sanitised) type name.
 
     Examples
     --------
@@ -202,28 +239,30 @@ def from_plain(data: Any, depth: int = 0) -> Any:
     """
     if depth > _MAX_DEPTH + 2:
         raise ValueError("nested too deeply")
+    if isinstance(data, str) and redact:
+        return Redacted(len(data))
     if data is None or isinstance(data, (bool, int, str)):
         return data
     if isinstance(data, float):
         return data
     if isinstance(data, list):
-        return [from_plain(v, depth + 1) for v in data]
+        return [from_plain(v, depth + 1, redact) for v in data]
     if not isinstance(data, dict):
         raise ValueError(f"not plain data: {type(data).__name__}")
     tag = data.get("$")
     if tag == "float":
         return float(data["v"])
     if tag == "tuple":
-        return tuple(from_plain(v, depth + 1) for v in data["v"])
+        return tuple(from_plain(v, depth + 1, redact) for v in data["v"])
     if tag == "dict":
         out = {}
         for k, v in data["v"]:
-            key = from_plain(k, depth + 1)
+            key = from_plain(k, depth + 1, redact)
             try:
                 hash(key)
             except TypeError:
                 key = repr(key)
-            out[key] = from_plain(v, depth + 1)
+            out[key] = from_plain(v, depth + 1, redact)
         return out
     if tag in ("nd", "npscalar"):
         dtype = np.dtype(str(data["dtype"]))
@@ -237,7 +276,7 @@ def from_plain(data: Any, depth: int = 0) -> Any:
         return arr.reshape(shape)
     if tag == "ndobj":
         shape = tuple(int(s) for s in data["shape"])
-        flat = [from_plain(v, depth + 1) for v in data["v"]]
+        flat = [from_plain(v, depth + 1, redact) for v in data["v"]]
         arr = np.empty(len(flat), dtype=object)
         arr[:] = flat
         return arr.reshape(shape)
@@ -247,16 +286,19 @@ def from_plain(data: Any, depth: int = 0) -> Any:
         try:
             return load_scenario(mapping)
         except Exception:  # the judge loads it again and says what is wrong with it
-            return mapping
+            return Opaque("Scenario", "<a scenario that does not load>") if redact else mapping
     if tag == "rapp":
         from rapp.arm import Arm
         from rapp.obstacles import Circle, Polygon
         kind = {"Circle": Circle, "Polygon": Polygon, "Arm": Arm}[str(data["type"])]
-        args = [from_plain(v, depth + 1) for v in data["v"]]
+        args = [from_plain(v, depth + 1, redact) for v in data["v"]]
         if kind is Arm and args[1] is not None:
             args[1] = [tuple(lim) if lim is not None else None for lim in args[1]]
         return kind(*args)
     if tag == "opaque":
+        if redact:
+            name = error_class(data["type"])
+            return Opaque(name, f"<{name}>")
         return Opaque(bounded(str(data["type"]), 100), bounded(str(data["repr"]), 200))
     raise ValueError(f"unknown tag {tag!r}")
 
@@ -346,7 +388,29 @@ def confine(limits: Limits) -> None:
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
     except (ValueError, OSError):
         pass
+    for name, value in (("RLIMIT_NOFILE", limits.files), ("RLIMIT_NPROC", limits.processes),
+                        ("RLIMIT_FSIZE", limits.file_size)):
+        if value is not None:
+            try:  # soft and hard alike: the reader's code cannot raise them again
+                resource.setrlimit(getattr(resource, name), (int(value), int(value)))
+            except (ValueError, OSError, AttributeError):
+                pass
     _install_seccomp()
+
+
+def start_cpu_budget(seconds: float) -> None:
+    """From now on the child may spend ``seconds`` more of CPU time (soft RLIMIT_CPU; the hard
+    limit :func:`confine` set still bounds its whole life). Past it the kernel sends SIGXCPU."""
+    import resource
+    try:
+        used = resource.getrusage(resource.RUSAGE_SELF)
+        soft, hard = resource.getrlimit(resource.RLIMIT_CPU)
+        want = max(1, math.ceil(used.ru_utime + used.ru_stime + float(seconds)))
+        if hard != resource.RLIM_INFINITY:
+            want = min(want, hard)
+        resource.setrlimit(resource.RLIMIT_CPU, (want, hard))
+    except (ValueError, OSError, TypeError):
+        pass
 
 
 def _read_exact(fd: int, n: int) -> bytes:
@@ -385,9 +449,11 @@ def serve(objects: Any, rfd: int, wfd: int) -> None:
     while True:
         try:
             (n,) = struct.unpack("<Q", _read_exact(rfd, 8))
-            op, key, args = pickle.loads(_read_exact(rfd, n))
+            op, key, args, budget = pickle.loads(_read_exact(rfd, n))
         except BaseException:
             return
+        if budget is not None:
+            start_cpu_budget(budget)
         try:
             if op == "keys":
                 reply = {"ok": to_plain([str(k) for k in objects.keys()])}
@@ -441,10 +507,23 @@ class Sandbox:
     the child's whole process group and raises :class:`TimedOut`.
     """
 
-    def __init__(self, pid: int, rfd: int, wfd: int, limits: Limits, popen: Any = None):
+    def __init__(self, pid: int, rfd: int, wfd: int, limits: Limits, popen: Any = None, *,
+                 redact: bool = False, exit_codes: bool = False):
         self.pid, self._rfd, self._wfd, self.limits, self.popen = pid, rfd, wfd, limits, popen
         self.deadline = time.monotonic() + limits.wall
         self.dead: str | None = None
+        # redact: nothing the child wrote as text reaches a message (an exception's class
+        # excepted); exit_codes: the child is a wrapper (bubblewrap) that reports its command's
+        # death by a signal as the exit code 128 + signal.
+        self.redact, self.exit_codes = redact, exit_codes
+        self._budget: float | None = None
+
+    def start_budget(self, cpu_seconds: float, wall_seconds: float) -> None:
+        """The next requests share ``cpu_seconds`` of the child's CPU time (counted in the child,
+        so a loaded machine costs the reader nothing) and a wall-clock backstop."""
+        self._budget = float(cpu_seconds)
+        self._budget_cpu = float(cpu_seconds)
+        self.deadline = time.monotonic() + float(wall_seconds)
 
     @classmethod
     def of(cls, objects: dict, limits: Limits) -> "Sandbox":
@@ -468,9 +547,10 @@ class Sandbox:
         return cls(pid, p_read, p_write, limits)
 
     @classmethod
-    def attach(cls, popen: Any, rfd: int, wfd: int, limits: Limits) -> "Sandbox":
+    def attach(cls, popen: Any, rfd: int, wfd: int, limits: Limits, *, redact: bool = False,
+               exit_codes: bool = False) -> "Sandbox":
         """Wrap a child started with :class:`subprocess.Popen` that runs :func:`serve`."""
-        return cls(popen.pid, rfd, wfd, limits, popen)
+        return cls(popen.pid, rfd, wfd, limits, popen, redact=redact, exit_codes=exit_codes)
 
     def __enter__(self) -> "Sandbox":
         return self
@@ -482,9 +562,10 @@ class Sandbox:
         if self.dead:
             raise Died(self.dead)
         try:
-            payload = pickle.dumps((op, key, args))
+            payload = pickle.dumps((op, key, args, self._budget))
         except Exception as exc:
             raise Died(f"the arguments could not be sent ({type(exc).__name__})") from None
+        self._budget = None
         try:
             send_message(self._wfd, payload)
         except OSError:
@@ -493,12 +574,16 @@ class Sandbox:
         reply = self.receive()
         if "ok" in reply:
             try:
-                return from_plain(reply["ok"])
+                value = from_plain(reply["ok"], redact=self.redact)
             except Exception as exc:
                 self._kill("malformed reply")
-                raise Died(f"it sent something that is not plain data ({bounded(exc, 200)})") from None
+                raise Died("it sent something that is not plain data"
+                           + ("" if self.redact else f" ({bounded(exc, 200)})")) from None
+            if self.redact and op == "signature" and value is not None:
+                return f"your function cannot be called as {args[0]}."
+            return value
         if "raised" in reply:
-            raise Raised(bounded(str(reply["raised"])))
+            raise Raised(error_class(reply["raised"]) if self.redact else bounded(str(reply["raised"])))
         if "big" in reply:
             raise Raised(f"ValueError: the value is too large to check ({reply['big']:,} bytes)")
         self._kill("malformed reply")
@@ -551,11 +636,15 @@ class Sandbox:
             return "it closed its connection to the checker"
         if os.WIFSIGNALED(status):
             sig = os.WTERMSIG(status)
-            if sig in (signal.SIGXCPU, signal.SIGKILL) and self._cpu_spent():
+            if sig == signal.SIGXCPU or sig == signal.SIGKILL and self._cpu_spent():
                 return "it used up its CPU time"
             return f"it was ended by signal {signal.Signals(sig).name}" if sig in signal.Signals._value2member_map_ \
                 else f"it was ended by signal {sig}"
         code = os.WEXITSTATUS(status)
+        if self.exit_codes and code == 128 + signal.SIGXCPU:
+            return "it used up its CPU time"
+        if self.exit_codes and code > 128 and code - 128 in signal.Signals._value2member_map_:
+            return f"it was ended by signal {signal.Signals(code - 128).name}"
         return f"it ended the process (exit code {code}; did it call exit?)"
 
     def _cpu_spent(self) -> bool:

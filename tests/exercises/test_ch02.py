@@ -17,12 +17,13 @@ def _tip_along(lengths, angles):
 
 
 def test_2_1_reach(book_exercises):
-    assert check("2.1", (0, 2.3))
-    assert "(0, 2.3)" in book_exercises["2.1"]["solution"]
-    assert "never negative" in check("2.1", (-0.3, 2.3)).message
-    assert "two-link formula" in check("2.1", (0.2, 2.3)).message
-    assert "close a triangle" in check("2.1", (0.3, 2.3)).message
-    assert "order" in check("2.1", (2.3, 0)).message
+    assert check("2.1", (0, 2.5))
+    assert not check("2.1", (0, 2.3))  # the reach of (1, 0.8, 0.5), which the chapter prints, is not 2.1's
+    assert "(0, 2.5)" in book_exercises["2.1"]["solution"]
+    assert "never negative" in check("2.1", (-0.1, 2.5)).message
+    assert "two-link formula" in check("2.1", (0.5, 2.5)).message
+    assert "close a triangle" in check("2.1", (0.1, 2.5)).message
+    assert "order" in check("2.1", (2.5, 0)).message
     assert "2 numbers" in check("2.1", 2.3).message
 
 

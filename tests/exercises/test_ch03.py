@@ -65,7 +65,10 @@ def test_3_2_model_function_passes_and_slips_fail(solution):
 def test_3_3_mis_counterexample(solution):
     verdict = check("3.3", solution("3.3")["answer"])
     assert verdict and "false collision" in verdict.message.lower()
-    assert check("3.3", ((0, 0), (1, 0), (1.6, 0.1), 0.3))            # the chapter's own example
+    own = check("3.3", ((0, 0), (1, 0), (1.6, 0.1), 0.3))             # the chapter's own example
+    assert not own and "your own" in own.message
+    assert not check("3.3", ((1, 0), (0, 0), (1.5, 0.0), 0.3))         # the explorer's, link reversed
+    assert check("3.3", ((0, 0), (2, 0), (2.6, 0.1), 0.3))             # the same idea on another link
     real = check("3.3", ((0, 0), (2, 0), (1, 0.1), 0.5))              # the MIS is right here
     assert not real and "really meets" in real.message
     far = check("3.3", ((0, 0), (2, 0), (3, 1), 0.5))                 # no collision claimed at all

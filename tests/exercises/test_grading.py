@@ -108,9 +108,12 @@ def test_a_class_of_30_is_graded_in_bounded_time(tmp_path):
     assert "ended" in feedback and "Exercise 5.3 (1/1, correct)" in feedback
     assert "SyntaxError" in (tmp_path / "fb" / "s08_syntax.txt").read_text()
     assert "not a notebook" in (tmp_path / "fb" / "s28_not_json.txt").read_text()
+    assert "while running: cell" in (tmp_path / "fb" / "s27_notebook.txt").read_text()
     assert all(len(line) <= 2200 for f in (tmp_path / "fb").iterdir() for line in f.read_text().splitlines())
     print(f"30 students in {elapsed:.1f} s ({elapsed / 30:.2f} s per student)")
-    assert elapsed < 300
+    # The limits are CPU time, so a loaded machine stretches the wall clock (about 250 s at a load
+    # of 25 on two cores); a hang would hold on to its wall-clock backstops far longer.
+    assert elapsed < 600
 
 
 def test_one_submission_and_the_inputs():
