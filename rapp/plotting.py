@@ -63,6 +63,8 @@ __all__ = [
     "plot_polynomials",
     "plot_segment_circle",
     "split_at_seam",
+    "legend_outside",
+    "plot_ratios",
     "animate",
     "save_gif",
     "animation_html",
@@ -296,6 +298,68 @@ def _legend(ax, **kwargs):
     kwargs.setdefault("fontsize", "small")
     kwargs.setdefault("framealpha", 0.9)
     ax.legend(**kwargs)
+    return style_axes(ax)
+
+
+def legend_outside(ax, extra=()):
+    """The legend of ``ax`` (plus the artists ``extra``) to the right of the axes, covering nothing.
+
+    ``extra`` holds handles the axes did not draw (a patch standing for an image's colour, say);
+    each gives its label. Returns ``ax``.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> ax = Figure().subplots()
+    >>> _ = ax.plot([0, 1], [0, 1], label="path")
+    >>> ax = legend_outside(ax, [patches.Patch(color="0.3", label="obstacle")])
+    >>> [t.get_text() for t in ax.get_legend().get_texts()]
+    ['path', 'obstacle']
+    """
+    handles, labels = ax.get_legend_handles_labels()
+    ax.legend(handles + list(extra), labels + [p.get_label() for p in extra],
+              loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
+    return style_axes(ax)
+
+
+def plot_ratios(labels, ratios, goals, ax=None, *, fmt=None):
+    """Horizontal bars of speed ratios (a peer's time over rapp's) on a log axis, with goal ticks.
+
+    Bars start at 1 (parity): to the right rapp is faster. A bar is blue where its ratio meets its
+    goal, red where it misses it and grey where ``goals`` holds ``None`` (no goal set); a black
+    tick marks each goal. ``fmt`` writes the ratio at a bar's end (default: two significant
+    digits). The first label is drawn at the top. Returns ``ax``.
+
+    Examples
+    --------
+    >>> ax = plot_ratios(["grid", "search"], [12.0, 0.8], [4, None])
+    >>> [round(float(b.get_width()) + 1, 6) for b in ax.patches]   # bar ends: the ratios
+    [12.0, 0.8]
+    >>> plt.close(ax.figure)
+    """
+    ratios = np.asarray(ratios, dtype=float)
+    fmt = fmt or (lambda k: f"{k:.2f}×")
+    met = [None if goal is None else bool(k >= goal) for k, goal in zip(ratios, goals)]
+    ax = _axes(ax, figsize=(8, 0.36 * len(ratios) + 1.2))
+    y = np.arange(len(ratios))[::-1]
+    colour = {True: COLORS["blue"], False: COLORS["vermillion"], None: "#999999"}
+    ax.barh(y, ratios - 1, left=1, height=0.6, color=[colour[ok] for ok in met])
+    for yi, k, goal in zip(y, ratios, goals):
+        end = k if goal is None else max(k, goal) if k >= 1 else min(k, goal)   # clear of the tick
+        ax.annotate(fmt(k), (end, yi), xytext=(4 if k >= 1 else -4, 0), textcoords="offset points",
+                    va="center", ha="left" if k >= 1 else "right", fontsize="small")
+        if goal is not None:
+            ax.plot([goal, goal], [yi - 0.4, yi + 0.4], color="black", lw=2.5)
+    ax.axvline(1, color="black", lw=0.8)
+    ax.set_xscale("log")
+    ax.set_xlim(min(ratios.min(), 0.5) / 40, ratios.max() * 12)
+    ax.set_yticks(y, labels, fontsize="small")
+    ax.set_xlabel("peer's time / rapp's time (right of 1: rapp faster)")
+    shown = [v for v in (True, False, None) if v in met]   # only the verdicts that occur
+    names = {True: "goal met", False: "goal missed", None: "no goal set"}
+    handles = [patches.Patch(color=colour[v], label=names[v]) for v in shown]
+    handles.append(Line2D([], [], color="black", lw=2.5, label="goal"))
+    ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=4, fontsize="small")
     return style_axes(ax)
 
 

@@ -417,3 +417,36 @@ def test_book_style_is_the_one_figure_style():
         assert P.smallest_text_px(fig) == pytest.approx(10 * 100 / 72, abs=0.01)  # "small" of 12 pt
         assert fig.get_size_inches()[0] <= P.BOOK_WIDTH_IN and fig.get_facecolor() == WHITE
         plt.close(fig)
+
+
+def test_legend_outside_lists_drawn_and_extra_handles_beyond_the_axes():
+    from matplotlib.patches import Patch
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1], label="path")
+    P.legend_outside(ax, [Patch(color="0.3", label="obstacle")])
+    legend = ax.get_legend()
+    assert [t.get_text() for t in legend.get_texts()] == ["path", "obstacle"]
+    fig.canvas.draw()
+    box = legend.get_window_extent()
+    assert box.x0 >= ax.get_window_extent().x1   # to the right of the axes: it covers nothing
+    assert_readable(ax)
+
+
+@given(st.lists(st.tuples(st.floats(0.01, 1000.0), st.sampled_from([None, 0.5, 1.0, 3.0])),
+                min_size=1, max_size=8))
+@settings(max_examples=15, deadline=None)
+def test_plot_ratios_draws_each_ratio_coloured_by_its_verdict(rows):
+    ratios, goals = [r for r, _ in rows], [g for _, g in rows]
+    ax = P.plot_ratios([f"case {i}" for i in range(len(rows))], ratios, goals)
+    bars = [p for p in ax.patches]
+    assert len(bars) == len(rows)
+    colour = {True: to_rgba(P.COLORS["blue"]), False: to_rgba(P.COLORS["vermillion"]), None: to_rgba("#999999")}
+    for bar, k, goal in zip(bars, ratios, goals):
+        assert bar.get_x() == 1 and np.isclose(bar.get_x() + bar.get_width(), k)
+        assert bar.get_facecolor() == colour[None if goal is None else k >= goal]
+    ticks = [line for line in ax.lines if line.get_linewidth() == 2.5 and len(line.get_xdata()) == 2
+             and line.get_xdata()[0] == line.get_xdata()[1]]
+    assert sorted(t.get_xdata()[0] for t in ticks) == sorted(g for g in goals if g is not None)
+    assert [t.get_text() for t in ax.get_yticklabels()][0] == "case 0"  # the first row on top
+    assert_readable(ax)
+    plt.close(ax.figure)
