@@ -65,6 +65,7 @@ __all__ = [
     "split_at_seam",
     "legend_outside",
     "plot_ratios",
+    "plot_tree",
     "animate",
     "save_gif",
     "animation_html",
@@ -1160,6 +1161,37 @@ def plot_light_cspace(occupancy, grid, ax):
         ax.imshow(occ.T.astype(float), origin="lower", extent=cell_extent(grid),
                   cmap=ListedColormap(["white", _LIGHT_CSPACE]), vmin=0.0, vmax=1.0,
                   interpolation="nearest", aspect="equal", zorder=0, gid="light-cspace")
+    return ax
+
+
+def plot_tree(arm, nodes, parent, ax=None, *, color=COLORS["sky"]):
+    """A planner's tree (or roadmap's shortest-path tree) in the C-space of a 2-joint ``arm``.
+
+    ``nodes`` is ``(k, 2)`` and ``parent[i]`` the index of node ``i``'s parent (negative for a
+    root). Each edge is drawn from its parent by :meth:`rapp.Arm.joint_delta` (the short way
+    round), and an edge that crosses the seam of the torus is drawn a second time from its
+    child's side, so it shows on both sides of the square. Returns ``ax``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> nodes = np.array([[0.0, 0.0], [0.5, 0.0], [3.0, 0.0], [-3.0, 0.0]])
+    >>> ax = plot_tree(Arm([1.0, 1.0]), nodes, np.array([-1, 0, 1, 2]))
+    >>> len(ax.collections[0].get_segments())   # 3 edges, one across the seam drawn twice
+    4
+    >>> plt.close(ax.figure)
+    """
+    ax = _axes(ax)
+    nodes, parent = np.asarray(nodes, dtype=float), np.asarray(parent)
+    child = np.flatnonzero(parent >= 0)
+    if child.size:
+        a = nodes[parent[child]]
+        d = arm.joint_delta(a, nodes[child])
+        edges = np.stack((a, a + d), 1)                          # from the parent, unwrapped
+        seam = np.abs(a + d - nodes[child]).max(axis=1) > 1e-9   # ... and again from the child
+        edges = np.concatenate((edges, np.stack((nodes[child][seam] - d[seam], nodes[child][seam]), 1)))
+        ax.add_collection(LineCollection(edges, colors=color, linewidths=0.7))
+    ax.plot(*nodes.T, ".", color=color, ms=2)
     return ax
 
 

@@ -450,3 +450,22 @@ def test_plot_ratios_draws_each_ratio_coloured_by_its_verdict(rows):
     assert [t.get_text() for t in ax.get_yticklabels()][0] == "case 0"  # the first row on top
     assert_readable(ax)
     plt.close(ax.figure)
+
+
+@given(st.lists(st.tuples(st.floats(-np.pi, np.pi), st.floats(-np.pi, np.pi)), min_size=2, max_size=12),
+       st.data())
+@settings(max_examples=10, deadline=None)
+def test_plot_tree_draws_every_edge_the_short_way_and_seam_edges_twice(points, data):
+    nodes = np.array(points)
+    parent = np.array([-1] + [data.draw(st.integers(0, i - 1)) for i in range(1, len(nodes))])
+    ax = P.plot_tree(ARM, nodes, parent)
+    segments = [np.asarray(s) for s in ax.collections[0].get_segments()]
+    d = ARM.joint_delta(nodes[parent[1:]], nodes[1:])
+    crossing = np.abs(nodes[parent[1:]] + d - nodes[1:]).max(axis=1) > 1e-9
+    assert len(segments) == len(nodes) - 1 + crossing.sum()
+    for seg in segments:   # each drawn segment is one edge, the short way round
+        step = seg[1] - seg[0]
+        assert np.abs(step).max() <= np.pi + 1e-9
+        assert any(np.allclose(step, di) for di in d)
+    assert_readable(ax)
+    plt.close(ax.figure)
