@@ -66,6 +66,7 @@ __all__ = [
     "legend_outside",
     "plot_ratios",
     "plot_tree",
+    "plot_f_contours",
     "animate",
     "save_gif",
     "animation_html",
@@ -749,6 +750,63 @@ def _stage_times(metrics):
 def _num(v):
     """Three significant digits without an exponent for everyday magnitudes."""
     return f"{v:.0f}" if abs(v) >= 100 else f"{v:.3g}"
+
+
+def plot_f_contours(occupied, start, goal, ax=None, *, closed=None, path=None):
+    """The value of :math:`f = g^* + h` on every free cell of a 2-joint torus grid, as A* sees it.
+
+    :math:`g^*` is the true step distance from ``start`` (breadth-first search) and :math:`h` the
+    toroidal Manhattan distance GD1 to ``goal``. Cells of one value of ``f`` share a colour (its
+    contour) and print it; blocked cells are grey, unreachable ones blank. ``closed`` (a boolean
+    grid, e.g. the closed set of :func:`rapp.search.astar_search`) outlines the expanded cells;
+    ``path`` (cells) is drawn in orange. Returns ``ax``.
+
+    Examples
+    --------
+    >>> occ = np.zeros((6, 6), bool); occ[3, :5] = True
+    >>> ax = plot_f_contours(occ, (1, 2), (5, 2))
+    >>> sorted({int(t.get_text()) for t in ax.texts})   # f = 2 on the shortest routes (the seam)
+    [2, 4, 6, 8, 10]
+    >>> plt.close(ax.figure)
+    """
+    from rapp.search import bfs_distances, toroidal_manhattan
+
+    occupied = np.asarray(occupied, dtype=bool)
+    if occupied.ndim != 2:
+        raise ValueError(f"plot_f_contours draws grids of two joints, got {occupied.ndim}")
+    ax = _axes(ax, figsize=(6.0, 5.0))
+    g = bfs_distances(occupied, tuple(start))
+    cells = np.argwhere(np.ones(occupied.shape, bool)).reshape(occupied.shape + (2,))
+    f = np.where(g >= 0, g + toroidal_manhattan(cells, tuple(goal), occupied.shape), -1)
+    levels = np.unique(f[f >= 0])
+    palette = [COLORS[c] for c in ("sky", "green", "yellow", "orange", "purple", "vermillion")]
+    index = np.searchsorted(levels, f)
+    rgba = np.ones(occupied.shape + (4,))
+    for k in range(len(levels)):
+        rgba[index == k] = to_rgba(palette[k % len(palette)], 0.55)
+    rgba[f < 0] = (1.0, 1.0, 1.0, 1.0)
+    rgba[occupied] = to_rgba(OCCUPIED)
+    ax.imshow(rgba.transpose(1, 0, 2), origin="lower", interpolation="nearest")
+    for (i, j), v in np.ndenumerate(f):
+        if v >= 0:
+            ax.text(i, j, str(int(v)), ha="center", va="center", fontsize="small", color=TEXT)
+    if closed is not None:
+        for i, j in np.argwhere(closed):
+            ax.add_patch(patches.Rectangle((i - 0.5, j - 0.5), 1, 1, fill=False, edgecolor=TEXT, lw=1.4))
+    if path is not None:
+        segments = split_at_seam(np.asarray(path, dtype=float), [-0.5, -0.5], list(occupied.shape),
+                                 [True, True])
+        ax.plot(segments[:, 0], segments[:, 1], "-", color=COLORS["orange"], lw=2.5)
+    ax.plot(*start, "o", color=START, ms=9)
+    ax.plot(*goal, "*", color=GOAL, ms=13)
+    handles = [patches.Patch(facecolor=to_rgba(palette[k % len(palette)], 0.55), label=f"f = {int(v)}")
+               for k, v in enumerate(levels)]
+    if closed is not None:
+        handles.append(patches.Patch(fill=False, edgecolor=TEXT, label="expanded"))
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
+    ax.set_xlabel("cell index, joint 1")
+    ax.set_ylabel("cell index, joint 2")
+    return style_axes(ax)
 
 
 def _check_astar_step(trace, k):

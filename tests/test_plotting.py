@@ -469,3 +469,23 @@ def test_plot_tree_draws_every_edge_the_short_way_and_seam_edges_twice(points, d
         assert any(np.allclose(step, di) for di in d)
     assert_readable(ax)
     plt.close(ax.figure)
+
+
+@given(st.integers(0, 2**32 - 1))
+@settings(max_examples=8, deadline=None)
+def test_plot_f_contours_prints_g_star_plus_h_on_every_reachable_cell(seed):
+    from rapp.search import astar_search, bfs_distances, toroidal_manhattan
+    rng = np.random.default_rng(seed)
+    occ = rng.random((7, 6)) < 0.25
+    free = np.argwhere(~occ)
+    start, goal = (tuple(int(v) for v in free[i]) for i in rng.choice(len(free), 2, replace=False))
+    r = astar_search(occ, start, goal)
+    ax = P.plot_f_contours(occ, start, goal, closed=r.closed if r.path is not None else None)
+    shown = {(round(t.get_position()[0]), round(t.get_position()[1])): int(t.get_text()) for t in ax.texts}
+    g = bfs_distances(occ, start)   # the oracle: BFS, one cell at a time
+    want = {(i, j): int(g[i, j] + toroidal_manhattan((i, j), goal, occ.shape))
+            for i, j in np.argwhere(g >= 0)}
+    assert shown == want
+    if r.path is not None:   # A* expands no cell of f above the optimum (consistent GD1)
+        assert max(want[tuple(c)] for c in np.argwhere(r.closed)) <= g[goal]
+    plt.close(ax.figure)
