@@ -67,6 +67,9 @@ __all__ = [
     "plot_ratios",
     "plot_tree",
     "plot_f_contours",
+    "plot_link_clearances",
+    "plot_sweep",
+    "plot_certification",
     "animate",
     "save_gif",
     "animation_html",
@@ -435,6 +438,129 @@ def plot_arm(arm, q, ax=None, *, color=ARM, alpha=1.0, label=None, ghost_alpha=(
     if frame:
         _workspace_frame(ax, arm, unit)
     return ax
+
+
+def plot_link_clearances(arm, q, discs, ax=None):
+    """Each link's clearance from its nearest disc, drawn as a dashed gap labelled ``d_j``.
+
+    For one configuration ``q`` of ``arm`` and discs (``rapp.Circle``), link ``j``'s gap runs from
+    its closest point to the nearest disc's rim; its label gives the clearance in metres. Returns
+    ``ax``; the arm and discs themselves are drawn by :func:`plot_arm` and :func:`plot_obstacles`.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> ax = plot_link_clearances(Arm([1.0, 1.0]), [0.0, 0.0], [Circle((1.0, 0.5), 0.2)])
+    >>> [t.get_text() for t in ax.texts]
+    ['$d_1$ = 0.30 m', '$d_2$ = 0.30 m']
+    >>> plt.close(ax.figure)
+    """
+    ax = _axes(ax)
+    p = arm.joint_positions(np.asarray(q, dtype=float))
+    for j in range(arm.n):
+        near = [closest_point_on_segment(p[j], p[j + 1], c.center) for c in discs]
+        gaps = [float(np.linalg.norm(x - c.center)) - c.radius for x, c in zip(near, discs)]
+        k = int(np.argmin(gaps))
+        centre, x = np.asarray(discs[k].center, dtype=float), near[k]
+        rim = centre + discs[k].radius * (x - centre) / np.linalg.norm(x - centre)
+        ax.plot(*np.array([x, rim]).T, "--", color=COLORS["vermillion"], lw=1.5,
+                label="clearance of a link" if j == 0 else None)
+        side = -1 if j % 2 else 1   # alternate sides so that neighbouring labels do not meet
+        ax.text(*((x + rim) / 2 + [side * 0.05, 0.0]), f"$d_{j + 1}$ = {gaps[k]:.2f} m",
+                fontsize="small", color="#A04000", ha="left" if side > 0 else "right", va="center")
+    return ax
+
+
+def plot_sweep(arm, qs, obstacles, ax=None):
+    """A motion as poses: its two ends in green, the poses between blue where free, red where not.
+
+    ``qs`` (k, n) are the configurations in order. Returns ``ax``.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> qs = np.linspace([0.0, 0.0], [np.pi, 0.0], 9)
+    >>> ax = plot_sweep(Arm([1.0, 1.0]), qs, [Circle((0.0, 1.5), 0.3)])
+    >>> sorted(t.get_text() for t in ax.get_legend().get_texts())
+    ['colliding poses', 'free poses', 'start and end (free)']
+    >>> plt.close(ax.figure)
+    """
+    from rapp.collision import collides
+
+    ax = _axes(ax)
+    qs = np.asarray(qs, dtype=float)
+    hit = collides(arm, qs, obstacles)
+    inner, inner_hit = qs[1:-1], hit[1:-1]
+    if (~inner_hit).any():
+        plot_arm(arm, inner[~inner_hit], ax, color=COLORS["blue"], label="free poses", frame=False,
+                 ghost_alpha=(0.45, 0.45))
+    if inner_hit.any():
+        plot_arm(arm, inner[inner_hit], ax, color=COLORS["vermillion"], label="colliding poses",
+                 frame=False, ghost_alpha=(0.8, 0.8))
+    ends = "free" if not (hit[0] or hit[-1]) else "colliding"
+    plot_arm(arm, qs[0], ax, color=COLORS["green"], label=f"start and end ({ends})")
+    plot_arm(arm, qs[-1], ax, color=COLORS["green"], frame=False)
+    ax.legend(loc="lower center", ncols=2, fontsize="small")
+    return style_axes(ax)
+
+
+def plot_certification(arm, q0, q1, obstacles, log, axes=None, *, title=None):
+    """A certified segment check at work: the clearance along the motion, and its intervals.
+
+    ``log`` lists the check's intervals in order, ``(lo, hi, outcome)`` with ``outcome`` one of
+    ``"certified"``, ``"bisected"`` or ``"collision"`` (as chapter 3's step-by-step version of
+    :func:`rapp.collision.segment_collision_free` records them). The top axes draw the arm's
+    clearance along ``q0 + t (q1 - q0)``, each interval's midpoint coloured by its outcome and,
+    over a certified interval, the lower bound the motion bounds prove there; the bottom axes draw
+    the intervals by bisection depth. ``axes`` is ``(top, bottom)``; returns it.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> top, bottom = plot_certification(Arm([1.0, 1.0]), [0.0, 0.0], [0.5, 0.0],
+    ...                                  [Circle((0.0, 1.5), 0.3)], [(0.0, 1.0, "certified")])
+    >>> len(bottom.patches), top.lines[0].get_label()
+    (1, 'clearance of the arm')
+    >>> plt.close(top.figure)
+    """
+    from rapp.collision import clearance, link_clearances, motion_bounds
+
+    if axes is None:
+        with plt.rc_context(_LIGHT):
+            fig, axes = plt.subplots(2, 1, figsize=(6, 7), sharex=True, height_ratios=(3, 2),
+                                     layout="constrained")
+    top, bottom = axes
+    q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
+    colours = {"certified": COLORS["green"], "bisected": "#999999", "collision": COLORS["vermillion"]}
+    bounds = motion_bounds(arm, q1 - q0)
+    ts = np.linspace(0.0, 1.0, 801)
+    top.plot(ts, clearance(arm, q0 + ts[:, None] * (q1 - q0), obstacles), color=COLORS["blue"], lw=2,
+             label="clearance of the arm")
+    labelled = False
+    for lo, hi, outcome in log:
+        t_m = (lo + hi) / 2
+        d = link_clearances(arm, q0 + t_m * (q1 - q0), obstacles)
+        top.plot(t_m, d.min(), "o", color=colours[outcome], ms=6, zorder=4)
+        if outcome == "certified":     # the proved lower bound min_j (d_j - B_j |t - t_m|)
+            tt = np.linspace(lo, hi, 41)
+            tent = (d[None, :] - bounds[None, :] * np.abs(tt - t_m)[:, None]).min(axis=1)
+            top.plot(tt, tent, "-", color=colours[outcome], lw=1.2,
+                     label=None if labelled else "proved lower bound")
+            labelled = True
+        bottom.barh(np.log2(1.0 / (hi - lo)), hi - lo, left=lo, height=0.7, color=colours[outcome],
+                    edgecolor="white", label=f"interval {outcome}")
+    top.axhline(0.0, color=TEXT, lw=0.8)
+    top.set_ylabel("clearance (m)")
+    if title:
+        top.set_title(title, fontsize="medium")
+    top.legend(loc="lower left", fontsize="small")
+    bottom.invert_yaxis()
+    bottom.set_xlabel("segment parameter t (dimensionless)")
+    bottom.set_ylabel("bisection depth")
+    bottom.set_xlim(0.0, 1.0)
+    for ax in (top, bottom):
+        style_axes(ax)
+    return top, bottom
 
 
 def plot_obstacles(obstacles, ax=None, *, color=OBSTACLE, label="obstacle"):

@@ -489,3 +489,48 @@ def test_plot_f_contours_prints_g_star_plus_h_on_every_reachable_cell(seed):
     if r.path is not None:   # A* expands no cell of f above the optimum (consistent GD1)
         assert max(want[tuple(c)] for c in np.argwhere(r.closed)) <= g[goal]
     plt.close(ax.figure)
+
+
+@given(st.floats(-np.pi, np.pi), st.floats(-np.pi, np.pi))
+@settings(max_examples=10, deadline=None)
+def test_plot_link_clearances_labels_each_link_with_its_clearance(t1, t2):
+    from rapp.collision import link_clearances
+    discs = [Circle((1.2, 0.9), 0.2), Circle((-1.0, -1.1), 0.3)]
+    q = np.array([t1, t2])
+    if (link_clearances(ARM, q, discs) <= 0).any():
+        return   # a link inside a disc has no gap to draw
+    ax = P.plot_link_clearances(ARM, q, discs)
+    want = link_clearances(ARM, q, discs)   # the package's clearance, link by link
+    got = [float(t.get_text().split("= ")[1].split(" m")[0]) for t in ax.texts]
+    assert np.allclose(got, want, atol=0.006)
+    for line, d in zip(ax.lines, want):   # each dashed gap is as long as the clearance
+        xy = line.get_xydata()
+        assert np.isclose(np.linalg.norm(xy[1] - xy[0]), d)
+    plt.close(ax.figure)
+
+
+def test_plot_sweep_colours_each_inner_pose_by_its_collision():
+    from rapp.collision import collides
+    disc = [Circle((0.0, 1.5), 0.3)]
+    qs = np.linspace([0.0, 0.0], [np.pi, 0.0], 19)
+    hit = collides(ARM, qs, disc)
+    ax = P.plot_sweep(ARM, qs, disc)
+    by_colour = {}
+    for line in ax.lines:
+        by_colour.setdefault(to_rgba(line.get_color())[:3], []).append(line)
+    red = to_rgba(P.COLORS["vermillion"])[:3]
+    assert hit[1:-1].sum() == 3 and red in by_colour   # the three colliding poses are drawn red
+    assert_readable(ax)
+
+
+def test_plot_certification_draws_every_logged_interval_at_its_depth():
+    disc = [Circle((0.0, 1.5), 0.3)]
+    log = [(0.0, 1.0, "bisected"), (0.0, 0.5, "certified"), (0.5, 1.0, "bisected"),
+           (0.5, 0.75, "certified"), (0.75, 1.0, "collision")]
+    top, bottom = P.plot_certification(ARM, [0.0, 0.0], [np.pi, 0.0], disc, log)
+    bars = bottom.patches
+    assert [(round(b.get_x(), 9), round(b.get_width(), 9)) for b in bars] == [(lo, hi - lo) for lo, hi, _ in log]
+    assert [round(b.get_y() + b.get_height() / 2, 9) for b in bars] == [np.log2(1 / (hi - lo)) for lo, hi, _ in log]
+    assert sum(line.get_label() == "proved lower bound" for line in top.lines) == 1
+    assert_readable(top)
+    assert_readable(bottom)
