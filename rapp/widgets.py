@@ -44,6 +44,7 @@ __all__ = [
     "astar_explorer",
     "rrt_explorer",
     "planner_comparison",
+    "ik_explorer",
     "sliders_of",
     "selected",
     "values_of",
@@ -608,3 +609,49 @@ def planner_comparison(arm, start, goal, obstacles, settings, *, seeds=(0, 1, 2,
                    view, title=f"{len(settings)} planners on one problem")
     w.results = results
     return w
+
+
+@_book_style
+def ik_explorer(arm, targets, *, default=(1.2, 0.9)):
+    """Drag a target over the workspace of a 2-link arm: both IK solutions, or why there is none.
+
+    Two sliders place the target (a cross) on the grid ``targets`` x ``targets`` (metres); each
+    view draws the workspace and the solutions :func:`rapp.ik` returns, elbow-down (blue) and
+    elbow-up (orange), or titles the reason there is none. The status line prints both
+    configurations.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> w = ik_explorer(Arm([1.0, 0.8]), [0.0, 1.2], default=(1.2, 0.0))
+    >>> selected(w)[1]
+    'target (1.2, 0.0) m: elbow-down q = (-0.723, 1.696) rad; elbow-up q = (0.723, -1.696) rad'
+    """
+    from rapp.ik import NoIKSolution, ik
+
+    fig = _figure(5.5, 5.5)
+    ax = subplots(fig)
+    plotting.plot_workspace(arm, ax)
+    plotting.style_axes(ax)
+    reach = float(sum(arm.link_lengths)) * 1.1
+    ax.set_xlim(-reach, reach)
+    ax.set_ylim(-reach, reach)
+    names = ("elbow-down", "elbow-up")
+
+    def view(tx, ty):
+        ax.plot(tx, ty, "x", color="k", ms=12, mew=2, zorder=6)
+        try:
+            solutions = ik(arm, [tx, ty])
+        except NoIKSolution as err:
+            ax.set_title(f"no solution: {err.reason}", fontsize="medium")
+            return f"target ({tx:.1f}, {ty:.1f}) m: no solution, {err.reason}"
+        for q, color, name in zip(solutions, (plotting.COLORS["blue"], plotting.COLORS["orange"]), names):
+            plotting.plot_arm(arm, q, ax, color=color, label=name, frame=False)
+        ax.legend(loc="lower left", fontsize="small")
+        ax.set_title(f"{len(solutions)} solution{'s' if len(solutions) > 1 else ''}", fontsize="medium")
+        shown = "; ".join(f"{name} q = ({q[0]:.3f}, {q[1]:.3f}) rad" for q, name in zip(solutions, names))
+        return f"target ({tx:.1f}, {ty:.1f}) m: {shown}"
+
+    return view_stack(fig, {"tx": Control("target x (m)", list(targets), default=default[0]),
+                            "ty": Control("target y (m)", list(targets), default=default[1])},
+                      view, title="IK explorer")

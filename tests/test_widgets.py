@@ -211,3 +211,16 @@ def test_planner_comparison_shows_each_planner_and_seed_with_its_status():
     sliders = list(W.sliders_of(w).values())
     assert [s.options for s in sliders] == [("A*", "RRT-Connect", "PRM"), ("0", "1")]
     assert selected(w)[1] == comparison_run(arm, [0.0, 0.0], [2.0, 1.0], obstacles, "prm", settings["prm"], 0)[1]
+
+
+def test_ik_explorer_shows_rapp_ik_at_every_target():
+    from rapp import ik
+    arm, targets = Arm([1.0, 0.8]), [-0.0, 0.3, 1.8]
+    w = W.ik_explorer(arm, targets, default=(0.3, 0.3))
+    sliders = list(W.sliders_of(w).values())
+    assert [s.options for s in sliders] == [("0.00", "0.30", "1.80")] * 2   # no "-0.00"
+    want = ik(arm, [0.3, 0.3])
+    status = selected(w)[1]
+    assert status.startswith("target (0.3, 0.3) m:") and f"({want[0][0]:.3f}, {want[0][1]:.3f})" in status
+    sliders[0].index = sliders[1].index = 2                     # (1.8, 1.8): beyond the reach
+    assert selected(w)[1] == "target (1.8, 1.8) m: no solution, out of reach"
