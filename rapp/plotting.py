@@ -70,6 +70,7 @@ __all__ = [
     "plot_link_clearances",
     "plot_sweep",
     "plot_certification",
+    "plot_value_grid",
     "animate",
     "save_gif",
     "animation_html",
@@ -561,6 +562,33 @@ def plot_certification(arm, q0, q1, obstacles, log, axes=None, *, title=None):
     for ax in (top, bottom):
         style_axes(ax)
     return top, bottom
+
+
+def plot_value_grid(values, half, xticks, yticks, ax=None, *, cmap="Oranges", clim=None):
+    """A table of means as a heat map: each cell its mean and, under it, ``± half``.
+
+    ``values`` and ``half`` are ``(len(xticks), len(yticks))``; a NaN mean prints "-", a NaN
+    half-width prints nothing. Text is white on the dark cells. Returns the image (for a colour bar).
+
+    Examples
+    --------
+    >>> im = plot_value_grid(np.array([[1.0, np.nan]]), np.array([[0.25, np.nan]]), ["a"], ["x", "y"])
+    >>> [t.get_text().split() for t in im.axes.texts]
+    [['1.00', '±', '0.25'], ['-']]
+    >>> plt.close(im.axes.figure)
+    """
+    ax = _axes(ax)
+    values, half = np.asarray(values, dtype=float), np.asarray(half, dtype=float)
+    im = ax.imshow(values.T, origin="lower", cmap=cmap, aspect="auto", clim=clim)
+    dark = im.norm(values) > 0.6   # white on the dark cells, dark text on the light ones
+    for (i, j), v in np.ndenumerate(values):
+        text = "-" if np.isnan(v) else f"{v:.2f}" + ("" if np.isnan(half[i, j]) else f"\n± {half[i, j]:.2f}")
+        ax.text(i, j, text, ha="center", va="center", fontsize="small",
+                color="white" if dark[i, j] else TEXT)
+    ax.set_xticks(range(len(xticks)), xticks)
+    ax.set_yticks(range(len(yticks)), yticks)
+    style_axes(ax)
+    return im
 
 
 def plot_obstacles(obstacles, ax=None, *, color=OBSTACLE, label="obstacle"):

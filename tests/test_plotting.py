@@ -534,3 +534,19 @@ def test_plot_certification_draws_every_logged_interval_at_its_depth():
     assert sum(line.get_label() == "proved lower bound" for line in top.lines) == 1
     assert_readable(top)
     assert_readable(bottom)
+
+
+@given(st.integers(1, 4), st.integers(1, 4), st.integers(0, 2**32 - 1))
+@settings(max_examples=10, deadline=None)
+def test_plot_value_grid_prints_each_mean_and_half_width_in_its_cell(nx, ny, seed):
+    rng = np.random.default_rng(seed)
+    values = np.where(rng.random((nx, ny)) < 0.2, np.nan, rng.uniform(0, 10, (nx, ny)))
+    half = np.where(rng.random((nx, ny)) < 0.3, np.nan, rng.uniform(0, 1, (nx, ny)))
+    im = P.plot_value_grid(values, half, [str(i) for i in range(nx)], [str(j) for j in range(ny)])
+    texts = {(round(t.get_position()[0]), round(t.get_position()[1])): t.get_text() for t in im.axes.texts}
+    assert len(texts) == nx * ny
+    for (i, j), text in texts.items():
+        v, h = values[i, j], half[i, j]
+        want = "-" if np.isnan(v) else f"{v:.2f}" + ("" if np.isnan(h) else f"\n± {h:.2f}")
+        assert text == want
+    plt.close(im.axes.figure)
