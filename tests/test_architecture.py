@@ -105,7 +105,7 @@ def test_the_new_homes_are_documented(module):
 
 #: The layers of ARCHITECTURE.md. Each module of rapp/ is in exactly one.
 LAYERS = {
-    "core": {"arm", "obstacles", "collision", "collision_kernel", "cspace", "cspace_kernel", "search", "ik", "ik_kernel", "symbolic", "trajectory",
+    "core": {"arm", "obstacles", "collision", "collision_kernel", "motion", "cspace", "cspace_kernel", "search", "ik", "ik_kernel", "symbolic", "trajectory",
              "heap", "jit", "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
              "reference"},
     "planners": {"sampling", "sampling_kernel", "grid_route", "rrt", "rrt_connect", "rrt_star", "prm", "planners",
