@@ -388,6 +388,8 @@ def _cmd_check(args, out, caught) -> int:
 
     s = scenario.load_scenario(args.scenario)
     _say(out, scenario.echo(_shown(s)), lines=True)
+    # The refusals plan would make of a setting (judged against this start and goal), too.
+    planner.preflight(s)
     _say_notes(out, caught)
     _say(out, "scenario is valid")
     return EXIT_OK

@@ -259,3 +259,40 @@ def test_a_cold_numba_cache_does_not_eat_the_time_budget():
         assert r.returncode == 0, r.stdout + r.stderr
         assert "compilation: " in r.stdout
         assert os.listdir(cache), "numba wrote nothing: the cache directory was not used"
+
+
+def _scenario_file(tmp_path, name, planner):
+    d = load_scenario("default").to_dict()
+    d["planner"] = planner
+    path = tmp_path / f"{name}.json"
+    path.write_text(json.dumps(d))
+    return str(path)
+
+
+REFUSED = {
+    "rrt_connect_step": {"algorithm": "rrt_connect", "step": 1e-6},
+    "rrt_step": {"algorithm": "rrt", "step": 1e-6, "max_iterations": 10},
+    "prm_memory": {"algorithm": "prm", "samples": 100000, "neighbours": 500},
+}
+
+
+@pytest.mark.parametrize("name", sorted(REFUSED))
+def test_check_refuses_what_plan_refuses_with_the_same_line(tmp_path, capsys, name):
+    from rapp.cli import main
+
+    path = _scenario_file(tmp_path, name, REFUSED[name])
+    answers = []
+    for command in ("check", "plan"):
+        code = main([command, path])
+        err = capsys.readouterr().err.strip().splitlines()
+        answers.append((code, err[-1] if err else ""))
+    assert answers[0] == answers[1] and answers[0][0] == 2, answers
+    assert answers[0][1].startswith("rapp: error: planner.")
+
+
+def test_check_accepts_what_plan_accepts(tmp_path, capsys):
+    from rapp.cli import main
+
+    path = _scenario_file(tmp_path, "fine", {"algorithm": "rrt_connect", "step": 0.2})
+    assert main(["check", path]) == 0
+    assert capsys.readouterr().out.rstrip().endswith("scenario is valid")
