@@ -246,7 +246,7 @@ def test_a_cold_numba_cache_does_not_eat_the_time_budget():
     """Right after installing, a trivial rrt_connect solves within its 5 s budget: the
     kernels are compiled before the planner's clock starts."""
     scene = {"arm": {"link_lengths": [1.0, 0.8, 0.5]},
-             "obstacles": [{"type": "circle", "center": [1.5, 1.2], "radius": 0.2}],
+             "obstacles": [{"type": "circle", "center": [-1.5, -1.2], "radius": 0.2}],
              "start": [0.0, 0.0, 0.0], "goal": {"joints": [0.5, 0.3, 0.2]},
              "planner": {"algorithm": "rrt_connect", "seed": 0, "time_budget": 5.0}}
     with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as work:
