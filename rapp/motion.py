@@ -108,6 +108,12 @@ def _taylor(local, piece, tau):
     return out, size
 
 
+def _give_up(ok, piece, proven) -> None:
+    """Stop refining: a sub-interval already proved clear (only not yet measured tightly) keeps
+    its piece certified; any other leaves its piece uncertified."""
+    ok[np.unique(piece[np.isnan(proven)])] = False
+
+
 def certify_motion(arm, motion, obstacles=(), *, margin: float = 0.0, limit_tol: float = 1e-9,
                    min_interval: float = 1e-12, rtol: float | None = None,
                    max_intervals: int = MAX_MOTION_INTERVALS) -> MotionCertificate:
@@ -171,14 +177,17 @@ def certify_motion(arm, motion, obstacles=(), *, margin: float = 0.0, limit_tol:
     piece = np.arange(pieces)
     start = np.zeros(pieces)
     length = h.copy()
+    # The clearance already proved over each pending sub-interval (by its parent), or nan.
+    proven = np.full(pieces, np.nan)
     evaluated = 0
     for _ in range(_MAX_LEVELS):
         keep = ok[piece]
-        piece, start, length = piece[keep], start[keep], length[keep]
+        piece, start, length, proven = piece[keep], start[keep], length[keep], proven[keep]
         if piece.size == 0:
             break
         if piece.size > max_intervals:
-            ok[np.unique(piece)] = False
+            _give_up(ok, piece, proven)
+            lower = min(lower, float(np.nanmin(proven, initial=np.inf)))
             break
         evaluated += piece.size
         r = 0.5 * length
@@ -227,12 +236,16 @@ def certify_motion(arm, motion, obstacles=(), *, margin: float = 0.0, limit_tol:
             if (fail & ~grazing & ~lim_done).any():
                 limits_ok = False
         more = ~done & ~fail
+        certified = col_done & lim_done & ~hit & ~bad_mid
+        proven = np.repeat(np.where(certified, low, np.nan)[more], 2)
         piece = np.repeat(piece[more], 2)
         half = r[more]
         start = np.stack((start[more], start[more] + half), axis=1).ravel()
         length = np.repeat(half, 2)
     else:
-        ok[np.unique(piece[ok[piece]])] = False
+        keep = ok[piece]
+        _give_up(ok, piece[keep], proven[keep])
+        lower = min(lower, float(np.nanmin(proven[keep], initial=np.inf)))
     free = bool(ok.all())
     return MotionCertificate(free, ok, best, lower if free else min(lower, best), limits_ok,
                              evaluated)

@@ -296,3 +296,14 @@ def test_check_accepts_what_plan_accepts(tmp_path, capsys):
     path = _scenario_file(tmp_path, "fine", {"algorithm": "rrt_connect", "step": 0.2})
     assert main(["check", path]) == 0
     assert capsys.readouterr().out.rstrip().endswith("scenario is valid")
+
+
+def test_measuring_the_clearance_tightly_never_uncertifies_a_motion():
+    """Refining for ``rtol`` stops at the interval cap, keeping what is already proved."""
+    arm, obs = Arm([1.0, 1.0]), [Circle((-1.0, 1.0), 0.3)]
+    motion = time_path([[0.0, 0.0], [1.0, 0.5], [1.5, 0.0]], 2.0, "spline")
+    plain = certify_motion(arm, motion, obs)
+    tight = certify_motion(arm, motion, obs, rtol=1e-12, max_intervals=64)
+    assert plain.free and tight.free
+    d = dense_clearance(arm, motion, obs)
+    assert plain.lower <= tight.lower <= d <= tight.clearance
