@@ -147,8 +147,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="save an animation of the arm (atomically): .gif, or .mp4 when "
                     "ffmpeg is installed")
     pp.add_argument("--timings", action="store_true",
-                    help="print the wall-clock time per stage (also with --quiet) and store "
-                    "it in the --out result, which then differs from run to run")
+                    help="print the wall-clock time per stage and, apart, numba's compilation "
+                    "(also with --quiet); store them in the --out result, which then differs "
+                    "from run to run")
     pp.add_argument("--quiet", "-q", action="store_true",
                     help="print only the one-line summary (and the stage times with --timings); "
                     "no progress line (shown on stderr when it is a terminal and work takes "
@@ -387,6 +388,8 @@ def _cmd_check(args, out, caught) -> int:
 
     s = scenario.load_scenario(args.scenario)
     _say(out, scenario.echo(_shown(s)), lines=True)
+    # The refusals plan would make of a setting (judged against this start and goal), too.
+    planner.preflight(s)
     _say_notes(out, caught)
     _say(out, "scenario is valid")
     return EXIT_OK
@@ -421,7 +424,9 @@ def _cmd_plan(args, out, err, caught) -> int:
         _say(out, str(p.report), lines=True)
     if args.timings:
         _say(out, "time per stage: " + ", ".join(f"{k} {v * 1e3:.1f} ms"
-                                                 for k, v in p.timings.items()))
+                                                 for k, v in p.timings.items() if k != "compile"))
+        _say(out, f"compilation: {p.timings.get('compile', 0.0) * 1e3:.1f} ms (numba, before the "
+                  "planner's clock; not counted in its time_budget)")
     with _progress(args, err, "writing " + ", ".join(
             o for o in (args.out, args.plot, args.animate) if o)):
         _write_outputs(args, p, s)

@@ -50,16 +50,17 @@ import numpy as np
 
 from rapp.cartesian import line_path
 from rapp.collision import scene
-from rapp.errors import InvalidSetting, InvalidValue, NoPathFound
+from rapp.errors import InvalidSetting, InvalidValue, NoIKSolution, NoPathFound
 from rapp import planners as planner_table
 from rapp.ik import free_ik_solutions
 from rapp.paths import PlannerResult, drop_repeats, path_length, shortcut, unwrap_path
 from rapp.results import Plan
+from rapp.sampling import prepare_kernels
 from rapp.scenario import Scenario, load_scenario
 from rapp.timing import DURATION_MARGIN, time_route
 from rapp.verify import verify
 
-__all__ = ["plan", "PLANNERS", "STAGES", "DURATION_MARGIN", "LINE_TOLERANCE"]
+__all__ = ["plan", "preflight", "PLANNERS", "STAGES", "DURATION_MARGIN", "LINE_TOLERANCE"]
 
 #: Distance (m) from the segment within which :func:`rapp.cartesian.line_path` keeps the end
 #: effector along each of its edges. The verification bounds every chord between samples by
@@ -99,8 +100,64 @@ def _search(scenario: Scenario, goal_qs: np.ndarray) -> PlannerResult:
     return PlannerResult(path, True, result.cost, details)
 
 
-#: The pipeline's stages, in order, as named in ``Plan.timings``.
-STAGES = ("ik", "cspace", "search", "smoothing", "trajectory", "verify", "total")
+def _refusal(e: InvalidSetting) -> InvalidValue:
+    """A planner's refusal of one of its settings, named as the scenario file names it."""
+    return InvalidValue(e.message, field=f"planner.{e.setting}")
+
+
+def preflight(scenario) -> None:
+    """Every refusal of a setting that :func:`plan` would make, without planning.
+
+    Some settings can only be judged against the problem (an RRT-Connect ``step`` too small to
+    join this start and goal within the trees' nodes, a roadmap too large for the memory
+    budget). They are judged by the planner itself, so this runs the planner table's check of
+    the scenario's planner with the settings as given, then the planner, with the same
+    settings, on the same start and goal configurations, for one iteration and without
+    obstacles: the refusals are the planner's own code, the same as :func:`plan` meets, and
+    nothing is searched. A planner with no iterations (the grid planners) is judged by the
+    scenario loader alone. ``python -m rapp check`` calls it.
+
+    Raises
+    ------
+    InvalidValue
+        Naming ``planner.<setting>``, with the message :func:`plan` would give.
+
+    Examples
+    --------
+    >>> d = load_scenario("default").to_dict()
+    >>> d["planner"] = {"algorithm": "rrt_connect", "step": 1e-6}
+    >>> preflight(d)
+    Traceback (most recent call last):
+    ...
+    rapp.errors.InvalidValue: planner.step: step 1e-06 rad is too small: ...
+    """
+    scenario = load_scenario(scenario)
+    p = scenario.planner
+    values = p.values()
+    if scenario.goal_path == "line" or "max_iterations" not in values:
+        return
+    try:
+        goal_qs, _ = _goal_configurations(scenario)
+    except (NoIKSolution, NoPathFound):   # a planning answer, not a refusal
+        return
+    entry = planner_table.entry(p.algorithm)
+    try:
+        if entry.check is not None:   # the table's own check, with the settings as given
+            entry.check(scenario.arm, scenario.start_array, goal_qs,
+                        **{s.key: values.get(s.key, s.default) for s in entry.settings})
+        planner_table.run(p.algorithm, scenario.arm, scenario.start_array, goal_qs, (),
+                          raise_on_failure=False, **dict(values, max_iterations=1,
+                                                         time_budget=None))
+    except InvalidSetting as e:
+        raise _refusal(e) from None
+    except NoPathFound:
+        return
+
+
+#: The pipeline's stages, in order, as named in ``Plan.timings``; ``compile`` is the time spent
+#: compiling (or loading from numba's cache) a sampling planner's kernels before its clock
+#: starts (:func:`rapp.sampling.prepare_kernels`), so that a ``time_budget`` measures planning.
+STAGES = ("compile", "ik", "cspace", "search", "smoothing", "trajectory", "verify", "total")
 
 #: The planner table (:data:`rapp.planners.PLANNERS`): name -> entry, read-only.
 PLANNERS = planner_table.PLANNERS
@@ -162,10 +219,12 @@ def plan(scenario) -> Plan:
         goal_qs, n_ik = _goal_configurations(scenario)
         times["ik"] = time.perf_counter() - t0
 
+        if scenario.planner.values().get("time_budget") is not None:
+            times["compile"] = prepare_kernels()
         try:
             route = _search(scenario, goal_qs)
         except InvalidSetting as e:  # the planner names its parameter; the file names the key
-            raise InvalidValue(e.message, field=f"planner.{e.setting}") from None
+            raise _refusal(e) from None
         times.update(route.times)
 
         t0 = time.perf_counter()

@@ -25,12 +25,52 @@ from rapp.cspace import JointGrid
 from rapp.errors import FileNotFound, InvalidFormat
 from rapp.files import atomic_output
 from rapp.scenario import Scenario, echo, load_scenario
+from rapp.trajectory import PiecewisePolynomial
 from rapp.verify import Report
 
-__all__ = ["Plan", "save_result", "load_result", "RESULT_FORMAT", "RESULT_VERSION"]
+__all__ = ["Plan", "save_result", "load_result", "motion_to_dict", "motion_from_dict",
+           "RESULT_FORMAT", "RESULT_VERSION"]
 
 RESULT_FORMAT = "rapp-result"
 RESULT_VERSION = 1
+
+
+def motion_to_dict(motion: PiecewisePolynomial) -> dict:
+    """The motion as a result file holds it: ``breaks`` (k + 1 times, s) and ``coefficients``
+    (k pieces x n joints x (d + 1)); on ``[breaks[i], breaks[i+1]]`` joint ``j`` is
+    ``sum_m coefficients[i][j][m] * (t - breaks[i])**m`` (lowest power first, radians).
+
+    Examples
+    --------
+    >>> from rapp.trajectory import time_path
+    >>> d = motion_to_dict(time_path([[0.0, 0.0], [1.0, 2.0]], 2.0, "cubic"))
+    >>> d["breaks"], d["coefficients"][0][1]
+    ([0.0, 2.0], [0.0, 0.0, 1.5, -0.5])
+    """
+    return {"breaks": np.asarray(motion.breakpoints, float).tolist(),
+            "coefficients": np.transpose(np.asarray(motion.local, float), (0, 2, 1)).tolist()}
+
+
+def motion_from_dict(d, n: int) -> PiecewisePolynomial:
+    """Inverse of :func:`motion_to_dict` for an arm of ``n`` joints; InvalidFormat naming
+    ``motion`` when ``d`` is not one.
+
+    Examples
+    --------
+    >>> from rapp.trajectory import time_path
+    >>> m = time_path([[0.0, 0.0], [1.0, 2.0]], 2.0, "quintic")
+    >>> bool(np.array_equal(motion_from_dict(motion_to_dict(m), 2).local, m.local))
+    True
+    """
+    try:
+        bp = np.asarray(d["breaks"], dtype=float)
+        c = np.asarray(d["coefficients"], dtype=float)
+        if bp.ndim != 1 or c.ndim != 3 or c.shape[:2] != (bp.size - 1, n) or c.shape[2] < 1:
+            raise ValueError(f"breaks {bp.shape} and coefficients {c.shape} do not make "
+                             f"k pieces of {n} joints")
+        return PiecewisePolynomial.from_local(bp, np.transpose(c, (0, 2, 1)))
+    except (KeyError, TypeError, ValueError) as e:
+        raise InvalidFormat(f"not a motion: {e}", field="motion") from None
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,17 +101,19 @@ class Plan:
     metrics : dict
         Counts and lengths: the same for the same scenario, run after run.
     timings : dict
-        Wall-clock seconds per pipeline stage (``ik``, ``cspace``, ``search``,
-        ``smoothing``, ``trajectory``, ``verify``, ``total``). They differ
+        Wall-clock seconds per pipeline stage (``compile``, ``ik``, ``cspace``, ``search``,
+        ``smoothing``, ``trajectory``, ``verify``, ``total``; ``compile`` is numba compiling a
+        sampling planner's kernels before a time budget's clock starts). They differ
         between runs, so a result file holds them only when asked
         (``save_result(..., timings=True)``).
     expanded : ndarray of bool, optional
         The cells the grid search expanded, the search's closed set (grid planner only; figures
         use it, result files do not hold it: ``metrics["expansions"]`` counts it).
     motion : PiecewisePolynomial, optional
-        The timed motion ``q(t)`` itself, which ``t, q, qd, qdd`` sample, when the plan has
-        one (always under joint velocity or acceleration limits): :func:`rapp.verify` takes
-        the exact peak speeds and accelerations from it. Result files do not hold it.
+        The timed motion ``q(t)`` itself, which ``t, q, qd, qdd`` sample (every plan of
+        :func:`rapp.plan` has one): :func:`rapp.verify` certifies it free over its whole time
+        span and takes the exact peak speeds and accelerations from it. A result file holds it
+        under ``motion`` (:func:`motion_to_dict`).
     """
 
     t: np.ndarray
@@ -125,6 +167,8 @@ class Plan:
             "report": None if self.report is None else self.report.to_dict(),
             "metrics": self.metrics,
         }
+        if self.motion is not None:
+            out["motion"] = motion_to_dict(self.motion)
         if timings:
             out["timings"] = self.timings
         return _jsonable(out)
@@ -169,13 +213,14 @@ class Plan:
                 bits = np.frombuffer(base64.b64decode(o["packbits_base64"]), dtype=np.uint8)
                 occ = np.unpackbits(bits)[: int(np.prod(shape))].astype(bool).reshape(shape)
             report = None if d.get("report") is None else Report.from_dict(d["report"])
+            motion = None if d.get("motion") is None else motion_from_dict(d["motion"], n)
             return cls(
                 t=arr("t", (None,)), q=arr("q", (None, n)), qd=arr("qd", (None, n)),
                 qdd=arr("qdd", (None, n)), xy=arr("xy", (None, 2)),
                 waypoints=arr("waypoints", (None, n)), shortcut=arr("shortcut", (None, n)),
                 goal_q=arr("goal_q", (n,)), scenario=scenario, grid=grid, occupancy=occ,
                 profile=str(d.get("profile", "")), report=report, metrics=dict(d.get("metrics", {})),
-                timings=dict(d.get("timings", {})),
+                timings=dict(d.get("timings", {})), motion=motion,
             )
         except (KeyError, TypeError, ValueError, AttributeError) as e:
             if isinstance(e, InvalidFormat):

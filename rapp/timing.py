@@ -5,18 +5,24 @@ straight joint-space edge certified free) and the scenario's
 :class:`~rapp.scenario.TrajectorySettings`, and returns the sampled motion:
 
 * without joint limits: :func:`rapp.trajectory.time_path` of the profile asked, over the
-  duration asked; if that smooth curve leaves the certified polyline and collides (or breaks a
-  joint limit), each segment is timed rest-to-rest instead
-  (:func:`rapp.trajectory.time_polyline`), which follows the polyline exactly;
+  duration asked; unless that smooth curve is certified free and within the joint limits over
+  its whole time span, between samples too (:func:`rapp.motion.certify_motion`), each segment
+  is timed rest-to-rest instead (the quintic smoothstep of
+  :func:`rapp.trajectory.time_polyline`), which follows the certified polyline exactly;
 * with ``max_velocity`` and/or ``max_acceleration`` (:mod:`rapp.time_scaling`):
   ``"trapezoidal"`` (needs both) is the time-optimal LSPB move along each segment, joints
   synchronized, at rest at every waypoint; ``"cubic"``, ``"quintic"``, ``"spline"`` are
   ``time_path`` scaled uniformly to the smallest duration within the limits (a missing limit
-  is unbounded); if that curve leaves the free polyline, each segment is timed rest-to-rest
-  with the quintic smoothstep, each at its own shortest time;
+  is unbounded); unless that curve is certified free and within the joint limits over its
+  whole time span, each segment is timed rest-to-rest with the quintic smoothstep, each at its
+  own shortest time;
 * a line goal (``line=True``): rest-to-rest per edge of the line's waypoints (trapezoidal, or
   the cubic or quintic rest-to-rest shape), never a spline through them, which would cut
   their corners and leave the line.
+
+Every motion returned is a :class:`~rapp.trajectory.PiecewisePolynomial` from exactly 0 to
+exactly its duration (``TimedPath.motion``); the samples are that motion at strictly increasing
+times, the last exactly the duration.
 
 Without ``duration`` the motion takes the shortest duration times ``1 + DURATION_MARGIN``,
 so that the peaks stay strictly below the limits after rounding. A ``duration`` is kept as
@@ -46,12 +52,12 @@ import numpy as np
 
 from rapp.checks import sorted_unique
 
-from rapp.collision import segment_collision_free
 from rapp.errors import InvalidValue
 from rapp.scenario import MAX_DURATION, MIN_DURATION
+from rapp.motion import certify_motion
 from rapp.time_scaling import clean_waypoints, clock_after, peak_rates, trapezoidal_path
-from rapp.trajectory import (PiecewisePolynomial, cubic_local, quintic_local, time_path,
-                             time_polyline)
+from rapp.trajectory import (PiecewisePolynomial, cubic_local, quintic_local, step_lengths,
+                             time_path)
 
 __all__ = ["time_route", "TimedPath", "sample_times", "round_up", "DURATION_MARGIN"]
 
@@ -67,9 +73,15 @@ def sample_times(duration: float, samples: int, breakpoints) -> np.ndarray:
     """``samples`` even times, plus each breakpoint and three inner times of every piece that
     the even times leave with fewer than three samples inside.
 
-    The verification bounds the motion between consecutive samples by their velocities and
-    accelerations; a polynomial piece seen only at its two ends (a rest-to-rest quintic has
-    zero velocity and acceleration there) would look like a jump.
+    The times lie in ``[0, duration]``, strictly increasing, the first 0 and the last exactly
+    ``duration``: a breakpoint that rounding put an ulp past the duration is clipped to it,
+    never kept as a second sample next to it. Plotting a piece seen only at its two ends (a
+    rest-to-rest quintic has zero velocity and acceleration there) would show a jump.
+
+    Examples
+    --------
+    >>> sample_times(5.0, 3, [0.0, 2.5, 5.000000000000001]).tolist()
+    [0.0, 0.625, 1.25, 1.875, 2.5, 3.125, 3.75, 4.375, 5.0]
     """
     t = np.linspace(0.0, duration, samples)
     bp = np.asarray(breakpoints, float)
@@ -78,31 +90,75 @@ def sample_times(duration: float, samples: int, breakpoints) -> np.ndarray:
     if sparse.size:
         h = np.diff(bp)[sparse, None]
         extra = bp[sparse, None] + h * np.array([0.0, 0.25, 0.5, 0.75, 1.0])
-        t = sorted_unique(np.concatenate((t, extra.ravel())))
-    t[-1] = duration
-    return t
+        t = np.concatenate((t, extra.ravel()))
+    return _times(t, duration)
+
+
+def _times(t, duration: float) -> np.ndarray:
+    """``t`` clipped to ``[0, duration]``, sorted, repeats dropped, ending exactly at ``duration``."""
+    return sorted_unique(np.clip(np.concatenate((t, [0.0, duration])), 0.0, duration))
+
+
+def _ending_at(pp: PiecewisePolynomial, duration: float) -> PiecewisePolynomial:
+    """``pp`` with its first breakpoint exactly 0 and its last exactly ``duration``.
+
+    Scaled or summed breakpoints can end an ulp away from the duration; the pieces keep their
+    local polynomials, so the motion moves by rounding only, and a sample at ``duration`` is
+    then the motion's end.
+    """
+    bp = pp.breakpoints
+    if bp[0] == 0.0 and bp[-1] == duration:
+        return pp
+    bp = bp.copy()
+    bp[0], bp[-1] = 0.0, duration
+    return PiecewisePolynomial.from_local(bp, pp.local)
+
+
+def _motion_ok(arm, obs, pp: PiecewisePolynomial, path) -> bool:
+    """The motion is finite, starts and ends on ``path``'s ends, and is certified free and
+    within the joint limits over its whole time span (:func:`rapp.motion.certify_motion`)."""
+    ends = pp.evaluate([pp.t0, pp.tf])
+    return bool(np.isfinite(pp.local).all()
+                and np.abs(ends[0] - path[0]).max() <= 1e-9
+                and np.abs(ends[1] - path[-1]).max() <= 1e-9
+                and certify_motion(arm, pp, obs).free)
+
+
+def _rest_along(path, duration: float) -> PiecewisePolynomial:
+    """Rest-to-rest quintic smoothstep along each segment of ``path`` (m, n), the time shared
+    in proportion to joint-space length, ending exactly at ``duration``: the motion stays on
+    the polyline (:func:`rapp.trajectory.time_polyline`'s motion, as polynomials)."""
+    w = np.asarray(path, float)
+    if len(w) < 2 or not step_lengths(w).sum() > 0:
+        return time_path(w[:1], duration)              # rest at the start
+    w = clean_waypoints(w, None)
+    lengths = step_lengths(w)
+    bp = np.concatenate(([0.0], np.cumsum(duration * lengths / lengths.sum())))
+    bp[-1] = duration
+    if np.any(np.diff(bp) <= 0):   # a segment too short to get its own time: equal shares
+        bp = np.linspace(0.0, duration, len(w))
+    hh = np.diff(bp)[:, None]
+    z = np.zeros_like(w[:-1])
+    b = quintic_local(hh, w[:-1], w[1:], z, z, z, z)
+    return PiecewisePolynomial.from_local(bp, np.moveaxis(b, 0, 1))
 
 
 def _time_smooth(arm, obs, path, tr):
-    """The requested smooth profile of ``tr`` (TrajectorySettings) if it stays free and within
-    limits, else ``time_polyline``."""
+    """The requested smooth profile of ``tr`` (TrajectorySettings) if it is certified free and
+    within limits over its whole time span, else rest-to-rest along the certified polyline:
+    ``(t, q, qd, qdd, profile, motion)``."""
+    path = np.asarray(path, float)
     if len(path) >= 2:
-        pp = time_path(path, tr.duration, profile=tr.profile)
-        t = sample_times(tr.duration, tr.samples, pp.breakpoints)
-        q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
-        good = (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
-                and np.abs(q[0] - path[0]).max() <= 1e-9
-                and np.abs(q[-1] - path[-1]).max() <= 1e-9
-                and arm.within_limits(q, 1e-9).all()
-                and segment_collision_free(arm, q[:-1], q[1:], obs).all())
-        if good:
-            q[0], q[-1] = path[0], path[-1]
-            return t, q, qd, qdd, tr.profile
+        pp = _ending_at(time_path(path, tr.duration, profile=tr.profile), tr.duration)
+        if _motion_ok(arm, obs, pp, path):
+            t, q, qd, qdd = _sample(pp, path, tr.duration, tr.samples)
+            return t, q, qd, qdd, tr.profile, pp
         fallback = f"rest-to-rest per segment (the {tr.profile} curve left the free polyline)"
     else:
         fallback = "rest (start is the goal)"
-    t, q, qd, qdd = time_polyline(path, tr.duration, tr.samples)
-    return t, q, qd, qdd, fallback
+    pp = _rest_along(path, tr.duration)
+    t, q, qd, qdd = _sample(pp, path, tr.duration, tr.samples, every_breakpoint=True)
+    return t, q, qd, qdd, fallback, pp
 
 
 def round_up(x: float, digits: int = 6) -> float:
@@ -200,10 +256,10 @@ def _limited_motion(tr, w: np.ndarray, kind: str, what: str):
 
 
 def _sample(pp: PiecewisePolynomial, path, duration: float, samples: int, every_breakpoint=False):
+    """The motion's samples; ``pp`` must end exactly at ``duration`` (:func:`_ending_at`)."""
     t = sample_times(duration, samples, pp.breakpoints)
     if every_breakpoint:   # every sample chord then lies on one edge of the path
-        bp = pp.breakpoints[(pp.breakpoints > 0) & (pp.breakpoints < duration)]
-        t = sorted_unique(np.concatenate((t, bp)))
+        t = _times(np.concatenate((t, pp.breakpoints)), duration)
     q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
     q[0], q[-1] = path[0], path[-1]
     return t, q, qd, qdd
@@ -214,8 +270,9 @@ def _time_motion(arm, obs, path, tr, line: bool):
     w = clean_waypoints(path, None) if len(path) >= 2 else np.asarray(path, float)
     if len(w) < 2:
         T = tr.duration if tr.duration is not None else MIN_DURATION
-        t, q, qd, qdd = time_polyline(np.asarray(path, float)[:1], T, tr.samples)
-        return t, q, qd, qdd, "rest (start is the goal)", None, {"duration_s": T}
+        pp = _rest_along(np.asarray(path, float)[:1], T)
+        t, q, qd, qdd = _sample(pp, np.asarray(path, float), T, tr.samples)
+        return t, q, qd, qdd, "rest (start is the goal)", pp, {"duration_s": T}
     info = {}
     rest = "quintic" if tr.profile in ("quintic", "spline") else "cubic"
     if line:
@@ -229,29 +286,30 @@ def _time_motion(arm, obs, path, tr, line: bool):
             lengths = np.linalg.norm(np.diff(w, axis=0), axis=1)
             pp = _rest_to_rest(w, rest, tr.duration * lengths / lengths.sum())
         T = tr.duration if tr.duration is not None else pp.tf
+        pp = _ending_at(pp, T)
         t, q, qd, qdd = _sample(pp, w, T, tr.samples, every_breakpoint=True)
     elif tr.profile == "trapezoidal":
         label = "trapezoidal"
         pp, info["min_duration_s"] = _limited_motion(tr, w, "trapezoidal",
                                                      "trapezoidal motion along the planned path")
         T = tr.duration if tr.duration is not None else pp.tf
+        pp = _ending_at(pp, T)
         t, q, qd, qdd = _sample(pp, w, T, tr.samples)
     else:
         label = tr.profile
         pp, info["min_duration_s"] = _limited_motion(
             tr, w, "uniform", f"{tr.profile} motion along the planned path")
         T = tr.duration if tr.duration is not None else pp.tf
+        pp = _ending_at(pp, T)
         t, q, qd, qdd = _sample(pp, w, T, tr.samples)
-        good = (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
-                and arm.within_limits(q, 1e-9).all()
-                and segment_collision_free(arm, q[:-1], q[1:], obs).all())
-        if not good:   # rest-to-rest along the certified polyline, each segment at its shortest
+        if not _motion_ok(arm, obs, pp, w):   # rest-to-rest along the certified polyline, each segment at its shortest
             label = (f"rest-to-rest quintic per segment (the {tr.profile} curve left the free "
                      "polyline)")
             pp, info["min_duration_s"] = _limited_motion(
                 tr, w, "rest-quintic", "rest-to-rest quintic motion along the planned path "
                 f"(the {tr.profile} curve leaves the free polyline)")
             T = tr.duration if tr.duration is not None else pp.tf
+            pp = _ending_at(pp, T)
             t, q, qd, qdd = _sample(pp, w, T, tr.samples)
     info["duration_s"] = float(t[-1])
     return t, q, qd, qdd, label, pp, info
@@ -260,9 +318,9 @@ def _time_motion(arm, obs, path, tr, line: bool):
 @dataclass(frozen=True, eq=False)
 class TimedPath:
     """A sampled motion: times ``t`` (k,), ``q``, ``qd``, ``qdd`` (k, n), the ``profile`` as the
-    plan reports it, the ``motion`` as a :class:`~rapp.trajectory.PiecewisePolynomial` when it
-    was timed under limits or along a line (else None), and ``info`` (``duration_s``,
-    ``min_duration_s``) for the plan's metrics."""
+    plan reports it, the ``motion`` itself as a :class:`~rapp.trajectory.PiecewisePolynomial`
+    (from 0 exactly to the duration; ``q`` is ``motion`` at ``t``, its ends set exactly to the
+    path's ends), and ``info`` (``duration_s``, ``min_duration_s``) for the plan's metrics."""
 
     t: np.ndarray
     q: np.ndarray
@@ -294,4 +352,5 @@ def time_route(arm, obstacles, path, trajectory, *, line: bool = False) -> Timed
     """
     if trajectory.limited or line:
         return TimedPath(*_time_motion(arm, obstacles, path, trajectory, line))
-    return TimedPath(*_time_smooth(arm, obstacles, path, trajectory))
+    t, q, qd, qdd, profile, motion = _time_smooth(arm, obstacles, path, trajectory)
+    return TimedPath(t, q, qd, qdd, profile, motion)

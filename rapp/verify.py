@@ -3,14 +3,21 @@
 Every check reports what it measured next to the limit it was held to, so a
 passing report is evidence and a failing one says by how much:
 
-* ``collision-free``: every straight joint-space segment between consecutive
-  samples is certified free (:func:`rapp.collision.segment_collision_free`, a
-  proof over the whole segment, not a test of the samples alone);
-* ``min clearance``: the smallest link-obstacle distance over the samples; with
-  thick links (``arm.link_radius``) or a ``safety_margin``, the smallest gap beyond
-  the one required (``link_radius + safety_margin``), and both checks above test
-  the zero-width links against the obstacles grown by it (:func:`rapp.collision.scene`);
-* ``joint limits``: the largest violation of a limit;
+* ``collision-free``: the motion itself, every piece of the plan's ``motion``
+  over its whole time span, between samples too, is certified free
+  (:func:`rapp.motion.certify_motion`, a proof, not a test of the samples); a plan
+  without its ``motion`` has each straight joint-space chord between consecutive
+  samples certified instead (:func:`rapp.collision.segment_collision_free`);
+* ``samples on the motion`` (with a ``motion``): the samples ``q`` are the motion
+  at the times ``t``, to 1e-9 rad, so that what is certified is what is reported;
+* ``min clearance``: the smallest link-obstacle distance over the whole motion,
+  measured to 0.1 % (the certificate proves the motion never comes closer than
+  that less 0.1 %); without a ``motion``, over the samples; with thick links
+  (``arm.link_radius``) or a ``safety_margin``, the smallest gap beyond the one
+  required (``link_radius + safety_margin``): the checks test the zero-width links
+  against the obstacles grown by it (:func:`rapp.collision.scene`);
+* ``joint limits``: the largest violation of a limit at the samples; with a
+  ``motion``, every limited joint is also proved within its limits between them;
 * ``starts at start`` and ``goal reached``: the first sample is the start, and
   the last one is the joint goal within 0.01 rad or puts the end effector
   within 1 mm of the Cartesian goal;
@@ -46,10 +53,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from rapp.collision import clearance, collides, scene, segment_collision_free, segment_point_distance
+from rapp.motion import certify_motion
 from rapp.time_scaling import peak_rates
 from rapp.trajectory import PiecewisePolynomial
 
-__all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL", "RATE_TOL"]
+__all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL", "RATE_TOL",
+           "MOTION_TOL", "CLEARANCE_RTOL"]
 
 #: NFR1: joint angles within 0.01 rad, Cartesian positions within 0.1 cm.
 JOINT_TOL = 0.01
@@ -60,6 +69,10 @@ START_TOL = 1e-9
 LIMIT_TOL = 1e-9
 #: A peak speed or acceleration may exceed its limit by this relative amount (rounding).
 RATE_TOL = 1e-9
+#: The samples must be the plan's motion at their times to this (rad).
+MOTION_TOL = 1e-9
+#: The motion's smallest clearance is measured to this relative precision.
+CLEARANCE_RTOL = 1e-3
 
 
 def _num(v):
@@ -193,12 +206,33 @@ def _check_collision(arm, obs, q) -> list:
     else:
         n_bad = int(bool(obs) and bool(collides(arm, q, obs).any()))
     checks = [Check("collision-free", n_bad == 0, n_bad, 0, "segments",
-                    f"{max(k - 1, 1)} segments between samples, each certified over its whole length")]
+                    f"{max(k - 1, 1)} chords between samples, each certified over its whole "
+                    "length (the plan carries no motion)")]
     if obs:
         c = float(clearance(arm, q, obs).min())
         checks.append(Check("min clearance", c > 0, c, 0.0, "m",
                             "smallest link-obstacle distance over the samples; must be > 0"))
     return checks
+
+
+def _check_motion(arm, obs, motion, t, q) -> tuple:
+    """The motion certified over its whole time span: ``(checks, certificate)``."""
+    cert = certify_motion(arm, motion, obs, rtol=CLEARANCE_RTOL)
+    with np.errstate(all="ignore"):
+        gap = float(np.abs(motion.evaluate(t) - q).max())
+    on = (bool(gap <= MOTION_TOL) and float(t[0]) == motion.t0 and float(t[-1]) == motion.tf)
+    n_bad = int((~cert.pieces).sum())
+    pieces = len(cert.pieces)
+    checks = [Check("collision-free", cert.free, n_bad, 0, "pieces",
+                    f"the motion q(t), {pieces} polynomial piece{'s' * (pieces != 1)}, certified "
+                    "over its whole time span, between samples too"),
+              Check("samples on the motion", on, gap, MOTION_TOL, "rad",
+                    "samples against the motion at their times, which spans them exactly")]
+    if obs:
+        checks.append(Check("min clearance", cert.free and cert.lower > 0, cert.clearance, 0.0,
+                            "m", "smallest link-obstacle distance over the whole motion, between "
+                            f"samples too (proved at least {cert.lower:.6g} m); must be > 0"))
+    return checks, cert
 
 
 def _check_required(arm, obs, q, margin) -> list:
@@ -207,18 +241,39 @@ def _check_required(arm, obs, q, margin) -> list:
     checks = _check_collision(thin, list(grown), q)
     if thin is arm and not margin:
         return checks
+    detail = _required_detail(arm, margin, "the samples")
+    return [replace(c, detail=detail) if c.name == "min clearance" else c for c in checks]
+
+
+def _required_detail(arm, margin, over) -> str:
     need = ", ".join(f"{r + margin:g}" for r in arm.link_radius)
-    return [replace(c, detail=f"smallest gap over the samples beyond the distance each link must keep "
-                              f"(link radius + safety margin: [{need}] m); must be > 0")
-            if c.name == "min clearance" else c for c in checks]
+    return (f"smallest gap over {over} beyond the distance each link must keep "
+            f"(link radius + safety margin: [{need}] m); must be > 0")
 
 
-def _check_limits(arm, q) -> Check:
+def _check_motion_required(arm, obs, motion, t, q, margin) -> tuple:
+    """:func:`_check_motion` of thick links with a margin: zero-width links, grown obstacles."""
+    thin, grown = scene(arm, obs, margin)
+    checks, cert = _check_motion(thin, list(grown), motion, t, q)
+    if thin is arm and not margin:
+        return checks, cert
+    detail = _required_detail(arm, margin, "the whole motion, between samples too")
+    return [replace(c, detail=detail) if c.name == "min clearance" else c for c in checks], cert
+
+
+def _check_limits(arm, q, cert=None) -> Check:
     lo, hi, lim = arm.lower, arm.upper, arm.limited
     viol = np.where(lim, np.maximum(lo - q, q - hi), -np.inf).max() if lim.any() else -np.inf
     viol = max(float(viol), 0.0)
-    return Check("joint limits", viol <= LIMIT_TOL, viol, LIMIT_TOL, "rad",
-                 "largest excess beyond a joint limit" if lim.any() else "no limited joint")
+    if not lim.any():
+        return Check("joint limits", True, viol, LIMIT_TOL, "rad", "no limited joint")
+    if cert is None:
+        return Check("joint limits", viol <= LIMIT_TOL, viol, LIMIT_TOL, "rad",
+                     "largest excess beyond a joint limit at the samples")
+    return Check("joint limits", viol <= LIMIT_TOL and cert.within_limits and cert.free, viol,
+                 LIMIT_TOL, "rad", "largest excess beyond a joint limit at the samples; "
+                 + ("proved within the limits between samples too" if cert.within_limits
+                    and cert.free else "NOT proved within the limits between samples"))
 
 
 def _check_ends(arm, q, scenario) -> list:
@@ -346,8 +401,13 @@ def verify(plan, scenario) -> Report:
     if not finite:
         return Report.from_checks([shape_check, Check(
             "finite", False, None, None, "", "t, q, q', q'' or xy holds NaN or infinity")])
-    checks = [shape_check, *_check_required(arm, obs, q, getattr(scenario, "safety_margin", 0.0)),
-              _check_limits(arm, q), *_check_ends(arm, q, scenario)]
+    margin = getattr(scenario, "safety_margin", 0.0)
+    motion = getattr(plan, "motion", None)
+    if isinstance(motion, PiecewisePolynomial) and motion.dim == arm.n:
+        found, cert = _check_motion_required(arm, obs, motion, t, q, margin)
+    else:
+        found, cert = _check_required(arm, obs, q, margin), None
+    checks = [shape_check, *found, _check_limits(arm, q, cert), *_check_ends(arm, q, scenario)]
     if k >= 2:
         checks.append(_check_continuity(t, q, qd, qdd))
     tr = scenario.trajectory

@@ -105,7 +105,7 @@ def test_the_new_homes_are_documented(module):
 
 #: The layers of ARCHITECTURE.md. Each module of rapp/ is in exactly one.
 LAYERS = {
-    "core": {"arm", "obstacles", "collision", "_kernels", "cspace", "search", "ik", "ik_kernel", "symbolic", "trajectory",
+    "core": {"arm", "obstacles", "collision", "_kernels", "motion", "cspace", "search", "ik", "ik_kernel", "symbolic", "trajectory",
              "heap", "jit", "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
              "reference"},
     # and every planner's own module, which the planner table names (planner_modules below)

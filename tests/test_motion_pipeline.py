@@ -111,10 +111,12 @@ def test_one_limit_leaves_the_other_unbounded(profile, given):
     assert ("peak acceleration" in names) == (given == "max_acceleration")
 
 
-def test_no_limits_no_rate_checks_and_the_plan_is_unchanged():
+def test_no_limits_no_rate_checks_and_the_motion_is_still_the_plans():
     s = load_scenario("srs_typical")
     p = plan(s)
-    assert p.motion is None and "min_duration_s" not in p.metrics
+    # Every plan carries the motion its samples come from (issue 31), limits or not.
+    assert p.motion is not None and "min_duration_s" not in p.metrics
+    np.testing.assert_allclose(p.motion.evaluate(p.t), p.q, atol=1e-9)
     assert not {"peak velocity", "peak acceleration", "on the line"} & {c.name for c in p.report.checks}
 
 
@@ -184,13 +186,16 @@ def test_a_curve_that_leaves_the_free_path_falls_back_to_rest_to_rest_within_lim
     import rapp.planner
     import rapp.timing
 
+    from rapp.motion import MotionCertificate
+
     calls = []
 
-    def refuse_the_curve(arm, qa, qb, obstacles):
+    def refuse_the_curve(arm, motion, obstacles, **kw):
         calls.append(1)
-        return np.zeros(np.shape(qa)[:-1], dtype=bool)
+        pieces = np.zeros(len(motion.breakpoints) - 1, dtype=bool)
+        return MotionCertificate(False, pieces, 0.0, 0.0, True, 1)
 
-    monkeypatch.setattr(rapp.timing, "segment_collision_free", refuse_the_curve)
+    monkeypatch.setattr(rapp.timing, "certify_motion", refuse_the_curve)
     monkeypatch.setattr(rapp.planner, "shortcut", lambda arm, w, obs: w)
     p = plan(with_trajectory("srs_typical", profile="spline", max_velocity=1.0,
                              max_acceleration=2.0))

@@ -65,7 +65,7 @@ def test_every_embedded_scenario_plans_and_verifies(plans, name):
     # The timed polyline is certified free segment by segment, and shortcutting only shortens.
     assert segment_collision_free(s.arm, p.shortcut[:-1], p.shortcut[1:], s.obstacles).all()
     assert p.metrics["shortcut_length_rad"] <= p.metrics["waypoint_length_rad"] + 1e-12
-    assert set(p.timings) == set(STAGES) == {"ik", "cspace", "search", "smoothing",
+    assert set(p.timings) == set(STAGES) == {"compile", "ik", "cspace", "search", "smoothing",
                                              "trajectory", "verify", "total"}
     if s.goal_xy is not None:
         assert np.hypot(*(p.xy[-1] - s.goal_xy)) <= 1e-3
