@@ -35,6 +35,7 @@ from rapp.errors import InvalidSetting, NoPathFound
 from rapp.jit import jit
 from rapp.paths import NODE_CAP, TIME_BUDGET_SPENT, PlannerResult, tree_result
 from rapp.rrt import RRTResult
+from rapp.sampling import warms
 from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared_norms, uniform_samples,
                            unwrapped_chain)
 
@@ -532,3 +533,7 @@ def _compiled_lazy():
     g["_dijkstra_compiled"], g["_bisect_compiled"], g["_wrap_compiled"] = (
         dijkstra, loops.bisect, loops.wrap)
     return jit(_lazy_searches)
+
+
+# Its kernels are compiled before a time budget of it starts (rapp.sampling.prepare_kernels).
+warms(prm, max_iterations=5)

@@ -75,6 +75,7 @@ from rapp.collision import collides, scene, segment_collision_free
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.ik import jacobian
 from rapp.paths import ITERATION_CAP, NO_PATH, TIME_BUDGET_SPENT, PlannerResult, tree_result
+from rapp.sampling import warms
 from rapp.sampling import Budget, Tree
 
 __all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "check_reachable", "Grower", "MIN_STEP", "MAX_STEP"]
@@ -514,3 +515,7 @@ def check_reachable(arm, start, goals, *, step: float | None = None, max_iterati
             f"step {step:g} rad is too small: the goal is {gap:.3g} rad beyond the goal "
             f"threshold, at least {gap / step:.3g} steps, and max_iterations is {iterations}; "
             f"use a step of at least {gap / iterations:.3g} rad (or more iterations)", "step")
+
+
+# Its kernels are compiled before a time budget of it starts (rapp.sampling.prepare_kernels).
+warms(rrt, max_iterations=300)

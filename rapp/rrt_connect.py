@@ -33,6 +33,7 @@ from rapp.obstacles import Circle
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import NODE_CAP, PlannerResult, tree_result
 from rapp.rrt import MAX_STEP, MIN_STEP
+from rapp.sampling import warms
 from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals,
                            endpoint_certified, motion_bounds_of, squared_norms, uniform_samples,
                            unwrapped_chain)
@@ -346,3 +347,7 @@ def _root_chain(tree: Tree, i: int) -> list:
         i = int(tree.parent[i])
         out.append(tree.nodes[i])
     return out
+
+
+# Its kernels are compiled before a time budget of it starts (rapp.sampling.prepare_kernels).
+warms(rrt_connect, max_iterations=300)

@@ -31,6 +31,7 @@ from rapp.collision import MAX_PENDING_INTERVALS, link_clearances, reach_matrix,
 from rapp._kernels.collision import pack
 from rapp.errors import NoPathFound
 from rapp.paths import PlannerResult, tree_result
+from rapp.sampling import warms
 from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals, squared_norms,
                            uniform_samples, unwrapped_chain)
 
@@ -319,3 +320,7 @@ def _grow_compiled(loops, arm, goals, obstacles, step, radius, goal_bias, goal_t
             return None
     mm = int(m[0])
     return arrays["nodes"][:mm].copy(), arrays["parent"][:mm].copy(), int(best[0])
+
+
+# Its kernels are compiled before a time budget of it starts (rapp.sampling.prepare_kernels).
+warms(rrt_star, max_iterations=100)

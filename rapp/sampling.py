@@ -17,14 +17,16 @@ import time
 
 import numpy as np
 
+from rapp.arm import Arm
 from rapp.checks import finite_number, positive_integer
 from rapp._kernels import collision as collision_backend
 from rapp.collision import collides, reach_matrix, segment_collision_free
 from rapp._kernels.collision import pack
 from rapp.errors import NoPathFound
+from rapp.obstacles import Circle, Polygon
 from rapp.paths import ITERATION_CAP, TIME_BUDGET_SPENT
 
-__all__ = ["ClearanceTree", "squared_norms", "motion_bounds_of", "endpoint_certified", "EdgeCertifier", "Tree", "Budget", "prepare_kernels", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
+__all__ = ["ClearanceTree", "squared_norms", "motion_bounds_of", "endpoint_certified", "EdgeCertifier", "Tree", "Budget", "prepare_kernels", "warms", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
 
 
 def squared_norms(d) -> np.ndarray:
@@ -200,8 +202,8 @@ class Tree:
         self._cost[np.asarray(indices, dtype=int)] += delta
 
 
-#: Whether :func:`prepare_kernels` has run in this process (or is running).
-_PREPARED = [False]
+#: How many of the registered planners :func:`prepare_kernels` has run (or is running).
+_PREPARED = [0]
 
 
 def prepare_kernels() -> float:
@@ -222,31 +224,48 @@ def prepare_kernels() -> float:
     >>> prepare_kernels()
     0.0
     """
-    if _PREPARED[0]:
+    if _PREPARED[0] >= len(_WARMERS):
         return 0.0
-    _PREPARED[0] = True
     t0 = time.perf_counter()
     _plan_tiny_problems()
     return time.perf_counter() - t0
 
 
-def _plan_tiny_problems() -> None:
-    """Run each sampling planner on a tiny problem (compiled kernels only)."""
-    from rapp import sampling_kernel
-    if sampling_kernel.kernels() is not None:
-        # Imported here: the planners import this module.
-        from rapp.arm import Arm
-        from rapp.obstacles import Circle, Polygon
-        from rapp.prm import prm
-        from rapp.rrt import rrt
-        from rapp.rrt_connect import rrt_connect
-        from rapp.rrt_star import rrt_star
+#: The planners whose tiny problem :func:`prepare_kernels` plans: each sampling planner's module
+#: registers itself on import (:func:`warms`), so this module imports none of them.
+_WARMERS: list = []
 
+
+def warms(planner, **settings):
+    """Register ``planner`` (with ``settings``) for :func:`prepare_kernels`; returns ``planner``.
+
+    A sampling planner's module calls this once on import, so a time budget of that planner,
+    however it is called, never pays for compiling its kernels.
+
+    Examples
+    --------
+    >>> def planner(arm, start, goal, obstacles, **kw):
+    ...     return None
+    >>> warms(planner, max_iterations=5) is planner
+    True
+    >>> _ = _WARMERS.pop()
+    """
+    _WARMERS.append((planner, settings))
+    return planner
+
+
+def _plan_tiny_problems() -> None:
+    """Run each registered sampling planner on a tiny problem (compiled kernels only)."""
+    from rapp import sampling_kernel
+    if sampling_kernel.kernels() is None:
+        _PREPARED[0] = len(_WARMERS)   # nothing to compile
+    else:
         arm = Arm([1.0, 0.6])
         obs = [Circle((0.0, 1.3), 0.2), Polygon.rectangle((-1.4, -1.4), 0.3, 0.3)]
         start, goal = np.array([0.0, 0.0]), np.array([[2.5, 0.3]])
-        for planner, kw in ((rrt, {"max_iterations": 300}), (rrt_connect, {"max_iterations": 300}),
-                            (rrt_star, {"max_iterations": 100}), (prm, {"max_iterations": 5})):
+        while _PREPARED[0] < len(_WARMERS):
+            planner, kw = _WARMERS[_PREPARED[0]]
+            _PREPARED[0] += 1   # first: the tiny run's own Budget must not start another
             planner(arm, start, goal, obs, seed=0, raise_on_failure=False, **kw)
 
 

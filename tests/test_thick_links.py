@@ -188,7 +188,9 @@ def test_a_plan_with_thick_links_keeps_them_apart_and_says_so():
     gaps = _gaps(s.arm, p.q, s.obstacles)
     assert (gaps > 0.03).all()
     check = p.report["min clearance"]
-    assert check.value == pytest.approx((gaps - 0.03).min(), abs=1e-9)
+    # The motion's smallest gap (measured to 0.1 %, verify's CLEARANCE_RTOL) is at most the
+    # samples' (they lie on the motion), and positive: the motion keeps the distance too.
+    assert 0 < check.value <= (gaps - 0.03).min() * (1 + 1e-3)
     assert "safety margin" in check.detail
     assert rapp.load_scenario(s.to_dict()) == s
 
