@@ -130,3 +130,12 @@ def test_a_figure_drawn_with_small_text_is_not_blown_up():
     buf = io.BytesIO()
     Image.new("RGB", (400, 20)).save(buf, "PNG", pnginfo=info)
     assert reader_pages.legible_width(buf.getvalue()) == 400
+
+
+def test_a_script_repeated_in_the_head_is_kept_once():
+    page = ('<head><script>const A = 1</script>\n<script src="x.js"></script>\n'
+            '<script>const A = 1</script>\n</head><body><script>f()</script><script>f()</script></body>')
+    assert reader_pages.dedupe_head_scripts(page) == (
+        '<head><script>const A = 1</script>\n<script src="x.js"></script>\n'
+        '</head><body><script>f()</script><script>f()</script></body>')
+    assert reader_pages.dedupe_head_scripts("<p>no head</p>") == "<p>no head</p>"

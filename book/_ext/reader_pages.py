@@ -11,7 +11,7 @@
   Where the column is wider (a laptop), nothing changes.
 - **No console errors.** sphinx-thebe's inline script (``const THEBE_JS_URL = …``) is registered
   twice by Jupyter Book, and a second ``const`` of the same name is a SyntaxError on every page;
-  each script is kept once. The pydata theme logs "Got invalid theme mode" when no default mode is
+  after the build, each page's head keeps one copy of each script. The pydata theme logs "Got invalid theme mode" when no default mode is
   set; it is set to light (the figures are drawn on white).
 - **Animations described.** A cell's ``metadata.rapp.alt`` becomes the alt text of its
   animation's frame (myst-nb's ``mystnb.image.alt`` does it for a figure's PNG).
@@ -97,16 +97,6 @@ def _image_sources(app) -> dict[str, Path]:
 
 
 def _page(app, pagename, templatename, context, doctree):
-    scripts = context.get("script_files")
-    if isinstance(scripts, list):
-        seen, kept = set(), []
-        for js in scripts:
-            # Same file or same inline body (its priority may differ between the two copies).
-            key = (str(getattr(js, "filename", js)), getattr(js, "attributes", {}).get("body"))
-            if key not in seen:
-                seen.add(key)
-                kept.append(js)
-        scripts[:] = kept
     body = context.get("body")
     if not body or "_images/" not in body:
         return
@@ -148,6 +138,39 @@ def _describe_animations(app, doctree, docname=None):
             raw["rapp_described"] = True
 
 
+_SCRIPT = re.compile(r"<script\b[^>]*>.*?</script>\s*", re.S)
+
+
+def dedupe_head_scripts(page: str) -> str:
+    """``page`` with every repeated ``<script>`` element of its ``<head>`` removed, the first
+    copy kept; the body is left as it is (tests/test_figure_alt.py)."""
+    end = page.find("</head>")
+    if end < 0:
+        return page
+    seen: set[str] = set()
+
+    def once(m: re.Match) -> str:
+        tag = m.group(0).strip()
+        if tag in seen:
+            return ""
+        seen.add(tag)
+        return m.group(0)
+
+    return _SCRIPT.sub(once, page[:end]) + page[end:]
+
+
+def _dedupe_scripts(app, exception):
+    """Jupyter Book registers sphinx-thebe's inline script twice; the second ``const`` of the
+    same name throws on every page. Each page's head keeps one copy of each script."""
+    if exception is not None or app.builder.format != "html":
+        return
+    for path in Path(app.outdir).rglob("*.html"):
+        page = path.read_text(encoding="utf-8")
+        new = dedupe_head_scripts(page)
+        if new != page:
+            path.write_text(new, encoding="utf-8")
+
+
 def _config(app, config):
     # pydata-sphinx-theme reads its default colour mode from the template context.
     context = dict(config.html_context or {})
@@ -159,6 +182,7 @@ def setup(app):
     app.connect("config-inited", _config)
     app.connect("doctree-resolved", _describe_animations)  # after myst-nb picks the output
     app.connect("html-page-context", _page, priority=900)
+    app.connect("build-finished", _dedupe_scripts)
     # Before the widget manager (nb_ipywidgets_js, priority 500) and MathJax (defer).
     app.add_js_file("mathjax_hub.js", priority=150)
     return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1.0"}
