@@ -24,10 +24,14 @@ HTML weight, the height at both widths, and the smallest figure text as displaye
 recorded ``rapp:text-px`` times its displayed over its natural width). The page fails when
 
 - an element of the article reaches past the screen's right edge at 390 px (a box that scrolls
-  sideways inside the column is fine);
-- a chapter page is taller than ~22,000 px (22,500) at 1280 px, or weighs over 2.5 MB of HTML;
+  sideways inside the column is fine), the page itself is wider than 390 px, or a displayed
+  equation, table, code block or image is cut off by a box that clips it;
+- axe-core (vendored, scripts/vendor_js.py) finds a critical or serious violation of the WCAG 2.1
+  A/AA rules at 1280 px (issue 38);
+- the page logs an error to the console, or throws one;
+- a chapter page is taller than 22,000 px at 1280 px, or weighs over 2.5 MB of HTML;
 - any page weighs over 8 MB; the book fails over 80 MB, and when fewer than 90 % of the figures
-  that carry a text size show it at 9 CSS px or more at 1280 px.
+  that carry a text size show it at 9 CSS px or more, at 1280 px or at 390 px (a phone).
 
 Prints one line per page and a summary line; exit status 1 when any page fails.
 """
@@ -196,10 +200,15 @@ PAGE_BUDGET_MB = 8.0
 BOOK_BUDGET_MB = 80.0
 # What a reader can take in at one sitting, on a laptop and on a phone (issue 22).
 CHAPTER_HTML_MB = 2.5          # a chapter page's HTML, saved widget views included
-CHAPTER_HEIGHT_PX = 22_500     # a chapter page's height at 1280 px: "~22,000 px", one sitting
+CHAPTER_HEIGHT_PX = 22_000     # a chapter page's height at 1280 px: one sitting (issue 33.6)
 MIN_TEXT_PX = 9.0              # the smallest figure text as displayed at 1280 px ...
 MIN_TEXT_SHARE = 0.90          # ... in at least this share of the measured figures
 WIDE, NARROW = 1280, 390       # viewport widths, CSS px
+# axe-core (vendored by scripts/vendor_js.py) runs these rule sets on every page at 1280 px; a
+# violation of impact "critical" or "serious" fails the page (issue 38).
+AXE_PATH = "_static/offline/axe-core/axe.min.js"
+AXE_TAGS = ["wcag2a", "wcag2aa", "wcag21a", "wcag21aa"]
+AXE_FAIL = ("critical", "serious")
 
 
 def is_chapter(rel: str) -> bool:
@@ -288,6 +297,42 @@ _FIGURES = """async () => {
 
 _HANDLES = ".widget-slider .noUi-handle, .animation input[type=range]"
 
+# Displayed equations whose content is wider than a box that clips it (overflow hidden/clip on
+# the way up, no scrolling box in between): a reader would never see its end.
+_CLIPPED = """() => {
+    const article = document.querySelector('.bd-article') || document.body;
+    const out = [];
+    for (const el of article.querySelectorAll('mjx-container[display="true"], pre, table, img')) {
+        const r = el.getBoundingClientRect();
+        if (!r.width || ['auto', 'scroll'].includes(getComputedStyle(el).overflowX)) continue;
+        const right = r.left + Math.max(r.width, el.scrollWidth || 0);
+        for (let a = el.parentElement; a && a !== document.body; a = a.parentElement) {
+            const ox = getComputedStyle(a).overflowX;
+            if (['auto', 'scroll'].includes(ox)) break;
+            if (['hidden', 'clip'].includes(ox) && right > a.getBoundingClientRect().right + 2) {
+                out.push(`${el.tagName.toLowerCase()} "${(el.textContent || '').replace(/\\s+/g, ' ').trim().slice(0, 30)}"`
+                         + ` cut at ${Math.round(a.getBoundingClientRect().right)} px of ${Math.round(right)}`);
+                break;
+            }
+        }
+    }
+    return out;
+}"""
+
+# axe-core's verdict on the page: the violations of impact critical or serious, each with its
+# rule, impact, number of elements and the first few elements' selectors.
+_AXE = """async (tags) => {
+    const r = await axe.run(document, {runOnly: {type: 'tag', values: tags}, resultTypes: ['violations']});
+    return r.violations.map(v => ({id: v.id, impact: v.impact, n: v.nodes.length,
+                                   where: v.nodes.slice(0, 3).map(n => n.target.join(' '))}));
+}"""
+
+
+def run_axe(page, axe_source: str) -> list[dict]:
+    """axe-core's violations on ``page`` (WCAG 2.1 A and AA rules), all impacts."""
+    page.add_script_tag(content=axe_source)
+    return page.evaluate(_AXE, AXE_TAGS)
+
 
 def _press_changes(page, handle) -> bool:
     """Press the arrow keys on a slider until what it drives changes (False: it never did)."""
@@ -302,14 +347,17 @@ def _press_changes(page, handle) -> bool:
 
 
 def check_in_browser(base_url: str, pages: list[tuple[str, int]],
-                     live_only: frozenset = frozenset()) -> dict[str, tuple[list[str], dict]]:
+                     live_only: frozenset = frozenset(),
+                     axe_source: str | None = None) -> dict[str, tuple[list[str], dict]]:
     """Open every page as a reader would, at 1280 px and at 390 px, and measure it.
 
     ``pages`` are (relative URL, number of saved widget views). At 1280 px: the seconds until the
     first slider responds and until every widget view rendered, every slider pressed with the
     arrow keys (the figure it drives must change), the page's height, and the smallest figure
-    text as displayed. At 390 px: the elements that reach past the screen's right edge. Returns,
-    per page, the problems and the numbers measured.
+    text as displayed, axe-core's accessibility violations (with ``axe_source``) and the errors
+    the page logged to the console. At 390 px: the page's width, the elements that reach past the
+    screen's right edge or are cut by a box that clips, and the figure text as displayed.
+    Returns, per page, the problems and the numbers measured.
     """
     from playwright.sync_api import sync_playwright
 
@@ -324,6 +372,11 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]],
                        == host or route.request.url.startswith(("data:", "blob:")) else route.abort())
             problems: list[str] = []
             measured: dict = {}
+            errors: list[str] = []
+            page.on("pageerror", lambda err, errors=errors: errors.append(f"uncaught: {str(err).splitlines()[0]}"))
+            page.on("console", lambda msg, errors=errors: errors.append(
+                f"console error: {msg.text.splitlines()[0][:160]}") if msg.type == "error"
+                and not msg.location.get("url", "").endswith("favicon.ico") else None)
             t0 = time.monotonic()
             page.goto(base_url + rel, wait_until="domcontentloaded")
             try:  # a redirect stub (the root index.html) has nothing to measure
@@ -372,15 +425,29 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]],
                 if not _press_changes(page, handle):
                     problems.append(f"slider {name!r}: the arrow keys move it, the figure stays")
             measured["slider"] = pressed
+            measured["console"] = errors
             try:
                 measured["height_px"] = page.evaluate("document.documentElement.scrollHeight")
                 measured["figures"] = page.evaluate(_FIGURES)
+                if axe_source:
+                    measured["axe"] = run_axe(page, axe_source)
                 page.set_viewport_size({"width": NARROW, "height": 844})
                 page.wait_for_timeout(400)
                 measured["overflow"] = page.evaluate(_OVERFLOW)
+                measured["clipped"] = page.evaluate(_CLIPPED)
+                measured["width_390_px"] = page.evaluate("document.documentElement.scrollWidth")
+                measured["figures_390"] = page.evaluate(_FIGURES)
                 measured["height_390_px"] = page.evaluate("document.documentElement.scrollHeight")
             except Exception as err:  # a page the browser could not measure is a failure, not a crash
                 problems.append(f"could not measure the page: {str(err).splitlines()[0]}")
+            problems += sorted(set(errors))
+            for v in measured.get("axe", []):
+                if v["impact"] in AXE_FAIL:
+                    problems.append(f"axe {v['impact']} {v['id']}: {v['n']} elements, e.g. " + "; ".join(v["where"]))
+            if measured.get("width_390_px", 0) > NARROW:
+                problems.append(f"at {NARROW} px the page is {measured['width_390_px']} px wide: it scrolls sideways")
+            for where in measured.get("clipped", []):
+                problems.append(f"at {NARROW} px cut off: {where}")
             results[rel] = (problems, measured)
             page.close()
         browser.close()
@@ -530,7 +597,11 @@ def main(argv: list[str] | None = None) -> int:
         # Pages whose widgets are all live explorers (no ipywidgets slider among them).
         live_only = frozenset(rel for rel, n in with_widgets if n and "rapp.live.Explorer" in (
             html := (root / rel).read_text(encoding="utf-8")) and "SliderModel" not in html)
-        browsed = check_in_browser(base_url, with_widgets, live_only)
+        axe_file = root / AXE_PATH
+        if not axe_file.is_file():
+            print(f"check_book: {AXE_PATH} is missing from the build (scripts/vendor_js.py copies it)")
+            return 1
+        browsed = check_in_browser(base_url, with_widgets, live_only, axe_file.read_text(encoding="utf-8"))
         if args.shots:
             args.shots.mkdir(parents=True, exist_ok=True)
         live = check_live(base_url, [p.relative_to(root).as_posix() for p in pages
@@ -543,6 +614,8 @@ def main(argv: list[str] | None = None) -> int:
     # names the file; one nothing names (e.g. a font a stylesheet asked for) fails on its own line.
     missing = sorted({path for path, code in log if code >= 400 and path != "/favicon.ico"})
     figures_all: list[dict] = []
+    figures_narrow: list[dict] = []
+    axe_total = 0
     for page, (problems, stats) in zip(pages, results):
         rel = page.relative_to(root).as_posix()
         html = page.read_text(encoding="utf-8")
@@ -563,6 +636,9 @@ def main(argv: list[str] | None = None) -> int:
             problems.append(f"at {NARROW} px past the screen's edge: {where}")
         figures = measured.get("figures", [])
         figures_all += [dict(f, page=rel) for f in figures]
+        figures_narrow += [dict(f, page=rel) for f in measured.get("figures_390", [])]
+        axe_serious = sum(v["n"] for v in measured.get("axe", []) if v["impact"] in AXE_FAIL)
+        axe_total += axe_serious
         seen = [f["seen_px"] for f in figures if f["seen_px"] is not None]
         for key in totals:
             totals[key] += stats[key]
@@ -571,6 +647,11 @@ def main(argv: list[str] | None = None) -> int:
         if figures:
             summary += (f", figure text {min(seen):.1f} px min over {len(seen)} of {len(figures)} figures"
                         if seen else f", {len(figures)} figures without a recorded text size")
+        narrow = [f["seen_px"] for f in measured.get("figures_390", []) if f["seen_px"] is not None]
+        if narrow:
+            summary += f" ({min(narrow):.1f} px min at {NARROW})"
+        if "axe" in measured:
+            summary += f", {axe_serious} critical/serious axe findings"
         if "first_slider_s" in measured:
             summary += f", first slider responds in {measured['first_slider_s']:.1f} s"
         if rel in live:
@@ -598,6 +679,18 @@ def main(argv: list[str] | None = None) -> int:
     if share < MIN_TEXT_SHARE:
         failed += 1
         print(f"FAIL figure text: {share:.0%} of figures legible, under {MIN_TEXT_SHARE:.0%}")
+    # The same on a phone: the figures keep a width at which their text reads (reader_pages.py).
+    seen_narrow = [f for f in figures_narrow if f["seen_px"] is not None]
+    legible_narrow = [f for f in seen_narrow if f["seen_px"] >= MIN_TEXT_PX]
+    share_narrow = len(legible_narrow) / len(seen_narrow) if seen_narrow else 1.0
+    small = sorted(seen_narrow, key=lambda f: f["seen_px"])[:5]
+    print(f"figure text at {NARROW} px: {len(legible_narrow)} of {len(seen_narrow)} measured figures "
+          f"show their smallest text at >= {MIN_TEXT_PX:g} px ({share_narrow:.0%})"
+          + ("; smallest: " + ", ".join(f"{f['page']} {f['seen_px']:.1f} px" for f in small) if small else ""))
+    if share_narrow < MIN_TEXT_SHARE:
+        failed += 1
+        print(f"FAIL figure text on a phone: {share_narrow:.0%} of figures legible, under {MIN_TEXT_SHARE:.0%}")
+    print(f"accessibility (axe-core, WCAG 2.1 A/AA, at {WIDE} px): {axe_total} critical or serious findings")
     unattributed = [p for p in missing if not any(Path(p).name in pg.read_text(encoding="utf-8") for pg in pages)]
     if unattributed:
         failed += 1

@@ -25,7 +25,10 @@ them in the book; its later pages' front matter says where each kind starts::
  One more thing Lab cannot follow is rewritten in the chapters' text:
 a ``{doc}`` role, which Lab turns into a link to a file that does not exist, becomes a Markdown
 link to the notebook or page with the same title as its text (:func:`doc_links`), and a role
-whose text runs over a line break is put on one line (:func:`one_line_roles`). Nothing else in a
+whose text runs over a line break is put on one line (:func:`one_line_roles`). A link to a
+reference page reads ``../book/srs.md``: JupyterLab resolves it from its root, so with Lab started
+as ``jupyter lab notebooks/`` it asks for ``book/srs.md``, which the symlink ``notebooks/book ->
+../book`` provides (tests/test_lab_links.py opens every link both ways). Nothing else in a
 notebook changes. Run it after any change to ``_toc.yml`` and after merging notebooks
 (``python scripts/number_notebooks.py``); ``--check`` changes nothing and exits 1 when a notebook
 is out of date.

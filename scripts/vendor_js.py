@@ -3,7 +3,8 @@
 The book must render offline: MathJax 3 (typesetting), RequireJS and the
 ipywidgets HTML manager (saved widget views) and anywidget's front end (rapp's live
 explorers) are served from the book itself
-instead of CDNs, and so is the Font Awesome CSS of matplotlib's animation controls. `npm ci` installs the versions pinned in package-lock.json;
+instead of CDNs, and so is the Font Awesome CSS of matplotlib's animation controls; axe-core,
+which scripts/check_book.py injects to check every page's accessibility, comes along. `npm ci` installs the versions pinned in package-lock.json;
 this script copies only the files a browser loads. _config.yml lists
 book/_static_vendor in html_static_path, so Sphinx copies it to
 _build/html/_static/offline/.
@@ -40,6 +41,10 @@ MANIFEST = [
     # book/_ext/offline_assets.py points that link here.
     ("font-awesome/css/font-awesome.min.css", "font-awesome/css/font-awesome.min.css"),
     ("font-awesome/fonts", "font-awesome/fonts"),
+    # axe-core, the accessibility engine scripts/check_book.py injects into every page (WCAG 2.1
+    # A/AA rules); no page of the book loads it.
+    ("axe-core/axe.min.js", "axe-core/axe.min.js"),
+    ("axe-core/LICENSE", "axe-core/LICENSE"),
 ]
 FONT_SUFFIXES = (".woff2", ".woff", ".ttf", ".eot", ".svg")
 
