@@ -793,7 +793,7 @@ def plot_cspace_growth(occupancies, grid, radii, ax=None, *, unit="m"):
     level = np.where(occ.any(axis=0), np.argmax(occ, axis=0), k)
     shades = [matplotlib.colormaps["Greys"](0.85 - 0.6 * i / max(k - 1, 1)) for i in range(k)]
     ax = plot_cspace(np.zeros(occ.shape[1:], bool), grid, ax,
-                     title="C-space obstacles as the links thicken")
+                     title="C-space as the links thicken")
     ext = cell_extent(grid)
     ax.images[0].remove()
     ax.imshow(level.T, origin="lower", extent=ext, cmap=ListedColormap(shades + ["white"]),
