@@ -45,7 +45,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from rapp.collision import clearance, collides, scene, segment_collision_free, segment_point_distance
+from rapp.collision import (clearance, collides, scene, segment_collision_free, segment_point_distance,
+                            self_clearance)
 from rapp.time_scaling import peak_rates
 from rapp.trajectory import PiecewisePolynomial
 
@@ -191,7 +192,7 @@ def _check_collision(arm, obs, q) -> list:
     if k >= 2:
         n_bad = int((~segment_collision_free(arm, q[:-1], q[1:], obs)).sum())
     else:
-        n_bad = int(bool(obs) and bool(collides(arm, q, obs).any()))
+        n_bad = int((bool(obs) or arm.self_collision) and bool(collides(arm, q, obs).any()))
     checks = [Check("collision-free", n_bad == 0, n_bad, 0, "segments",
                     f"{max(k - 1, 1)} segments between samples, each certified over its whole length")]
     if obs:
@@ -205,6 +206,14 @@ def _check_required(arm, obs, q, margin) -> list:
     """:func:`_check_collision` of thick links with a margin: zero-width links, grown obstacles."""
     thin, grown = scene(arm, obs, margin)
     checks = _check_collision(thin, list(grown), q)
+    if arm.self_collision and arm.n >= 3:
+        gap = float(self_clearance(thin, q).min())
+        radii = ", ".join(f"{r:g}" for r in arm.link_radius)
+        checks.append(Check("min self-gap", gap > 0, gap, 0.0, "m",
+                            "self-collision checked: every non-adjacent link pair certified along each "
+                            "segment (counted in collision-free); the smallest pair distance over the "
+                            f"samples beyond the one required (r_i + r_j + margin; r = [{radii}] m, margin {margin:g} m); "
+                            "must be > 0"))
     if thin is arm and not margin:
         return checks
     need = ", ".join(f"{r + margin:g}" for r in arm.link_radius)
