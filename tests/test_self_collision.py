@@ -2,9 +2,9 @@
 non-adjacent pair of links ``r_i + r_j + margin`` apart, in ``collides``, certified segments,
 every planner, ``rapp.plan``, verification and scenario files.
 
-The oracles are plain Python: the segment distance by the classic clamped minimisation of the
-squared distance between two parameterised points (a different method from the crossing test
-and end distances of :func:`rapp.collision.segment_distance`), and dense samples of motions.
+The oracles are plain Python: the segment distance as the minimum of a convex function over the
+unit square (the lines' meeting point by Cramer's rule, else the square's edges), checked
+besides against dense samples of the links; and dense samples of motions.
 """
 
 from __future__ import annotations
@@ -25,31 +25,31 @@ from rapp.grid_route import self_collision_cells
 from rapp.planners import PLANNERS, run
 
 
+def _point_segment(p, a, b) -> float:
+    """Distance from p to segment ab, plain Python (clamped projection)."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    t = min(max(((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy), 0.0), 1.0)
+    return math.hypot(a[0] + t * dx - p[0], a[1] + t * dy - p[1])
+
+
 def _oracle_distance(p1, q1, p2, q2) -> float:
-    """Distance between segments p1q1 and p2q2 (2D), plain Python: minimise
-    |p1 + s d1 - p2 - t d2|^2 over the unit square (Ericson, Real-Time Collision Detection 5.1.9)."""
+    """Distance between segments p1q1 and p2q2 (2D), plain Python. |P(s) - Q(t)|^2 is convex
+    on the unit square, so its minimum is at an interior stationary point (where the lines
+    meet, found by Cramer's rule) or on the square's edges (an end of one segment against the
+    other segment)."""
+    best = min(_point_segment(p1, p2, q2), _point_segment(q1, p2, q2),
+               _point_segment(p2, p1, q1), _point_segment(q2, p1, q1))
     d1 = (q1[0] - p1[0], q1[1] - p1[1])
     d2 = (q2[0] - p2[0], q2[1] - p2[1])
-    r = (p1[0] - p2[0], p1[1] - p2[1])
-    a = d1[0] ** 2 + d1[1] ** 2
-    e = d2[0] ** 2 + d2[1] ** 2
-    f = d2[0] * r[0] + d2[1] * r[1]
-    c = d1[0] * r[0] + d1[1] * r[1]
-    b = d1[0] * d2[0] + d1[1] * d2[1]
-    denom = a * e - b * b
-
-    def clamp(x):
-        return min(max(x, 0.0), 1.0)
-
-    s = clamp((b * f - c * e) / denom) if denom > 1e-12 * a * e else 0.0
-    t = (b * s + f) / e
-    if t < 0.0:
-        t, s = 0.0, clamp(-c / a)
-    elif t > 1.0:
-        t, s = 1.0, clamp((b - c) / a)
-    x = p1[0] + s * d1[0] - p2[0] - t * d2[0]
-    y = p1[1] + s * d1[1] - p2[1] - t * d2[1]
-    return math.hypot(x, y)
+    det = d1[0] * (-d2[1]) - d1[1] * (-d2[0])
+    if det != 0.0:
+        rx, ry = p2[0] - p1[0], p2[1] - p1[1]
+        s = (rx * (-d2[1]) - ry * (-d2[0])) / det
+        t = (d1[0] * ry - d1[1] * rx) / det
+        if 0.0 <= s <= 1.0 and 0.0 <= t <= 1.0:
+            best = min(best, math.hypot(p1[0] + s * d1[0] - p2[0] - t * d2[0],
+                                        p1[1] + s * d1[1] - p2[1] - t * d2[1]))
+    return best
 
 
 coord = st.floats(-3.0, 3.0, allow_nan=False)
