@@ -238,3 +238,14 @@ def test_a_bad_self_collision_is_one_line_naming_the_field(bad):
     assert "\n" not in str(e.value) and "arm.self_collision" in str(e.value)
     with pytest.raises(ValueError, match="self_collision"):
         rapp.Arm([1.0, 1.0, 1.0], self_collision="yes")
+
+
+def test_ik_goals_of_a_self_colliding_arm_keep_links_apart():
+    from rapp.ik import free_ik_solutions
+    on = rapp.Arm([1.0, 1.0, 1.0], link_radius=0.05, self_collision=True)
+    off = rapp.Arm([1.0, 1.0, 1.0], link_radius=0.05)
+    sols, _ = free_ik_solutions(on, (0.3, 0.0), [])
+    assert len(sols) and (self_clearance(on, sols) > 0).all()
+    assert np.allclose(on.end_effector(sols), (0.3, 0.0), atol=1e-6)
+    loose, _ = free_ik_solutions(off, (0.3, 0.0), [])
+    assert (self_clearance(on, loose) <= 0).any()   # without the flag folded solutions remain
