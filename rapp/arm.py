@@ -8,7 +8,7 @@ of shape ``(..., n)`` and works on it in one numpy call.
 from __future__ import annotations
 
 import copy
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
@@ -112,11 +112,24 @@ class Arm:
         of its centre segment. Every collision test of :mod:`rapp.collision` and
         :mod:`rapp.cspace` keeps link ``j`` at least ``link_radius[j] + margin`` from every
         obstacle.
+    self_collision : bool, optional
+        Default False (the SRS's arm, whose links lie in layers and pass over each other).
+        True: every NON-ADJACENT pair of links ``i, j`` must also keep
+        ``pair_radius[i] + pair_radius[j] + margin`` apart (:func:`rapp.collision.self_gaps`);
+        :func:`rapp.collision.collides`, :func:`rapp.collision.segment_collision_free` (hence
+        every planner) and :mod:`rapp.verify` test it.
+
+    Attributes
+    ----------
+    pair_radius : tuple of float
+        The radius each link keeps from the other links in the self-collision test:
+        ``link_radius``, except on :meth:`centre_lines` ``(margin)``, which keeps the original
+        radii plus half the margin here so that the zero-width arm asks the same question.
 
     Raises
     ------
     ValueError
-        Naming ``link_lengths``, the offending ``joint_limits[i]`` or ``link_radius``.
+        Naming ``link_lengths``, the offending ``joint_limits[i]``, ``link_radius`` or ``self_collision``.
 
     Examples
     --------
@@ -138,8 +151,11 @@ class Arm:
     link_lengths: tuple
     joint_limits: tuple | None = None
     link_radius: tuple = ()
+    self_collision: bool = field(default=False, repr=False)
+    pair_radius: tuple = field(default=(), repr=False)
 
-    def __init__(self, link_lengths: Sequence[float], joint_limits=None, link_radius=0.0):
+    def __init__(self, link_lengths: Sequence[float], joint_limits=None, link_radius=0.0,
+                 self_collision=False):
         try:
             lengths = np.asarray(link_lengths, dtype=float)
         except (TypeError, ValueError):
@@ -175,6 +191,10 @@ class Arm:
         object.__setattr__(self, "link_lengths", tuple(float(v) for v in lengths))
         object.__setattr__(self, "joint_limits", limits)
         object.__setattr__(self, "link_radius", _link_radius(link_radius, n))
+        if not isinstance(self_collision, (bool, np.bool_)):
+            raise ValueError(f"self_collision must be true or false, got {self_collision!r}")
+        object.__setattr__(self, "self_collision", bool(self_collision))
+        object.__setattr__(self, "pair_radius", self.link_radius)
         # Read-only arrays built once: planners ask for them per configuration.
         cached = {
             "_lengths": np.array(self.link_lengths),
@@ -192,23 +212,32 @@ class Arm:
             and self.link_lengths == other.link_lengths
             and self.joint_limits == other.joint_limits
             and self.link_radius == other.link_radius
+            and self.self_collision == other.self_collision
+            and self.pair_radius == other.pair_radius
         )
 
     def __hash__(self):
-        return hash((self.link_lengths, self.joint_limits, self.link_radius))
+        return hash((self.link_lengths, self.joint_limits, self.link_radius, self.self_collision))
 
-    def centre_lines(self) -> "Arm":
+    def centre_lines(self, margin: float = 0.0) -> "Arm":
         """This arm with zero-width links (``link_radius`` 0), every other field the same.
+
+        With ``self_collision``, :attr:`pair_radius` keeps the original radii plus
+        ``margin / 2`` (so a pair still keeps ``r_i + r_j + margin`` apart).
 
         Examples
         --------
         >>> Arm([1.0], link_radius=0.1).centre_lines().link_radius
         (0.0,)
+        >>> Arm([1.0, 1.0, 1.0], link_radius=0.1, self_collision=True).centre_lines(0.1).pair_radius
+        (0.15000000000000002, 0.15000000000000002, 0.15000000000000002)
         """
-        if not any(self.link_radius):
+        if not any(self.link_radius) and not (self.self_collision and margin):
             return self
         thin = copy.copy(self)
         object.__setattr__(thin, "link_radius", (0.0,) * self.n)
+        if self.self_collision:
+            object.__setattr__(thin, "pair_radius", tuple(float(p + margin / 2) for p in self.pair_radius))
         return thin
 
     @property

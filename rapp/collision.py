@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from rapp.checks import finite_number
+from rapp.errors import CertificationLimit
 from rapp._kernels import collision as _backend
 from rapp._kernels.collision_numba import MASK_LINKS
 from rapp._kernels.collision_numpy import (
@@ -61,6 +62,12 @@ __all__ = [
     "check_segments",
     "path_collision_free",
     "MAX_PENDING_INTERVALS",
+    "segment_distance",
+    "self_pairs",
+    "self_gaps",
+    "self_clearance",
+    "pair_bounds",
+    "self_segment_free",
 ]
 
 
@@ -87,6 +94,174 @@ def line_distance_mis(a, b, c) -> np.ndarray:
     ab = b - a
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.abs(ab[..., 0] * (a - c)[..., 1] - ab[..., 1] * (a - c)[..., 0]) / np.linalg.norm(ab, axis=-1)
+
+
+def segment_distance(a, b, c, d) -> np.ndarray:
+    """Distance between the segments ``a b`` and ``c d`` (points ``(..., 2)``), shape ``(...)``.
+
+    Closed form: 0 when they cross (each segment's ends lie strictly on opposite sides of
+    the other's line), otherwise the smallest of the four end-to-segment distances (two
+    disjoint segments are closest at an end of one of them; segments that touch or overlap
+    collinearly have an end on the other, distance 0).
+
+    Examples
+    --------
+    >>> float(segment_distance([0, 0], [2, 0], [1, -1], [1, 1]))    # crossing
+    0.0
+    >>> float(segment_distance([0, 0], [1, 0], [2, 1], [3, 1]))     # end to end
+    1.4142135623730951
+    """
+    a, b, c, d = (np.asarray(v, dtype=float) for v in (a, b, c, d))
+
+    def cross(o, p, r):
+        return (p - o)[..., 0] * (r - o)[..., 1] - (p - o)[..., 1] * (r - o)[..., 0]
+
+    crossing = ((cross(a, b, c) * cross(a, b, d) < 0) & (cross(c, d, a) * cross(c, d, b) < 0))
+    ends = np.minimum(np.minimum(segment_point_distance(a, b, c), segment_point_distance(a, b, d)),
+                      np.minimum(segment_point_distance(c, d, a), segment_point_distance(c, d, b)))
+    return np.where(crossing, 0.0, ends)
+
+
+def self_pairs(n: int) -> tuple:
+    """``(i, j)``: index arrays of the non-adjacent link pairs ``i < j - 1`` of an ``n``-link arm.
+
+    Adjacent links share a joint (their distance is always 0), so only these pairs are tested.
+
+    Examples
+    --------
+    >>> [p.tolist() for p in self_pairs(4)]
+    [[0, 0, 1], [2, 3, 3]]
+    """
+    i, j = np.triu_indices(n, k=2)
+    return i, j
+
+
+def self_gaps(arm, q, *, margin=0.0) -> np.ndarray:
+    """Gap of every non-adjacent link pair beyond the one required, ``(..., P)`` (:func:`self_pairs`).
+
+    Pair ``(i, j)``'s value is the distance between the two links' centre segments
+    (:func:`segment_distance`) minus ``pair_radius[i] + pair_radius[j] + margin``
+    (:attr:`rapp.Arm.pair_radius`: the links' radii); ``<= 0`` is a self-collision.
+    Computed whatever ``arm.self_collision`` says.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> arm = Arm([1.0, 1.0, 1.0], link_radius=0.1)
+    >>> self_gaps(arm, [0.0, 0.0, 0.0]).round(12).tolist()            # stretched: 1 m apart
+    [0.8]
+    >>> self_gaps(arm, [0.0, 2.5, 2.5]).round(6).tolist()             # folded back across link 0
+    [-0.2]
+    """
+    q = arm.check_q(q)
+    i, j = self_pairs(arm.n)
+    p = arm.joint_positions_unchecked(q)
+    r = np.asarray(arm.pair_radius, dtype=float)
+    m = finite_number(margin, "margin")
+    if m < 0:
+        raise ValueError(f"margin must be a finite number >= 0, got {margin!r}")
+    dist = segment_distance(p[..., i, :], p[..., i + 1, :], p[..., j, :], p[..., j + 1, :])
+    return dist - (r[i] + r[j] + m)
+
+
+def self_clearance(arm, q, *, margin=0.0) -> np.ndarray:
+    """Smallest :func:`self_gaps` over the pairs, shape ``(...)``; ``inf`` for fewer than 3 links.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> float(self_clearance(Arm([1.0, 1.0]), [0.0, 3.0]))
+    inf
+    """
+    g = self_gaps(arm, q, margin=margin)
+    return g.min(axis=-1) if g.shape[-1] else np.full(g.shape[:-1], np.inf)
+
+
+def pair_bounds(arm, dq) -> np.ndarray:
+    """Bound on how much each non-adjacent pair's distance changes along a joint-space step ``dq``.
+
+    Returns ``(..., P)`` (pairs of :func:`self_pairs`): for ``i < j``,
+    ``C_ij = sum_{i < k <= j} |dq_k| R_kj``, ``R_kj = L_k + ... + L_j`` (:func:`reach_matrix`).
+
+    Proof. Joints ``0..i`` turn links ``i`` and ``j`` together, rigidly, which leaves their
+    distance unchanged. Seen from link ``i``'s frame, link ``i`` stands still and a point
+    ``x`` of link ``j`` moves at speed at most ``sum_{i < k <= j} |dq_k| |x - p_k|`` with
+    ``|x - p_k| <= R_kj`` (as in :func:`motion_bounds`), and the distance between the two
+    links changes no faster than that. It never exceeds ``B_i + B_j`` of
+    :func:`motion_bounds`, the bound with every joint counted for both links.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> pair_bounds(Arm([1.0, 1.0, 1.0]), [5.0, 0.0, 0.1]).tolist()   # joint 0 moves both links
+    [0.1]
+    """
+    dq = np.abs(np.asarray(dq, dtype=float))
+    i, j = self_pairs(arm.n)
+    reach = reach_matrix(arm)                       # (n, n): R[k, j]
+    k = np.arange(arm.n)
+    w = (k[:, None] > i) & (k[:, None] <= j)        # (n, P): joints that move j relative to i
+    with np.errstate(over="ignore", invalid="ignore"):
+        return dq @ np.where(w, reach[:, j], 0.0)
+
+
+def self_segment_free(arm, q0, q1, *, margin=0.0, min_interval: float = 1e-9,
+                      max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
+    """Certify that no non-adjacent link pair comes within its distance along ``q0 → q1``.
+
+    The same proof as :func:`segment_collision_free` with pairs in place of obstacles: on a
+    parameter interval of length ``h`` around ``t_m``, points of link ``j`` stay within
+    ``B_j h / 2`` of where they are at ``t_m`` (:func:`motion_bounds`); sharper, pair
+    ``(i, j)``'s gap changes by at most ``C_ij h / 2`` (:func:`pair_bounds`: the joints below
+    both links turn them together and do not count); an interval is
+    certified when every pair's gap at ``t_m`` exceeds that. Uncertified intervals are
+    bisected; a sample with a gap ``<= 0``, or an interval shorter than ``min_interval``
+    still uncertified, makes the segment not free. Computed in numpy (a loop over bisection
+    levels, all segments and intervals as arrays), whatever ``arm.self_collision`` says.
+
+    Returns
+    -------
+    ndarray of bool, shape (...)
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> arm = Arm([1.0, 1.0, 1.0], link_radius=0.05)
+    >>> self_segment_free(arm, [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]], [[0.0, 1.0, 1.0], [0.0, 2.6, 2.6]]).tolist()
+    [True, False]
+    """
+    a = arm.check_q(q0, "q0")
+    b = arm.check_q(q1, "q1")
+    a, b = np.broadcast_arrays(a, b)
+    shape = a.shape[:-1]
+    a = a.reshape(-1, arm.n)
+    dq = b.reshape(-1, arm.n) - a
+    ok = np.ones(a.shape[0], bool)
+    if arm.n < 3 or not a.shape[0]:
+        return ok.reshape(shape)
+    pb = pair_bounds(arm, dq)  # (segments, P)
+    seg = np.arange(a.shape[0])
+    lo = np.zeros(a.shape[0])
+    h = np.ones(a.shape[0])
+    while seg.size:
+        mid = lo + h / 2
+        gaps = self_gaps(arm, a[seg] + mid[:, None] * dq[seg], margin=margin)
+        bad = (gaps <= 0).any(axis=-1)
+        done = (gaps > pb[seg] * (h / 2)[:, None]).all(axis=-1)
+        bad |= ~done & (h < min_interval)
+        ok[seg[bad]] = False
+        keep = ~done & ok[seg]
+        seg, lo, h = seg[keep], lo[keep], h[keep]
+        if seg.size * 2 > max_intervals:
+            raise CertificationLimit(
+                f"self-collision: a segment needs more than {max_intervals} pending sub-intervals "
+                f"(links of total length {float(arm.lengths.sum()):g} m, smallest pair gap "
+                f"{float(gaps.min()):g} m)")
+        h = h / 2
+        seg = np.concatenate([seg, seg])
+        lo = np.concatenate([lo, lo + h])
+        h = np.concatenate([h, h])
+    return ok.reshape(shape)
 
 
 def required_distances(arm, margin=0.0) -> np.ndarray:
@@ -156,7 +331,7 @@ def scene(arm, obstacles, margin=0.0) -> tuple:
         if len(_SCENES) >= 64:
             _SCENES.clear()
         hit = _SCENES[key] = (tuple(obstacles), tuple(pieces))  # the obstacles kept: ids stay theirs
-    return arm.centre_lines(), hit[1]
+    return arm.centre_lines(float(margin)), hit[1]
 
 
 def link_clearances(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
@@ -210,8 +385,11 @@ def collides(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
     >>> collides(arm, [[np.pi / 2, 0.0]], [Circle((0.5, 2.0), 0.3)], margin=0.2).tolist()
     [True]
     """
-    arm, obstacles = scene(arm, obstacles, margin)
-    return _backend.collides(arm, q, obstacles)
+    thin, pieces = scene(arm, obstacles, margin)
+    hit = _backend.collides(thin, q, pieces)
+    if arm.self_collision and arm.n >= 3:
+        hit = hit | (self_clearance(arm, q, margin=margin) <= 0)
+    return hit
 
 
 def clearance(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
@@ -322,9 +500,20 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     >>> [bool(segment_collision_free(arm, [0.0, 0.0], [0.5, 0.0], obs, margin=m)) for m in (1.0, 1.1)]
     [True, False]
     """
-    arm, obstacles = scene(arm, obstacles, margin)
-    return _backend.segment_collision_free(arm, q0, q1, obstacles, min_interval=min_interval,
-                                           max_intervals=max_intervals)
+    thin, pieces = scene(arm, obstacles, margin)
+    ok = _backend.segment_collision_free(thin, q0, q1, pieces, min_interval=min_interval,
+                                         max_intervals=max_intervals)
+    if arm.self_collision and arm.n >= 3 and np.any(ok):
+        # Self-collision in numpy after the compiled obstacle test, on the segments it left free.
+        a, b = np.broadcast_arrays(arm.check_q(q0, "q0"), arm.check_q(q1, "q1"))
+        ok = np.asarray(ok).copy()
+        idx = np.flatnonzero(ok.reshape(-1))
+        free = self_segment_free(arm, a.reshape(-1, arm.n)[idx], b.reshape(-1, arm.n)[idx],
+                                 margin=margin, min_interval=min_interval, max_intervals=max_intervals)
+        flat = ok.reshape(-1)
+        flat[idx] = free
+        ok = flat.reshape(ok.shape)
+    return ok
 
 
 def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9,

@@ -202,7 +202,8 @@ def check_grid(arm, grid):
     """ValueError naming ``grid`` unless it is a JointGrid of ``arm`` (whose size it has checked)."""
     if not isinstance(grid, JointGrid):
         raise ValueError(f"grid must be a rapp.JointGrid, got {type(grid).__name__}")
-    if grid.arm.centre_lines() != arm.centre_lines():  # the links' width does not change the grid
+    if (grid.arm.link_lengths, grid.arm.joint_limits) != (arm.link_lengths, arm.joint_limits):
+        # the links' width and self-collision do not change the grid
         raise ValueError("grid was built for a different arm")
 
 

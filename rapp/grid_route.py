@@ -27,15 +27,16 @@ from itertools import product
 import numpy as np
 
 from rapp.arm import Arm
-from rapp.collision import motion_bounds, scene, segment_collision_free
-from rapp.cspace import JointGrid, certified_free, occupancy
+from rapp.collision import motion_bounds, pair_bounds, scene, segment_collision_free, self_gaps
+from rapp.cspace import JointGrid, certified_free, grid_q, occupancy
 from rapp.errors import GridTooCoarse, NoPathFound
 from rapp.obstacles import Circle
 from rapp.paths import (GRID_TOO_COARSE, ITERATION_CAP, NO_PATH, PlannerResult, path_length,
                         unwrap_near, unwrap_path)
 from rapp.search import astar_search, bfs_distances
 
-__all__ = ["default_cells", "anchor_cell", "grid_route", "grid_step_motion", "obstacle_size"]
+__all__ = ["default_cells", "anchor_cell", "grid_route", "grid_step_motion", "obstacle_size",
+           "self_collision_cells"]
 
 
 def anchor_cell(arm: Arm, obstacles, grid: JointGrid, blocked, q) -> np.ndarray | None:
@@ -299,6 +300,35 @@ def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_wei
         return PlannerResult(np.empty((0, arm.n)), False, float("inf"), {}, status)
 
 
+def self_collision_cells(arm: Arm, grid: JointGrid, *, margin: float = 0.0,
+                         chunk: int = 1 << 16) -> tuple:
+    """``(occupied, certified)``: the grid's cells painted for self-collision, bool ``grid.shape``.
+
+    Self-collision has no closed-form occupancy here, so each cell is tested at its
+    configuration (:func:`rapp.collision.self_gaps`, ``occupied`` where a non-adjacent pair
+    is within its distance) and certified as :func:`rapp.cspace.certified_free` certifies
+    obstacles: every pair's gap at the cell exceeds half the most its distance changes in one
+    grid step along any axis (:func:`rapp.collision.pair_bounds`), so a move between two
+    certified axis neighbours keeps every pair apart (each half within its end's gap). Work in chunks of ``chunk`` cells.
+
+    Examples
+    --------
+    >>> arm = Arm([1.0, 1.0, 1.0], link_radius=0.05, self_collision=True)
+    >>> occ, safe = self_collision_cells(arm, JointGrid(arm, 16))
+    >>> bool(occ.any()), bool((safe & occ).any()), bool(safe.sum() < (~occ).sum())
+    (True, False, True)
+    """
+    q = grid_q(grid).reshape(-1, arm.n)
+    need = 0.5 * pair_bounds(arm, np.diag(grid.step)).max(axis=0)  # (P,)
+    occ = np.empty(q.shape[0], bool)
+    safe = np.empty(q.shape[0], bool)
+    for k in range(0, q.shape[0], chunk):
+        g = self_gaps(arm, q[k:k + chunk], margin=margin)
+        occ[k:k + chunk] = (g <= 0).any(axis=-1)
+        safe[k:k + chunk] = (g > need).all(axis=-1)
+    return occ.reshape(grid.shape), safe.reshape(grid.shape)
+
+
 def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions, margin):
     if cells is None:
         cells = default_cells(arm.n)
@@ -309,6 +339,11 @@ def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expans
     grid = JointGrid(arm, cells)
     occ = occupancy(arm, obstacles, grid, margin=margin)
     safe = certified_free(arm, obstacles, grid, margin=margin) if obstacles else ~occ
+    if arm.self_collision and arm.n >= 3:
+        # Painted cell by cell (numpy), then every grid move is certified with the self test too.
+        self_occ, self_safe = self_collision_cells(arm, grid, margin=margin)
+        occ = occ | self_occ
+        safe = safe & self_safe
     # The moves are certified with zero-width links against the grown obstacles: the same test.
     arm, obstacles = scene(arm, obstacles, margin)
     obstacles = list(obstacles)

@@ -1132,13 +1132,14 @@ def free_ik_solutions(arm: Arm, target, obstacles, *, q0=None, samples: int = 10
     # Distinct to 1e-6 rad: rows equal after rounding are one solution (a few
     # samples may converge to the same point, e.g. a corner of the limits).
     count = len(sols) if complete else int(np.unique(np.round(arm.wrap(sols), 6), axis=0).shape[0])
-    free = sols[~collides(arm, sols, obstacles)] if len(sols) and obstacles else sols
+    check = bool(obstacles) or arm.self_collision  # a self-colliding solution is no goal either
+    free = sols[~collides(arm, sols, obstacles)] if len(sols) and check else sols
     x, y = target
     if len(free) == 0:
         if complete:
             raise NoPathFound(
                 f"every one of the {count} IK solutions for the goal ({x:g}, {y:g}) "
-                "collides with an obstacle")
+                "collides" + ("" if arm.self_collision else " with an obstacle"))
         raise NoPathFound(
             f"no collision-free IK solution found for the goal ({x:g}, {y:g}) among {count} "
             f"solutions of the self-motion manifold sampled from {tried} starts projected by "

@@ -3,7 +3,9 @@
 A motion is a :class:`~rapp.trajectory.PiecewisePolynomial`: on each piece every joint is a
 polynomial of time. :func:`certify_motion` proves that every configuration the arm passes
 through keeps every link more than ``margin`` from every obstacle (and every limited joint
-within its limits), not only at samples.
+within its limits, and, for an arm with ``self_collision``, every non-adjacent pair of links
+apart: :func:`rapp.collision.self_gaps`, bounded over a sub-interval by
+:func:`rapp.collision.pair_bounds`), not only at samples.
 
 The bound. Take a sub-interval ``[m - r, m + r]`` of one piece and write each joint in powers
 of ``s = t - m``: ``q_i(m + s) = sum_k d_ik s^k``. Then for ``|s| <= r``
@@ -45,7 +47,7 @@ from math import comb
 
 import numpy as np
 
-from rapp.collision import link_clearances, reach_matrix
+from rapp.collision import link_clearances, pair_bounds, reach_matrix, self_gaps
 
 __all__ = ["MotionCertificate", "certify_motion", "MAX_MOTION_INTERVALS"]
 
@@ -163,6 +165,7 @@ def certify_motion(arm, motion, obstacles=(), *, margin: float = 0.0, limit_tol:
     if not np.isfinite(margin) or margin < 0:
         raise ValueError(f"margin must be a finite number >= 0, got {margin!r}")
     obstacles = list(obstacles)
+    pairs = bool(getattr(arm, "self_collision", False)) and n >= 3
     reach = reach_matrix(arm)
     lo_lim, hi_lim, limited = arm.lower, arm.upper, arm.limited
     touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
@@ -219,6 +222,12 @@ def certify_motion(arm, motion, obstacles=(), *, margin: float = 0.0, limit_tol:
             hit = np.zeros(piece.size, bool)
             low = np.full(piece.size, np.inf)
             col_done = np.ones(piece.size, bool)
+        if pairs:
+            # Links that must not cross (arm.self_collision): each non-adjacent pair's gap at
+            # the midpoint, less the most it changes over the sub-interval (pair_bounds).
+            gaps = self_gaps(arm, qm, margin=margin)               # (I, P)
+            hit = hit | (gaps <= touch).any(axis=1)
+            col_done = col_done & (gaps - pair_bounds(arm, D) > touch).all(axis=1)
         ok[piece[hit | bad_mid]] = False
         done = col_done & lim_done & ~hit & ~bad_mid
         if rtol is not None and obstacles:

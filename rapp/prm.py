@@ -248,7 +248,8 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
     rng = np.random.default_rng(seed)
     nodes = arm.wrap(np.vstack((start, goals)))
     goal_ids = np.arange(1, len(goals) + 1)
-    loops = sampling_kernel.kernels() if compiled and obstacles else None
+    # The compiled loops know obstacles only: an arm with self-collision searches in numpy.
+    loops = sampling_kernel.kernels() if compiled and obstacles and not arm.self_collision else None
     lazy = _compiled_lazy() if loops is not None else None
     if lazy is not None:
         edges = _ArrayEdges(arm, neighbours, loops, lazy, goal_ids)
@@ -407,7 +408,7 @@ def _grow(arm, rng, nodes, k, obstacles, budget=None):
     for _ in range(100):
         _check_time(budget)
         q = uniform_samples(arm, rng, k)
-        if obstacles:
+        if obstacles or arm.self_collision:
             q = q[~collides(arm, q, obstacles)]
         new.append(q)
         have += len(q)

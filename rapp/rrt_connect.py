@@ -157,7 +157,8 @@ def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reac
     if reach_k:
         c0 = np.vstack((tree.clear[i], clear[: reach_k - 1]))
         bounds = motion_bounds_of(points[:reach_k] - prev[:reach_k], reach)
-        free = endpoint_certified(c0, clear[:reach_k], bounds, touch)
+        free = (np.zeros(reach_k, bool) if arm.self_collision  # ends say nothing of link pairs
+                else endpoint_certified(c0, clear[:reach_k], bounds, touch))
         todo = np.flatnonzero(~free)
         if todo.size:  # the rest are bisected, as every edge was before
             free[todo] = certify(prev[todo], points[todo])
@@ -233,7 +234,9 @@ def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
     reach = reach_matrix(arm)
     # Clearances this small cannot be told from touching (as in segment_collision_free).
     touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
-    loops = sampling_kernel.kernels() if collision_backend.loaded() is not None else None
+    # The compiled loops know obstacles only: an arm with self-collision grows in numpy.
+    loops = (sampling_kernel.kernels() if collision_backend.loaded() is not None
+             and not arm.self_collision else None)
     grown = None
     if loops is not None:
         grown = _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach,

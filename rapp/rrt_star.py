@@ -151,7 +151,9 @@ def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.1, goal_bias: fl
         unit_ball = math.pi ** (n / 2) / math.gamma(n / 2 + 1)
         gamma = 2.0 * ((1 + 1 / n) * volume / unit_ball) ** (1 / n)
     rng = np.random.default_rng(seed)
-    loops = sampling_kernel.kernels() if collision_backend.loaded() is not None else None
+    # The compiled loops know obstacles only: an arm with self-collision grows in numpy.
+    loops = (sampling_kernel.kernels() if collision_backend.loaded() is not None
+             and not arm.self_collision else None)
     grown = None
     if loops is not None:
         grown = _grow_compiled(loops, arm, goals, obstacles, step, radius, goal_bias,

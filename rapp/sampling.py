@@ -110,7 +110,9 @@ class EdgeCertifier:
 
     def __init__(self, arm, obstacles):
         self.arm, self.obstacles = arm, list(obstacles)
-        self.kernel = collision_backend.loaded() if self.obstacles else None
+        # Self-collision (arm.self_collision) is certified only by segment_collision_free.
+        self.kernel = (collision_backend.loaded() if self.obstacles and not arm.self_collision
+                       else None)
         if self.kernel is not None:
             self.packed = pack(self.obstacles)
             self.reach = reach_matrix(arm)
@@ -371,9 +373,10 @@ def check_start_and_goals(arm, start, goal, obstacles):
         # A sampling planner checks thousands of single configurations and edges: load the
         # compiled collision kernel (rapp._kernels.collision_numba) for them, whatever their size.
         collision_backend.kernels()
-    if obstacles and collides(arm, start, obstacles):
+    check = bool(obstacles) or arm.self_collision
+    if check and collides(arm, start, obstacles):
         raise NoPathFound("the start configuration collides")
-    if obstacles:
+    if check:
         goals = goals[~collides(arm, goals, obstacles)]
         if len(goals) == 0:
             raise NoPathFound("every goal configuration collides")

@@ -312,6 +312,8 @@ class Scenario:
         }
         if any(self.arm.link_radius):  # written only when set: older files round-trip unchanged
             arm["link_radius"] = list(self.arm.link_radius)
+        if self.arm.self_collision:  # written only when set, as link_radius
+            arm["self_collision"] = True
         extra = {"safety_margin": self.safety_margin} if self.safety_margin else {}
         return {
             "name": self.name,
@@ -622,7 +624,8 @@ class _Reader:
 
 
 def _parse_arm(r: _Reader, v) -> Arm:
-    arm_d = _object(v, "arm", required=("link_lengths",), optional=("joint_limits", "link_radius"))
+    arm_d = _object(v, "arm", required=("link_lengths",), optional=("joint_limits", "link_radius",
+                                                                     "self_collision"))
     items = _list(arm_d["link_lengths"], "arm.link_lengths")
     if not items:
         raise InvalidValue("the arm needs at least one link", field="arm.link_lengths")
@@ -636,9 +639,12 @@ def _parse_arm(r: _Reader, v) -> Arm:
                               f"[{L_MIN}, {L_MAX}] m")
     n = len(lengths)
     radius = _link_radius(r, arm_d.get("link_radius", 0.0), n)
+    self_collision = arm_d.get("self_collision", False)
+    if not isinstance(self_collision, bool):
+        raise InvalidValue(f"must be true or false, got {self_collision!r}", field="arm.self_collision")
     limits_v = arm_d.get("joint_limits")
     if limits_v is None:
-        return Arm(lengths, link_radius=radius)
+        return Arm(lengths, link_radius=radius, self_collision=self_collision)
     items = _list(limits_v, "arm.joint_limits", n, f"entries (one per joint; the arm has {n})")
     limits = []
     for i, lim in enumerate(items):
@@ -653,7 +659,7 @@ def _parse_arm(r: _Reader, v) -> Arm:
             raise InvalidValue(f"spans {hi - lo:.4g} rad > 2 pi; use null for a free joint", field=f)
         r.warn_outside_pi([lo, hi], f)
         limits.append((lo, hi))
-    return Arm(lengths, limits, link_radius=radius)
+    return Arm(lengths, limits, link_radius=radius, self_collision=self_collision)
 
 
 def _gap(v, field: str) -> float:
@@ -1104,6 +1110,8 @@ def echo(scenario: Scenario) -> str:
                  + "] m"))
     if any(s.arm.link_radius):
         rows.append(("link radius", "[" + ", ".join(_fmt(v) for v in s.arm.link_radius) + "] m"))
+    if s.arm.self_collision:
+        rows.append(("self-collision", "non-adjacent links keep their radii + margin apart"))
     if s.safety_margin:
         rows.append(("safety margin", f"{_fmt(s.safety_margin)} m from every obstacle"))
     for i, lim in enumerate(s.arm.joint_limits):

@@ -52,7 +52,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from rapp.collision import clearance, collides, scene, segment_collision_free, segment_point_distance
+from rapp.collision import (clearance, collides, scene, segment_collision_free, segment_point_distance,
+                            self_clearance)
 from rapp.motion import certify_motion
 from rapp.time_scaling import peak_rates
 from rapp.trajectory import PiecewisePolynomial
@@ -204,7 +205,7 @@ def _check_collision(arm, obs, q) -> list:
     if k >= 2:
         n_bad = int((~segment_collision_free(arm, q[:-1], q[1:], obs)).sum())
     else:
-        n_bad = int(bool(obs) and bool(collides(arm, q, obs).any()))
+        n_bad = int((bool(obs) or arm.self_collision) and bool(collides(arm, q, obs).any()))
     checks = [Check("collision-free", n_bad == 0, n_bad, 0, "segments",
                     f"{max(k - 1, 1)} chords between samples, each certified over its whole "
                     "length (the plan carries no motion)")]
@@ -239,10 +240,23 @@ def _check_required(arm, obs, q, margin) -> list:
     """:func:`_check_collision` of thick links with a margin: zero-width links, grown obstacles."""
     thin, grown = scene(arm, obs, margin)
     checks = _check_collision(thin, list(grown), q)
+    if arm.self_collision and arm.n >= 3:
+        checks.append(_self_gap_check(arm, thin, q, margin, "certified along each segment "
+                                      "(counted in collision-free)"))
     if thin is arm and not margin:
         return checks
     detail = _required_detail(arm, margin, "the samples")
     return [replace(c, detail=detail) if c.name == "min clearance" else c for c in checks]
+
+
+def _self_gap_check(arm, thin, q, margin, how) -> Check:
+    """The smallest gap between non-adjacent links over the samples (``arm.self_collision``)."""
+    gap = float(self_clearance(thin, q).min())
+    radii = ", ".join(f"{r:g}" for r in arm.link_radius)
+    return Check("min self-gap", gap > 0, gap, 0.0, "m",
+                 f"self-collision checked: every non-adjacent link pair {how}; the smallest pair "
+                 f"distance over the samples beyond the one required (r_i + r_j + margin; "
+                 f"r = [{radii}] m, margin {margin:g} m); must be > 0")
 
 
 def _required_detail(arm, margin, over) -> str:
@@ -255,6 +269,9 @@ def _check_motion_required(arm, obs, motion, t, q, margin) -> tuple:
     """:func:`_check_motion` of thick links with a margin: zero-width links, grown obstacles."""
     thin, grown = scene(arm, obs, margin)
     checks, cert = _check_motion(thin, list(grown), motion, t, q)
+    if arm.self_collision and arm.n >= 3:
+        checks.append(_self_gap_check(arm, thin, q, margin, "certified over the whole motion, "
+                                      "between samples too (counted in collision-free)"))
     if thin is arm and not margin:
         return checks, cert
     detail = _required_detail(arm, margin, "the whole motion, between samples too")
