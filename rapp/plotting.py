@@ -54,6 +54,7 @@ __all__ = [
     "plot_workspace",
     "plot_cspace",
     "plot_cspace_growth",
+    "plot_thick_links",
     "plot_plan",
     "plot_profiles",
     "plot_metrics",
@@ -802,6 +803,41 @@ def plot_cspace_growth(occupancies, grid, radii, ax=None, *, unit="m"):
                for i, r in enumerate(radii)]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
     return ax
+
+
+def plot_thick_links(arm, obstacles, occupancies, grid, radii, *, grown_by=None, figsize=(10, 4.8)):
+    """Thick links, side by side: the obstacles grown in the workspace, the C-space swelling.
+
+    Left: the arm's workspace with ``obstacles`` and each grown by ``grown_by`` (default the
+    largest of ``radii``) into the exact pieces of :func:`rapp.obstacles.grown`. Right:
+    :func:`plot_cspace_growth` of ``occupancies`` (one per radius of ``radii``) on ``grid``.
+
+    Returns
+    -------
+    Figure
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, JointGrid, occupancy
+    >>> arm, obs = Arm([1.0, 1.0]), [Circle((1.2, 0.8), 0.3)]
+    >>> grid = JointGrid(arm, 24)
+    >>> occ = [occupancy(Arm([1.0, 1.0], link_radius=r), obs, grid) for r in (0.0, 0.1)]
+    >>> fig = plot_thick_links(arm, obs, occ, grid, [0.0, 0.1])
+    >>> len(fig.axes), fig.axes[0].get_title()
+    (2, 'obstacles grown by 0.1 m')
+    >>> plt.close(fig)
+    """
+    from rapp.obstacles import grown
+    d = float(max(radii) if grown_by is None else grown_by)
+    fig = plt.figure(figsize=figsize, layout="constrained")
+    ax_w, ax_c = fig.subplots(1, 2)
+    plot_workspace(arm, ax_w)
+    plot_obstacles([p for ob in obstacles for p in grown(ob, d)], ax_w, color=COLORS["sky"],
+                   label=f"grown by {d:g} m")
+    plot_obstacles(obstacles, ax_w)
+    ax_w.set_title(f"obstacles grown by {d:g} m")
+    plot_cspace_growth(occupancies, grid, radii, ax_c)
+    return fig
 
 
 #: Size (inches) of :func:`plot_plan`'s figure; ``python -m rapp plan --plot`` draws at 100 dpi.
