@@ -190,8 +190,10 @@ def random_scene(rng, n, m):
 
 
 def plans_of_random_scenes(seed, count, links=(2, 6), planners=tuple(PLANNERS),
-                           profiles=("cubic", "quintic", "spline", "trapezoidal")):
-    """Plans of cluttered random scenes, every planner and profile in turn, limited or not."""
+                           profiles=("cubic", "quintic", "spline", "trapezoidal"), thick=False):
+    """Plans of cluttered random scenes, every planner and profile in turn, limited or not;
+    ``thick``: links of random radii, a safety margin and, for 3 links or more, links that
+    must not cross."""
     rng = np.random.default_rng(seed)
     found = 0
     while found < count:
@@ -211,6 +213,10 @@ def plans_of_random_scenes(seed, count, links=(2, 6), planners=tuple(PLANNERS),
              "start": rng.uniform(-np.pi, np.pi, n).tolist(),
              "goal": {"joints": rng.uniform(-np.pi, np.pi, n).tolist()},
              "planner": settings_, "trajectory": traj}
+        if thick:
+            d["arm"]["link_radius"] = rng.uniform(0.005, 0.03, n).round(4).tolist()
+            d["safety_margin"] = round(float(rng.uniform(0.002, 0.02)), 4)
+            d["arm"]["self_collision"] = bool(n >= 3)
         try:
             s = load_scenario(d)
             p = plan(s)
@@ -227,6 +233,36 @@ def check_against_the_oracle(s, p):
     assert d > 0, s.to_dict()
     c = p.report["min clearance"].value
     assert c * (1 - 1e-3) <= d <= c * (1 + 1e-3) + 1e-12
+
+
+def check_thick_against_the_oracle(s, p):
+    """The motion of thick links at 10,000 times per second: each zero-width centre line keeps
+    its link's radius plus the margin from every obstacle, and non-adjacent links their two
+    radii plus the margin from each other."""
+    assert p.report.ok, (p.report, s.to_dict())
+    arm, m = s.arm, s.safety_margin
+    t = np.linspace(p.motion.t0, p.motion.tf, max(2, int(PER_SECOND * p.motion.duration) + 1))
+    q = p.motion.evaluate(t)
+    centre = Arm(arm.lengths)
+    need = np.asarray(arm.link_radius) + m
+    assert (link_clearances(centre, q, s.obstacles) > need).all(), s.to_dict()
+    if arm.self_collision:
+        from rapp.collision import self_gaps
+        i, j = rapp.collision.self_pairs(arm.n)
+        r = np.asarray(arm.link_radius)
+        assert (self_gaps(centre, q) > r[i] + r[j] + m).all(), s.to_dict()
+
+
+def test_thick_links_move_clear_by_the_required_margin_at_every_dense_time_fast():
+    for s, p in plans_of_random_scenes(7, 2, links=(2, 3), planners=("rrt_connect",), thick=True):
+        check_thick_against_the_oracle(s, p)
+
+
+@pytest.mark.slow
+def test_thick_links_move_clear_by_the_required_margin_at_every_dense_time():
+    """Every planner, every profile, 2-6 links with radii, a margin and self-collision."""
+    for s, p in plans_of_random_scenes(4031, 2 * len(PLANNERS) * 2, thick=True):
+        check_thick_against_the_oracle(s, p)
 
 
 def test_random_cluttered_scenes_move_clear_at_every_dense_time_fast():
