@@ -63,7 +63,8 @@ __all__ = [
     "rrt", "rrt_connect", "rrt_star", "prm", "RRTResult",
 ]
 
-__version__ = "0.1.0"
+#: The package version (``rapp --version``); pyproject.toml holds the same (a test compares).
+__version__ = "0.2.0"
 
 # Where each contract name lives. They are imported on first use (module __getattr__, the
 # lazy-loading pattern of scikit-image), so `import rapp` costs little more than numpy and

@@ -126,7 +126,10 @@ def build_parser() -> argparse.ArgumentParser:
     >>> args.command, args.scenario, args.out, args.timings
     ('plan', 'default', 'r.json', False)
     """
+    import rapp
+
     p = _Parser(prog="rapp", description="2D robot-arm path planning (2D-RAPP).")
+    p.add_argument("--version", action="version", version=f"rapp {rapp.__version__}")
     sub = p.add_subparsers(dest="command", metavar="{plan,check,list,grade,assign}", parser_class=_Parser)
     sub.required = True
     pp = sub.add_parser("plan", help="plan, time and verify a trajectory",

@@ -172,7 +172,8 @@ def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None):
 
 def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int = 10, seed=0,
         max_iterations: int = 500, time_budget: float | None = None,
-        max_samples: int | None = None, raise_on_failure: bool = True) -> PlannerResult:
+        max_samples: int | None = None, raise_on_failure: bool = True,
+        neighbors: int | None = None) -> PlannerResult:
     """Plan with a lazy probabilistic roadmap from ``start`` to a goal configuration.
 
     Parameters
@@ -183,6 +184,8 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
         Free configurations added to the roadmap each time it holds no path.
     neighbours : int
         Candidate edges from each node to its nearest nodes.
+    neighbors : int, optional
+        The same, spelled the American way; give one of the two.
     max_iterations : int
         Path searches at most (each followed by certifying the path it found).
     max_samples : int, optional
@@ -207,6 +210,11 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
     """
     obstacles = list(obstacles)
     samples = positive_integer(samples, "samples")
+    if neighbors is not None:
+        if neighbours != 10 and neighbours != neighbors:
+            raise InvalidSetting(f"neighbors={neighbors} and neighbours={neighbours} disagree: "
+                                 "give one of them", "neighbors")
+        neighbours = neighbors
     neighbours = positive_integer(neighbours, "neighbours")
     cap_name = "samples" if max_samples is None else "max_samples"
     max_samples = 20 * samples if max_samples is None else positive_integer(max_samples, "max_samples")

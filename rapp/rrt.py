@@ -203,7 +203,8 @@ def rrt(
     Raises
     ------
     NoPathFound
-        The start collides, the goal is beyond reach, or ``max_iterations``
+        The start collides, every joint goal collides (said before any iteration; a
+        colliding goal among others is dropped), the goal is beyond reach, or ``max_iterations``
         passed without reaching the goal (unless ``raise_on_failure=False``).
 
     Examples
@@ -235,6 +236,12 @@ def rrt(
         collision_kernel.kernels()
     if collides(arm, start, obstacles):
         return fail("the start configuration collides", 0)
+    if goals is not None and gxy is None and obstacles:
+        # As the other planners do (rapp.sampling.check_start_and_goals): a colliding goal can
+        # never be joined, so it is dropped, and when every goal collides the answer is at once.
+        goals = goals[~collides(arm, goals, obstacles)]
+        if len(goals) == 0:
+            return fail("every goal configuration collides", 0)
     if gxy is not None and np.linalg.norm(gxy) > arm.reach[1] + goal_threshold:
         return fail("goal_xy is beyond the arm's reach", 0)
 

@@ -63,15 +63,22 @@ DURATION_MARGIN = 1e-9
 _REST_SHAPES = {"cubic": (1.5, 6.0), "quintic": (1.875, 10.0 / math.sqrt(3.0))}
 
 
-def sample_times(duration: float, samples: int, breakpoints) -> np.ndarray:
+def sample_times(duration: float, samples: int, breakpoints, dt: float | None = None) -> np.ndarray:
     """``samples`` even times, plus each breakpoint and three inner times of every piece that
     the even times leave with fewer than three samples inside.
+
+    With ``dt`` (a fixed time step, ``trajectory.dt``) the even times are ``0, dt, 2 dt, ...``
+    and ``duration`` (the last step may be shorter); ``samples`` is then not used.
 
     The verification bounds the motion between consecutive samples by their velocities and
     accelerations; a polynomial piece seen only at its two ends (a rest-to-rest quintic has
     zero velocity and acceleration there) would look like a jump.
     """
-    t = np.linspace(0.0, duration, samples)
+    if dt is None:
+        t = np.linspace(0.0, duration, samples)
+    else:
+        steps = np.arange(0.0, duration, dt)
+        t = np.append(steps[steps < duration - 1e-9 * dt], duration)
     bp = np.asarray(breakpoints, float)
     inside = np.searchsorted(t, bp[1:], side="left") - np.searchsorted(t, bp[:-1], side="right")
     sparse = np.flatnonzero(inside < 3)
@@ -88,7 +95,7 @@ def _time_smooth(arm, obs, path, tr):
     limits, else ``time_polyline``."""
     if len(path) >= 2:
         pp = time_path(path, tr.duration, profile=tr.profile)
-        t = sample_times(tr.duration, tr.samples, pp.breakpoints)
+        t = sample_times(tr.duration, tr.samples, pp.breakpoints, getattr(tr, "dt", None))
         q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
         good = (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
                 and np.abs(q[0] - path[0]).max() <= 1e-9
@@ -199,8 +206,9 @@ def _limited_motion(tr, w: np.ndarray, kind: str, what: str):
     return build(T), T_min
 
 
-def _sample(pp: PiecewisePolynomial, path, duration: float, samples: int, every_breakpoint=False):
-    t = sample_times(duration, samples, pp.breakpoints)
+def _sample(pp: PiecewisePolynomial, path, duration: float, samples: int, every_breakpoint=False,
+            dt: float | None = None):
+    t = sample_times(duration, samples, pp.breakpoints, dt)
     if every_breakpoint:   # every sample chord then lies on one edge of the path
         bp = pp.breakpoints[(pp.breakpoints > 0) & (pp.breakpoints < duration)]
         t = sorted_unique(np.concatenate((t, bp)))
@@ -229,19 +237,19 @@ def _time_motion(arm, obs, path, tr, line: bool):
             lengths = np.linalg.norm(np.diff(w, axis=0), axis=1)
             pp = _rest_to_rest(w, rest, tr.duration * lengths / lengths.sum())
         T = tr.duration if tr.duration is not None else pp.tf
-        t, q, qd, qdd = _sample(pp, w, T, tr.samples, every_breakpoint=True)
+        t, q, qd, qdd = _sample(pp, w, T, tr.samples, every_breakpoint=True, dt=getattr(tr, "dt", None))
     elif tr.profile == "trapezoidal":
         label = "trapezoidal"
         pp, info["min_duration_s"] = _limited_motion(tr, w, "trapezoidal",
                                                      "trapezoidal motion along the planned path")
         T = tr.duration if tr.duration is not None else pp.tf
-        t, q, qd, qdd = _sample(pp, w, T, tr.samples)
+        t, q, qd, qdd = _sample(pp, w, T, tr.samples, dt=getattr(tr, "dt", None))
     else:
         label = tr.profile
         pp, info["min_duration_s"] = _limited_motion(
             tr, w, "uniform", f"{tr.profile} motion along the planned path")
         T = tr.duration if tr.duration is not None else pp.tf
-        t, q, qd, qdd = _sample(pp, w, T, tr.samples)
+        t, q, qd, qdd = _sample(pp, w, T, tr.samples, dt=getattr(tr, "dt", None))
         good = (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
                 and arm.within_limits(q, 1e-9).all()
                 and segment_collision_free(arm, q[:-1], q[1:], obs).all())
@@ -252,7 +260,7 @@ def _time_motion(arm, obs, path, tr, line: bool):
                 tr, w, "rest-quintic", "rest-to-rest quintic motion along the planned path "
                 f"(the {tr.profile} curve leaves the free polyline)")
             T = tr.duration if tr.duration is not None else pp.tf
-            t, q, qd, qdd = _sample(pp, w, T, tr.samples)
+            t, q, qd, qdd = _sample(pp, w, T, tr.samples, dt=getattr(tr, "dt", None))
     info["duration_s"] = float(t[-1])
     return t, q, qd, qdd, label, pp, info
 
