@@ -27,7 +27,8 @@ from rapp.files import atomic_output
 from rapp.scenario import Scenario, echo, load_scenario
 from rapp.verify import Report
 
-__all__ = ["Plan", "save_result", "load_result", "RESULT_FORMAT", "RESULT_VERSION"]
+__all__ = ["Plan", "save_result", "load_result", "RESULT_FORMAT", "RESULT_VERSION",
+           "csv_columns", "save_csv", "joint_trajectory", "save_joint_trajectory"]
 
 RESULT_FORMAT = "rapp-result"
 RESULT_VERSION = 1
@@ -262,3 +263,106 @@ def load_result(path) -> Plan:
     if not isinstance(d, dict):
         raise InvalidFormat("a result file holds one JSON object", field="result")
     return Plan.from_dict(d)
+
+
+# --------------------------------------------------------------------------- exports
+
+
+def _encoder_rows(plan: Plan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``q`` as the encoders read it (``q - joint_offsets``), ``qd`` and ``qdd``."""
+    return plan.scenario.arm.to_encoder(plan.q), np.asarray(plan.qd), np.asarray(plan.qdd)
+
+
+def csv_columns(arm) -> list[str]:
+    """The header of :func:`save_csv`: ``t``, then ``q``, ``qd``, ``qdd`` of each joint in turn.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> csv_columns(Arm([1.0, 1.0], joint_names=["shoulder", "elbow"]))
+    ['t', 'q_shoulder', 'qd_shoulder', 'qdd_shoulder', 'q_elbow', 'qd_elbow', 'qdd_elbow']
+    """
+    return ["t"] + [f"{kind}_{name}" for name in arm.joint_names for kind in ("q", "qd", "qdd")]
+
+
+def save_csv(plan: Plan, path) -> None:
+    """Write the timed trajectory as CSV, atomically: a header (:func:`csv_columns`), one row
+    per sample.
+
+    ``t`` in seconds; per joint ``q`` (rad, as the joint's encoder reads it: ``q -
+    arm.joint_offsets``), ``qd`` (rad/s) and ``qdd`` (rad/s²), each written with ``repr``'s
+    17 significant digits, so the numbers read back exactly.
+
+    Examples
+    --------
+    >>> import csv, os, tempfile
+    >>> from rapp import plan
+    >>> p = plan("default")
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     save_csv(p, os.path.join(d, "q.csv"))
+    ...     with open(os.path.join(d, "q.csv"), newline="") as fh:
+    ...         rows = list(csv.reader(fh))
+    >>> rows[0]
+    ['t', 'q_joint1', 'qd_joint1', 'qdd_joint1', 'q_joint2', 'qd_joint2', 'qdd_joint2']
+    >>> len(rows) - 1 == len(p.t), float(rows[-1][0]) == float(p.t[-1])
+    (True, True)
+    """
+    q, qd, qdd = _encoder_rows(plan)
+    n = q.shape[1]
+    table = np.empty((len(plan.t), 1 + 3 * n))
+    table[:, 0] = plan.t
+    table[:, 1::3], table[:, 2::3], table[:, 3::3] = q, qd, qdd
+    lines = [",".join(csv_columns(plan.scenario.arm))]
+    lines += [",".join(repr(float(x)) for x in row) for row in table]
+    _write_text(path, "\n".join(lines) + "\n")
+
+
+def joint_trajectory(plan: Plan) -> dict:
+    """The timed trajectory as a ROS ``trajectory_msgs/JointTrajectory``-shaped mapping.
+
+    ``joint_names`` (the arm's) and ``points``, one per sample, each with ``positions``
+    (rad, as the encoders read them: ``q - arm.joint_offsets``), ``velocities`` (rad/s),
+    ``accelerations`` (rad/s²) and ``time_from_start`` as ROS 2 writes a duration:
+    ``{"sec": int, "nanosec": int}``.
+
+    Examples
+    --------
+    >>> from rapp import plan
+    >>> jt = joint_trajectory(plan("default"))
+    >>> jt["joint_names"], sorted(jt["points"][1])
+    (['joint1', 'joint2'], ['accelerations', 'positions', 'time_from_start', 'velocities'])
+    >>> jt["points"][0]["time_from_start"]
+    {'sec': 0, 'nanosec': 0}
+    """
+    q, qd, qdd = _encoder_rows(plan)
+    points = []
+    for i, t in enumerate(np.asarray(plan.t, dtype=float)):
+        ns = int(round(t * 1e9))
+        points.append({"positions": q[i].tolist(), "velocities": qd[i].tolist(),
+                       "accelerations": qdd[i].tolist(),
+                       "time_from_start": {"sec": ns // 1_000_000_000, "nanosec": ns % 1_000_000_000}})
+    return {"joint_names": list(plan.scenario.arm.joint_names), "points": points}
+
+
+def save_joint_trajectory(plan: Plan, path) -> None:
+    """Write :func:`joint_trajectory` as JSON, atomically.
+
+    Examples
+    --------
+    >>> import json, os, tempfile
+    >>> from rapp import plan
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     save_joint_trajectory(plan("default"), os.path.join(d, "jt.json"))
+    ...     with open(os.path.join(d, "jt.json"), encoding="utf-8") as fh:
+    ...         sorted(json.load(fh))
+    ['joint_names', 'points']
+    """
+    _write_text(path, json.dumps(joint_trajectory(plan), allow_nan=False, separators=(",", ":")))
+
+
+def _write_text(path, text: str) -> None:
+    with atomic_output(path) as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())

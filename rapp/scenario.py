@@ -74,6 +74,9 @@ __all__ = [
     "ALGORITHMS",
     "check_limits",
     "SETTINGS_OF",
+    "TOP_KEYS",
+    "TRAJECTORY_KEYS",
+    "ARM_OPTIONAL_KEYS",
 ]
 
 #: SRS Table 4 software ranges (warnings, not errors).
@@ -162,9 +165,13 @@ PROFILES = ("cubic", "quintic", "spline", "trapezoidal")
 #: from its start position to ``goal.position`` (:func:`rapp.cartesian.line_path`).
 GOAL_PATHS = ("line",)
 
-_TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
-             "description")
-_TRAJECTORY_KEYS = ("duration", "profile", "samples", "dt", "max_velocity", "max_acceleration")
+#: The keys of a scenario file's top level (rapp.schema builds the JSON Schema from these).
+TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
+            "description")
+_TOP_KEYS = TOP_KEYS
+#: The keys of ``trajectory``.
+TRAJECTORY_KEYS = ("duration", "profile", "samples", "dt", "max_velocity", "max_acceleration")
+_TRAJECTORY_KEYS = TRAJECTORY_KEYS
 #: The keys ``arm`` accepts besides ``link_lengths``.
 ARM_OPTIONAL_KEYS = ("joint_limits", "joint_names", "base", "joint_offsets")
 #: The keys ``planner`` accepts and those only sampling planners read (A* validates them, then
