@@ -111,7 +111,7 @@ LAYERS = {
     "planners": {"sampling", "sampling_kernel", "grid_route", "rrt", "rrt_connect", "rrt_star", "prm", "planners",
                  "progress"},
     "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "recorded",
-                 "baseline", "traceability"},
+                 "baseline", "traceability", "schema"},
     "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live"},
     "interface": {"cli", "__main__", "__init__", "interrupts"},
     "teaching": {"exercises", "cases", "grading"},
