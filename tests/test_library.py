@@ -4,6 +4,7 @@ an arm's base pose, joint offsets and names. Everything here needs only the libr
 stack): scripts/smoke_pythons.py runs this file on every CPython the machine has."""
 
 import csv
+from importlib import resources
 import json
 import re
 from pathlib import Path
@@ -54,7 +55,7 @@ def test_the_package_declares_its_license_extras_and_python_versions():
                 if re.fullmatch(r"Programming Language :: Python :: 3\.\d+", c)}
     assert versions == {"3.10", "3.11", "3.12", "3.13"}
     assert meta["requires-python"] == ">=3.10"
-    assert (ROOT / "rapp" / "py.typed").exists()
+    assert resources.files("rapp").joinpath("py.typed").is_file()   # the installed package
 
 
 def test_the_changelog_has_an_entry_for_this_version():

@@ -1,0 +1,320 @@
+"""Every planner on the same seeded random scenarios: success, time, path length, with 95 % intervals.
+
+The harness builds ``count`` random scenarios (2-4 links; discs and rectangles; joint and
+Cartesian goals; every fourth one a wall with a narrow door between start and goal), then runs
+each planner on each of them, ``seeds`` times for the sampling planners (A* is deterministic:
+once). Every run goes through :func:`rapp.plan` (IK, search, shortcutting, timing, verification),
+so a success is a verified trajectory.
+
+It runs on any :class:`concurrent.futures.Executor`: by default a process pool over every local
+core; on a cluster, pass a Dask distributed client's executor unchanged::
+
+    from dask.distributed import Client
+    summary = run(executor=Client("scheduler:8786").get_executor())
+
+``benchmarks/compare_planners.py`` is its command line (it adds OMPL's planners where ``ompl``
+is installed). The recorded run, 30 scenarios x 20 seeds, ships with the package:
+:func:`recorded_results` reads it (chapter 14 does), wherever rapp is installed.
+
+Examples
+--------
+>>> [round(v, 3) for v in wilson(20, 20)]
+[0.839, 1.0]
+>>> results = recorded_results()
+>>> results["settings"]["scenarios"], len(results["records"])
+(30, 3690)
+>>> scenario_class(results["scenarios"][3])
+'2 links, narrow'
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import platform
+import time
+from concurrent.futures import Executor, ProcessPoolExecutor
+from dataclasses import asdict, dataclass
+from datetime import date
+
+import numpy as np
+
+import rapp
+from rapp.errors import NoIKSolution, NoPathFound, RappError
+
+__all__ = ["make_scenarios", "scenario_class", "Task", "Record", "planners_for", "run_task",
+           "wilson", "mean_interval", "summarize", "tasks", "run", "recorded_results",
+           "RESULTS_FILE", "ASTAR_CELLS", "SAMPLING", "TIME_BUDGET", "RRT_STAR_BUDGET", "STEP"]
+
+#: The recorded comparison: package data, ``rapp/recorded/planners.json`` (:func:`rapp.recorded.load`).
+RESULTS_FILE = "recorded/planners.json"
+
+#: A* resolutions (cells per joint) by number of joints: coarse, medium, fine.
+ASTAR_CELLS = {2: (24, 48, 96), 3: (16, 32, 48), 4: (8, 14, 20)}
+SAMPLING = ("rrt", "rrt_connect", "rrt_star", "prm")
+#: Seconds a sampling planner may spend on one run before it counts as a failure.
+TIME_BUDGET = 5.0
+#: RRT* (rapp's and OMPL's) keeps improving its path until this budget is spent: its "time to
+#: a solution" is this budget, and its length is the length it reached by then.
+RRT_STAR_BUDGET = 1.0
+STEP = 0.1
+
+
+# --- scenarios -------------------------------------------------------------------------------
+
+def _free_configurations(arm, obstacles, rng, tries: int = 4000) -> np.ndarray:
+    q = rng.uniform(-np.pi, np.pi, size=(tries, arm.n))
+    return q[~rapp.collides(arm, q, obstacles)]
+
+
+def _obstacles(rng, reach: float, narrow: bool) -> list[dict]:
+    """Discs and axis-aligned rectangles in the annulus the arm sweeps; or a wall with a door."""
+    obs: list[dict] = []
+    if narrow:
+        # A wall across the +x half plane at 55 % of the reach, with a door of 0.12-0.2 m.
+        x = 0.55 * reach
+        door, centre = rng.uniform(0.12, 0.2), rng.uniform(-0.3, 0.3) * reach
+        obs.append({"type": "polygon", "vertices": _rect(x, x + 0.1, centre + door / 2, 1.2 * reach)})
+        obs.append({"type": "polygon", "vertices": _rect(x, x + 0.1, -1.2 * reach, centre - door / 2)})
+    for _ in range(int(rng.integers(2, 5))):
+        r = rng.uniform(0.45, 0.95) * reach
+        a = rng.uniform(-np.pi, np.pi)
+        cx, cy = r * np.cos(a), r * np.sin(a)
+        if narrow and cx > 0.3 * reach:
+            continue  # keep the door side clear, so the door is the question
+        if rng.random() < 0.6:
+            obs.append({"type": "circle", "center": [round(cx, 3), round(cy, 3)],
+                        "radius": round(float(rng.uniform(0.08, 0.2) * reach), 3)})
+        else:
+            w, h = rng.uniform(0.1, 0.3, 2) * reach
+            obs.append({"type": "polygon", "vertices": _rect(cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2)})
+    return obs
+
+
+def _rect(x0, x1, y0, y1) -> list:
+    return [[round(float(x), 3), round(float(y), 3)] for x, y in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+
+
+def make_scenarios(count: int = 30, seed: int = 2026) -> list[dict]:
+    """``count`` random, valid scenario dicts (start and goal free), reproducible from ``seed``.
+
+    Scenario ``k`` has ``2 + k % 3`` links; every other one has a Cartesian goal; every fourth
+    is "narrow" (a wall with a door between start and goal, on opposite sides of it).
+    """
+    rng = np.random.default_rng(seed)
+    scenarios: list[dict] = []
+    while len(scenarios) < count:
+        k = len(scenarios)
+        n, narrow, cartesian = 2 + k % 3, k % 4 == 3, k % 2 == 1
+        lengths = np.round(rng.uniform(0.4, 1.0, n), 2)
+        reach = float(lengths.sum())
+        obstacles = _obstacles(rng, reach, narrow)
+        arm = rapp.Arm(lengths)
+        parsed = [rapp.Circle(o["center"], o["radius"]) if o["type"] == "circle"
+                  else rapp.Polygon(o["vertices"]) for o in obstacles]
+        free = _free_configurations(arm, parsed, rng)
+        x = arm.end_effector(free)[:, 0]
+        # Narrow: the start's tip left of the wall, the goal's tip beyond it, so the door matters.
+        starts = free[x < 0.3 * reach] if narrow else free
+        goals = free[x > 0.65 * reach] if narrow else free
+        if len(starts) == 0 or len(goals) == 0:
+            continue
+        start, goal = starts[0], goals[-1]
+        if np.linalg.norm(rapp.wrap_angle(goal - start)) < 1.0:
+            continue  # a trivial problem says nothing about a planner
+        scenarios.append(_scenario_dict(k, lengths, obstacles, start, goal, cartesian, "astar", {}))
+    return scenarios
+
+
+def _scenario_dict(k, lengths, obstacles, start, goal, cartesian, algorithm, settings) -> dict:
+    arm = rapp.Arm(lengths)
+    goal_entry = ({"position": [float(v) for v in np.round(arm.end_effector(goal), 4)]} if cartesian
+                  else {"joints": [float(v) for v in np.round(goal, 4)]})
+    n = len(lengths)
+    return {
+        "name": f"random-{k:02d}",
+        "description": f"{n} links, {'narrow door' if k % 4 == 3 else 'open'}, "
+                       f"{'Cartesian' if cartesian else 'joint'} goal",
+        "arm": {"link_lengths": [float(v) for v in lengths]},
+        "obstacles": obstacles,
+        "start": [float(v) for v in np.round(start, 4)],
+        "goal": goal_entry,
+        "units": {"angle": "rad", "length": "m"},
+        "planner": {"algorithm": algorithm, **settings},
+        "trajectory": {"duration": 5.0, "profile": "cubic", "samples": 100},
+    }
+
+
+def scenario_class(s: dict) -> str:
+    n = len(s["arm"]["link_lengths"])
+    return f"{n} links, {'narrow' if 'narrow' in s['description'] else 'open'}"
+
+
+# --- one run ---------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Task:
+    scenario_index: int
+    planner: str
+    seed: int
+    scenario: dict
+
+
+@dataclass(frozen=True)
+class Record:
+    scenario_index: int
+    planner: str
+    seed: int
+    success: bool
+    error: str
+    time_s: float            # to a path: IK + C-space + search (OMPL: its solve time)
+    total_s: float           # the whole pipeline, verification included
+    length_rad: float        # joint-space length of the path the planner returned
+    shortcut_length_rad: float
+
+
+def planners_for(n: int, extra=()) -> list[str]:
+    """The runs' planner names for an arm of ``n`` joints: A* at three resolutions, the
+    sampling planners, then ``extra`` (e.g. a benchmark's OMPL planners)."""
+    return [f"astar_{c}" for c in ASTAR_CELLS[n]] + list(SAMPLING) + list(extra)
+
+
+def run_task(task: Task) -> Record:
+    """Plan one scenario with one planner and one seed; never raises for a planning failure."""
+    if task.planner.startswith("astar_"):
+        settings = {"cells": int(task.planner.split("_")[1])}
+        algorithm = "astar"
+    else:
+        algorithm = task.planner
+        settings = {"seed": task.seed, "step": STEP, "time_budget": TIME_BUDGET}
+        if algorithm == "rrt_star":
+            settings.update(max_iterations=100_000, time_budget=RRT_STAR_BUDGET)
+        if algorithm in ("rrt", "rrt_star"):
+            settings["goal_threshold"] = 0.05
+    s = dict(task.scenario, planner={"algorithm": algorithm, **settings})
+    t0 = time.perf_counter()
+    try:
+        plan = rapp.plan(rapp.load_scenario(s))
+    except (NoPathFound, NoIKSolution) as exc:
+        return Record(task.scenario_index, task.planner, task.seed, False, type(exc).__name__,
+                      math.nan, time.perf_counter() - t0, math.nan, math.nan)
+    except RappError as exc:  # a grid too coarse for the arm, refused as bad input
+        return Record(task.scenario_index, task.planner, task.seed, False, type(exc).__name__,
+                      math.nan, time.perf_counter() - t0, math.nan, math.nan)
+    tm = plan.timings
+    return Record(task.scenario_index, task.planner, task.seed, bool(plan.report.ok), "",
+                  tm["ik"] + tm["cspace"] + tm["search"], tm["total"],
+                  plan.metrics["waypoint_length_rad"], plan.metrics["shortcut_length_rad"])
+
+
+# --- statistics ------------------------------------------------------------------------------
+
+def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float]:
+    """Wilson score 95 % interval for a success rate.
+
+    >>> [round(v, 3) for v in wilson(20, 20)]
+    [0.839, 1.0]
+    """
+    if n == 0:
+        return (math.nan, math.nan)
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return (max(0.0, centre - half), min(1.0, centre + half))
+
+
+def mean_interval(values) -> dict:
+    """Mean, Student-t 95 % interval and median of ``values`` (NaN when there are none)."""
+    v = np.asarray([x for x in values if math.isfinite(x)], float)
+    if v.size == 0:
+        return {"mean": math.nan, "low": math.nan, "high": math.nan, "median": math.nan, "n": 0}
+    if v.size == 1:
+        return {"mean": float(v[0]), "low": math.nan, "high": math.nan, "median": float(v[0]), "n": 1}
+    from statistics import NormalDist  # t quantile: a table for small n, the normal beyond
+    t = _T975.get(v.size - 1, NormalDist().inv_cdf(0.975))
+    half = t * v.std(ddof=1) / math.sqrt(v.size)
+    return {"mean": float(v.mean()), "low": float(v.mean() - half), "high": float(v.mean() + half),
+            "median": float(np.median(v)), "n": int(v.size)}
+
+
+_T975 = {1: 12.706, 2: 4.303, 3: 3.182, 4: 2.776, 5: 2.571, 6: 2.447, 7: 2.365, 8: 2.306, 9: 2.262,
+         10: 2.228, 12: 2.179, 15: 2.131, 19: 2.093, 20: 2.086, 25: 2.060, 29: 2.045, 30: 2.042}
+
+
+def summarize(records: list[Record], scenarios: list[dict]) -> dict:
+    """Per planner, overall and per scenario class."""
+    out: dict = {}
+    classes = ["all"] + sorted({scenario_class(s) for s in scenarios})
+    for planner in sorted({r.planner for r in records}):
+        mine = [r for r in records if r.planner == planner]
+        out[planner] = {}
+        for cls in classes:
+            rs = [r for r in mine if cls == "all" or scenario_class(scenarios[r.scenario_index]) == cls]
+            if not rs:
+                continue
+            ok = [r for r in rs if r.success]
+            out[planner][cls] = {
+                "runs": len(rs), "successes": len(ok),
+                "success_rate": len(ok) / len(rs), "success_interval": wilson(len(ok), len(rs)),
+                "time_s": mean_interval(r.time_s for r in ok),
+                "length_rad": mean_interval(r.length_rad for r in ok),
+                "shortcut_length_rad": mean_interval(r.shortcut_length_rad for r in ok),
+            }
+    return out
+
+
+# --- the harness -----------------------------------------------------------------------------
+
+def tasks(scenarios: list[dict], seeds: int, planners=None, extra=()) -> list[Task]:
+    """Every run: each scenario with each of its planners (name prefixes in ``planners``, all
+    when None), ``seeds`` times for a sampling planner, once for A*."""
+    out = []
+    for i, s in enumerate(scenarios):
+        for p in planners_for(len(s["arm"]["link_lengths"]), extra):
+            if planners is not None and not any(p.startswith(name) for name in planners):
+                continue
+            for seed in (range(1) if p.startswith("astar") else range(seeds)):
+                out.append(Task(i, p, seed, s))
+    return out
+
+
+def run(scenarios: int = 30, seeds: int = 20, executor: Executor | None = None, planners=None,
+        seed: int = 2026, *, runner=None, extra=()) -> dict:
+    """Run the comparison; returns the JSON-ready result (records and summary).
+
+    ``executor``: any :class:`concurrent.futures.Executor` (default: a process pool over all
+    cores). ``planners``: name prefixes to keep (default: all). ``runner``: the function that
+    runs one :class:`Task` (default :func:`run_task`; a benchmark passes its own to add the
+    planners named in ``extra``); it must be importable by the executor's workers.
+    """
+    runner = run_task if runner is None else runner
+    chosen = make_scenarios(scenarios, seed)
+    todo = tasks(chosen, seeds, planners, extra)
+    own = executor is None
+    executor = executor or ProcessPoolExecutor(max_workers=os.cpu_count())
+    try:
+        t0 = time.perf_counter()
+        records = list(executor.map(runner, todo, chunksize=4) if isinstance(executor, ProcessPoolExecutor)
+                       else executor.map(runner, todo))
+        wall = time.perf_counter() - t0
+    finally:
+        if own:
+            executor.shutdown()
+    return {
+        "date": date.today().isoformat(),
+        "machine": {"cpus": os.cpu_count(), "platform": platform.platform(),
+                    "python": platform.python_version()},
+        "settings": {"scenarios": scenarios, "seeds": seeds, "scenario_seed": seed, "step": STEP,
+                     "time_budget_s": TIME_BUDGET, "rrt_star_budget_s": RRT_STAR_BUDGET, "astar_cells": ASTAR_CELLS},
+        "wall_s": wall,
+        "scenarios": chosen,
+        "summary": summarize(records, chosen),
+        "records": [asdict(r) for r in records],
+    }
+
+
+def recorded_results() -> dict:
+    """The recorded comparison (30 scenarios x 20 seeds, every planner), from the package data."""
+    from rapp.recorded import load
+
+    return load("planners")

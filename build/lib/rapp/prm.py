@@ -1,0 +1,522 @@
+"""Lazy PRM: a probabilistic roadmap whose edges are certified only when a path needs them.
+
+Free configurations are sampled uniformly and each is joined to its ``neighbours`` nearest
+(wrap-aware distance) by a *candidate* edge. Dijkstra's algorithm finds the shortest candidate
+path from the start to a goal; only that path's uncertified edges are then certified
+(:func:`rapp.collision.segment_collision_free`, all in one call). Edges that fail are removed
+and the search is repeated; when the roadmap holds no path, it grows by as many samples again.
+Most candidate edges are never checked, which is where the time of a PRM goes.
+
+With numba the candidate edges are found by a compiled nearest-k scan and kept as arrays, and the
+rounds of search, certification and removal run in one compiled loop (:func:`_lazy_searches`,
+calling the compiled Dijkstra); the roadmaps, searches and paths are those of the dict-based
+numpy loop, which is the fallback.
+
+References
+----------
+Kavraki, Švestka, Latombe and Overmars (1996), Probabilistic roadmaps for path planning in
+high-dimensional configuration spaces. Bohlin and Kavraki (2000), Path planning using lazy PRM.
+"""
+
+from __future__ import annotations
+
+import functools
+import heapq
+import itertools
+import time
+
+import numpy as np
+
+from rapp import heap, progress, sampling_kernel
+from rapp.checks import positive_integer
+from rapp.collision import MAX_PENDING_INTERVALS, collides
+from rapp.errors import InvalidSetting, NoPathFound
+from rapp.jit import jit
+from rapp.paths import PlannerResult, tree_result
+from rapp.rrt import RRTResult
+from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared_norms, uniform_samples,
+                           unwrapped_chain)
+
+__all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE"]
+
+#: Peak bytes the roadmap may take (as the grid planner's budget, rapp.scenario.MEMORY_BUDGET).
+MEMORY_BUDGET = 1.5e9
+#: Bytes per candidate edge: its dict entry (about 190 B, measured with tracemalloc) and its
+#: two entries in Dijkstra's adjacency lists (about 200 B).
+BYTES_PER_EDGE = 400
+#: Bytes of the distance block of one batch of new nodes against all nodes (its rows shrink
+#: as the roadmap grows, so it never takes more).
+BLOCK_BYTES = 64_000_000
+
+
+def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target):
+    """Dijkstra over a CSR graph (node u's neighbours ``dst[start[u]:stop[u]]``), for numba.
+
+    The heap (:mod:`rapp.heap`) holds ``(distance, node)`` pairs compared as heapq compares
+    the tuples of :func:`_dijkstra`, and every neighbour list is in the order :func:`_dijkstra`
+    builds, so both pop the same nodes in the same order and return the same parents.
+    """
+    dist = np.full(n, np.inf)
+    parent = np.full(n, -1, dtype=np.int64)
+    cap = len(sources) + len(dst) + 1
+    hd = np.empty(cap)
+    hu = np.empty(cap, dtype=np.int64)
+    size = 0
+    for s in sources:
+        dist[s] = 0.0
+        size = heap.push(hd, hu, size, 0.0, s)
+    while size:
+        d, u, size = heap.pop(hd, hu, size)
+        if d > dist[u]:
+            continue
+        if is_target[u]:
+            return parent, u
+        for e in range(start[u], stop[u]):
+            v = dst[e]
+            nd = d + wt[e]
+            if nd < dist[v]:
+                dist[v] = nd
+                parent[v] = u
+                size = heap.push(hd, hu, size, nd, v)
+    return parent, -1
+
+
+@functools.cache
+def _compiled_dijkstra():
+    """:func:`_dijkstra_kernel` compiled by numba (cached on disk), or None without numba."""
+    return jit(_dijkstra_kernel) if heap.compiled() else None  # heap's functions first
+
+
+def _shortest(nodes_n: int, edges: dict, sources, targets, budget=None):
+    """:func:`_dijkstra`, compiled when numba is there: the same parents and the same target."""
+    kernel = _compiled_dijkstra()
+    if kernel is None or not edges:
+        return _dijkstra(nodes_n, edges, sources, targets, budget)
+    _check_time(budget)  # compiled, the search itself takes a small fraction of a batch
+    m = len(edges)
+    ij = np.fromiter(itertools.chain.from_iterable(edges), dtype=np.int64, count=2 * m)
+    w = np.fromiter(edges.values(), dtype=float, count=m)
+    # Both directions of edge k at positions 2k, 2k + 1; a stable sort by source keeps every
+    # neighbour list in edge order, the order _dijkstra appends them in.
+    src = ij
+    dst = ij.reshape(-1, 2)[:, ::-1].ravel()
+    order = np.argsort(src, kind="stable")
+    dst, wt = dst[order], np.repeat(w, 2)[order]
+    counts = np.bincount(src, minlength=nodes_n)
+    stop = np.cumsum(counts)
+    is_target = np.zeros(nodes_n, dtype=np.bool_)
+    is_target[np.asarray(targets, dtype=np.int64)] = True
+    parent, hit = kernel(nodes_n, stop - counts, stop, dst, wt,
+                         np.asarray(sources, dtype=np.int64), is_target)
+    return parent, int(hit)
+
+
+def roadmap_bytes(n: int, nodes: int, neighbours: int) -> float:
+    """Peak bytes of a roadmap of ``nodes`` configurations of ``n`` joints, ``neighbours`` each.
+
+    Examples
+    --------
+    >>> roadmap_bytes(2, 10_001, 10) / 1e6   # the default: 20 x 500 samples, start and goal
+    104.164016
+    """
+    return nodes * neighbours * BYTES_PER_EDGE + BLOCK_BYTES + nodes * n * 8
+
+
+class _OutOfTime(Exception):
+    """The time budget ran out inside a roadmap batch."""
+
+
+class _Limit(Exception):
+    """An edge needed more bisection intervals than the compiled loop allows."""
+
+
+def _check_time(budget) -> None:
+    if (budget is not None and budget.time_budget is not None
+            and time.perf_counter() - budget.t0 > budget.time_budget):
+        raise _OutOfTime
+
+
+def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None):
+    """Shortest path on an undirected weighted graph {(i, j): w}; parent map and the target hit."""
+    adj = [[] for _ in range(nodes_n)]
+    for count, ((i, j), w) in enumerate(edges.items()):
+        adj[i].append((j, w))
+        adj[j].append((i, w))
+        if count % 65536 == 65535:
+            _check_time(budget)
+    dist = np.full(nodes_n, np.inf)
+    parent = np.full(nodes_n, -1)
+    heap = []
+    for s in sources:
+        dist[s] = 0.0
+        heap.append((0.0, s))
+    heapq.heapify(heap)
+    goal_set = set(int(t) for t in targets)
+    pops = 0
+    while heap:
+        pops += 1
+        if pops % 16384 == 0:
+            _check_time(budget)
+        d, u = heapq.heappop(heap)
+        if d > dist[u]:
+            continue
+        if u in goal_set:
+            return parent, u
+        for v, w in adj[u]:
+            nd = d + w
+            if nd < dist[v]:
+                dist[v], parent[v] = nd, u
+                heapq.heappush(heap, (nd, v))
+    return parent, -1
+
+
+def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int = 10, seed=0,
+        max_iterations: int = 500, time_budget: float | None = None,
+        max_samples: int | None = None, raise_on_failure: bool = True,
+        neighbors: int | None = None) -> PlannerResult:
+    """Plan with a lazy probabilistic roadmap from ``start`` to a goal configuration.
+
+    Parameters
+    ----------
+    arm, start, goal, obstacles
+        As :func:`rapp.rrt_connect.rrt_connect`.
+    samples : int
+        Free configurations added to the roadmap each time it holds no path.
+    neighbours : int
+        Candidate edges from each node to its nearest nodes.
+    neighbors : int, optional
+        The same, spelled the American way; give one of the two.
+    max_iterations : int
+        Path searches at most (each followed by certifying the path it found).
+    max_samples : int, optional
+        Largest roadmap (default ``20 * samples``): when it holds no path, the answer is
+        failure.
+    time_budget : float, optional
+        Seconds at most.
+
+    Returns
+    -------
+    PlannerResult
+        ``nodes`` the roadmap (start first, then the goals, then the samples) and ``parent``
+        the last search's shortest-path tree.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> arm = Arm([1.0, 1.0])
+    >>> res = prm(arm, [0.0, 0.0], [2.5, 0.0], [Circle((0.0, 1.2), 0.3)], samples=200, seed=1)
+    >>> res.success, bool(np.allclose(arm.wrap(res.path[-1]), [2.5, 0.0]))
+    (True, True)
+    """
+    obstacles = list(obstacles)
+    samples = positive_integer(samples, "samples")
+    if neighbors is not None:
+        if neighbours != 10 and neighbours != neighbors:
+            raise InvalidSetting(f"neighbors={neighbors} and neighbours={neighbours} disagree: "
+                                 "give one of them", "neighbors")
+        neighbours = neighbors
+    neighbours = positive_integer(neighbours, "neighbours")
+    cap_name = "samples" if max_samples is None else "max_samples"
+    max_samples = 20 * samples if max_samples is None else positive_integer(max_samples, "max_samples")
+    budget = Budget(max_iterations, time_budget)
+    start, goals = check_start_and_goals(arm, start, goal, obstacles)
+    peak = roadmap_bytes(arm.n, max_samples + 1 + len(goals), neighbours)
+    if peak > MEMORY_BUDGET:
+        raise InvalidSetting(
+            f"a roadmap of up to {max_samples + 1 + len(goals)} nodes"
+            + (" (20 x samples)" if cap_name == "samples" else "")
+            + f" with {neighbours} neighbours each would need about {peak / 1e9:.3g} GB, over "
+            f"the {MEMORY_BUDGET / 1e9:g} GB budget: lower {cap_name} or neighbours", cap_name)
+    try:
+        try:
+            return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples,
+                            budget, seed, raise_on_failure)
+        except _Limit:  # the numpy loop meets the same edge and raises its message
+            budget = Budget(max_iterations, time_budget)
+            return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples,
+                            budget, seed, raise_on_failure, compiled=False)
+    except _OutOfTime:
+        if raise_on_failure:
+            raise NoPathFound(f"PRM joined no goal within its time budget of "
+                              f"{budget.time_budget:g} s") from None
+        return tree_result(arm, None, np.vstack((start, goals)), np.full(1 + len(goals), -1),
+                           budget.iterations)
+
+
+def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, budget, seed,
+             raise_on_failure, compiled=True) -> RRTResult:
+    """The lazy PRM loop of :func:`prm` on validated arguments; raises _OutOfTime."""
+    rng = np.random.default_rng(seed)
+    nodes = arm.wrap(np.vstack((start, goals)))
+    goal_ids = np.arange(1, len(goals) + 1)
+    loops = sampling_kernel.kernels() if compiled and obstacles else None
+    lazy = _compiled_lazy() if loops is not None else None
+    if lazy is not None:
+        edges = _ArrayEdges(arm, neighbours, loops, lazy, goal_ids)
+    else:
+        edges = _DictEdges(arm, neighbours, goal_ids)
+    certify = EdgeCertifier(arm, obstacles)
+    parent, hit = np.full(len(nodes), -1), -1
+    grow = True
+    while True:
+        rounds = budget.grant(SEARCHES)
+        if not rounds:
+            break
+        if grow:
+            if len(nodes) - 1 - len(goals) >= max_samples:
+                budget.iterations += 1  # this search was counted before the roadmap was full
+                break
+            first_new = len(nodes)
+            nodes = _grow(arm, rng, nodes, samples, obstacles, budget)
+            edges.add(nodes, 0 if first_new <= 1 + len(goals) else first_new, budget)
+        parent, hit, used, found = edges.search(nodes, rounds, certify, budget)
+        budget.iterations += used
+        if found:
+            chain = [hit]
+            while parent[chain[-1]] >= 0:
+                chain.append(int(parent[chain[-1]]))
+            path = unwrapped_chain(arm, nodes[chain[::-1]], start)
+            return tree_result(arm, path, nodes, parent, budget.iterations)
+        grow = hit < 0
+    if raise_on_failure:
+        try:
+            _check_time(budget)
+        except _OutOfTime:
+            raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal within its "
+                              f"time budget of {budget.time_budget:g} s") from None
+        raise NoPathFound(f"the roadmap of {len(nodes)} nodes joined no goal in "
+                          f"{budget.iterations} searches")
+    return tree_result(arm, None, nodes, parent, budget.iterations)
+
+
+class _DictEdges:
+    """Candidate edges as a dict ``{(i, j): length}`` (``i < j``) in the order they were found,
+    the certified ones in a set; Dijkstra by :func:`_shortest`. The path without numba."""
+
+    def __init__(self, arm, neighbours, goal_ids):
+        self.arm, self.neighbours, self.goal_ids = arm, neighbours, goal_ids
+        self.edges: dict = {}
+        self.done: set = set()
+
+    def add(self, nodes, first_new, budget):
+        _add_candidate_edges(self.arm, nodes, self.neighbours, self.edges, first_new, budget)
+
+    def shortest(self, nodes_n, budget):
+        return _shortest(nodes_n, self.edges, [0], self.goal_ids, budget)
+
+    def certified(self, pairs):
+        return np.array([(int(a), int(b)) in self.done for a, b in pairs], dtype=bool)
+
+    def search(self, nodes, rounds, certify, budget):
+        """Up to ``rounds`` searches, each certifying its path's new edges (dropping those not
+        free): ``(parent, hit, searches, found)``; it stops at a certified path (``found``) or
+        when the roadmap holds none (``hit < 0``)."""
+        for used in range(1, rounds + 1):
+            parent, hit = self.shortest(len(nodes), budget)
+            if hit < 0:
+                return parent, hit, used, False
+            chain = [hit]
+            while parent[chain[-1]] >= 0:
+                chain.append(int(parent[chain[-1]]))
+            chain = np.array(chain[::-1])
+            pairs = np.sort(np.stack((chain[:-1], chain[1:]), axis=-1), axis=-1)
+            todo = pairs[~self.certified(pairs)]
+            if len(todo):
+                a = nodes[todo[:, 0]]
+                free = certify(a, a + self.arm.joint_delta(a, nodes[todo[:, 1]]))
+                self.settle(todo, free)
+                if not free.all():
+                    continue
+            return parent, hit, used, True
+        return parent, hit, rounds, False
+
+    def settle(self, pairs, free):
+        """Keep the certified edges of ``pairs`` (``free``), drop the others."""
+        for (a, b), ok in zip(pairs, free):
+            if ok:
+                self.done.add((int(a), int(b)))
+            else:
+                del self.edges[(int(a), int(b))]
+
+
+class _ArrayEdges:
+    """:class:`_DictEdges` as arrays, for the compiled loops: the same edges in the same order,
+    found by the compiled nearest-neighbour scan, and one CSR graph per roadmap size in which a
+    dropped edge weighs ``inf`` (Dijkstra never relaxes it: the same search as without it)."""
+
+    def __init__(self, arm, neighbours, loops, lazy, goal_ids):
+        self.arm, self.neighbours, self.loops, self.lazy = arm, neighbours, loops, lazy
+        self.goal_ids = goal_ids
+        self.limited = np.asarray(arm.limited, dtype=np.bool_)
+        self.ij = np.empty((0, 2), dtype=np.int64)
+        self.w = np.empty(0)
+        self.done = np.empty(0, dtype=bool)
+
+    def add(self, nodes, first_new, budget):
+        k = min(self.neighbours, len(nodes) - 1)
+        if k <= 0:
+            return
+        _check_time(budget)
+        rows = len(nodes) - first_new
+        near, dist = np.empty((rows, k), dtype=np.int64), np.empty((rows, k))
+        self.loops.nearest_k(nodes, first_new, k, self.limited, near, dist)
+        i = np.repeat(np.arange(first_new, len(nodes)), k)
+        ij = np.sort(np.stack((i, near.ravel()), axis=-1), axis=-1)
+        # The first time each edge is met, in the order the dict of _DictEdges fills.
+        first = np.sort(np.unique(ij[:, 0] * len(nodes) + ij[:, 1], return_index=True)[1])
+        self.ij = np.concatenate((self.ij, ij[first]))
+        self.w = np.concatenate((self.w, dist.ravel()[first]))
+        self.done = np.concatenate((self.done, np.zeros(len(first), dtype=bool)))
+        self._graph(len(nodes))
+
+    def _graph(self, nodes_n):
+        m = len(self.w)
+        src = self.ij.ravel()
+        order = np.argsort(src, kind="stable")  # as _shortest orders its neighbour lists
+        self.dst = self.ij[:, ::-1].ravel()[order]
+        self.wt = np.repeat(self.w, 2)[order]  # a dropped edge's length is inf already
+        self.slot = np.empty(2 * m, dtype=np.int64)  # where each edge's two entries went
+        self.slot[order] = np.arange(2 * m)
+        counts = np.bincount(src, minlength=nodes_n)
+        self.stop = np.cumsum(counts)
+        self.start = self.stop - counts
+        self.is_target = np.zeros(nodes_n, dtype=np.bool_)
+        self.is_target[self.goal_ids] = True
+        self.order = order
+        self.sources = np.zeros(1, dtype=np.int64)
+
+    def search(self, nodes, rounds, certify, budget):
+        """:meth:`_DictEdges.search` in one compiled loop (:func:`_lazy_searches`)."""
+        _check_time(budget)
+        c = certify
+        status, used, hit, parent = self.lazy(
+            rounds, len(nodes), self.start, self.stop, self.dst, self.wt, self.order, self.slot,
+            self.w, self.done, self.sources, self.is_target, nodes, self.limited, self.arm.lengths,
+            c.reach, *c.packed, c.touch, 1e-9, MAX_PENDING_INTERVALS)
+        if status == _LIMIT:  # an edge beyond the kernel's interval limit: numpy says so
+            raise _Limit
+        return parent, int(hit), int(used), status == _FOUND
+
+
+def _grow(arm, rng, nodes, k, obstacles, budget=None):
+    """``nodes`` with ``k`` free uniform samples appended (drawn until that many are free)."""
+    new = []
+    have = 0
+    for _ in range(100):
+        _check_time(budget)
+        q = uniform_samples(arm, rng, k)
+        if obstacles:
+            q = q[~collides(arm, q, obstacles)]
+        new.append(q)
+        have += len(q)
+        if have >= k:
+            break
+    return np.vstack([nodes] + new)[: len(nodes) + k]
+
+
+def _add_candidate_edges(arm, nodes, k, edges, first_new, budget=None):
+    """Join every node from ``first_new`` on to its ``k`` nearest (wrap-aware) by a candidate
+    edge; edges already there keep their state. Blocks of new nodes against all nodes, each
+    block within BLOCK_BYTES (its distance arrays take about 4 floats per pair and joint)."""
+    k = min(k, len(nodes) - 1)
+    if k <= 0:
+        return
+    rows = int(max(1, min(256, BLOCK_BYTES // (32 * len(nodes) * arm.n))))
+    for lo in range(first_new, len(nodes), rows):
+        _check_time(budget)
+        progress.report("PRM roadmap", lo - first_new, len(nodes) - first_new)
+        block = np.arange(lo, min(lo + rows, len(nodes)))
+        d = arm.joint_delta(nodes[block, None, :], nodes[None, :, :])
+        dist = np.sqrt(squared_norms(d))
+        dist[np.arange(len(block)), block] = np.inf
+        near = np.argpartition(dist, k - 1, axis=1)[:, :k]
+        # Nearest first, equal distances by index: the order of the compiled scan
+        # (rapp.sampling_kernel), so both fill the roadmap alike.
+        near = np.take_along_axis(near, np.lexsort((near, np.take_along_axis(dist, near, 1))), 1)
+        for row, i in enumerate(block):
+            for j in near[row]:
+                key = (min(int(i), int(j)), max(int(i), int(j)))
+                if key not in edges:
+                    edges[key] = float(dist[row, j])
+
+
+#: Searches the roadmap loop runs between two looks at the clock.
+SEARCHES = 16
+_NO_PATH, _FOUND, _MORE, _LIMIT = 0, 1, 2, 3
+
+
+def _lazy_searches(rounds, nodes_n, start, stop, dst, wt, order, slot, w, done, sources,
+                   is_target, nodes, limited, lengths, reach, circles, pv, pn, pr, offsets,
+                   touch, min_interval, cap):
+    """:meth:`_DictEdges.search` for numba: up to ``rounds`` Dijkstra searches on the CSR graph
+    of :class:`_ArrayEdges`, each path's uncertified edges certified (the compiled bisection
+    of :class:`rapp.sampling.EdgeCertifier`), those not free dropped (weight ``inf``).
+
+    Returns ``(status, searches, hit, parent)``: _FOUND a certified path to ``hit``, _NO_PATH
+    none in the roadmap, _MORE the rounds ran out, _LIMIT an edge over ``cap`` intervals.
+    """
+    n = nodes.shape[1]
+    scratch = np.empty((3, n))
+    d = np.empty(n)
+    chain = np.empty(nodes_n, dtype=np.int64)
+    parent = np.full(nodes_n, -1, dtype=np.int64)
+    hit = -1
+    for used in range(1, rounds + 1):
+        parent, hit = _dijkstra_compiled(nodes_n, start, stop, dst, wt, sources, is_target)
+        if hit < 0:
+            return _NO_PATH, used, hit, parent
+        size = 0
+        v = hit
+        while v >= 0:
+            chain[size] = v
+            size += 1
+            v = parent[v]
+        found = True
+        for t in range(size - 1, 0, -1):  # from the start on, as the numpy loop lists them
+            lo = min(chain[t], chain[t - 1])
+            hi = max(chain[t], chain[t - 1])
+            e = -1
+            for pos in range(start[lo], stop[lo]):
+                if dst[pos] == hi and wt[pos] < np.inf:
+                    e = order[pos] >> 1
+                    break
+            if done[e]:
+                continue
+            for j in range(n):
+                dj = nodes[hi, j] - nodes[lo, j]
+                d[j] = dj if limited[j] else _wrap_compiled(dj)
+            code = _bisect_compiled(lengths, nodes[lo], d, reach, circles, pv, pn, pr, offsets,
+                                    touch, min_interval, cap, scratch)
+            if code < 0:
+                return _LIMIT, used, hit, parent
+            if code == 1:
+                done[e] = True
+            else:
+                found = False
+                w[e] = np.inf
+                wt[slot[2 * e]] = np.inf
+                wt[slot[2 * e + 1]] = np.inf
+        if found:
+            return _FOUND, used, hit, parent
+    return _MORE, rounds, hit, parent
+
+
+def _dijkstra_compiled(*args):
+    """The compiled Dijkstra (set by :func:`_compiled_lazy`)."""
+    raise RuntimeError("compiled only")
+
+
+_bisect_compiled = _wrap_compiled = _dijkstra_compiled
+
+
+@functools.cache
+def _compiled_lazy():
+    """:func:`_lazy_searches` compiled (cached on disk), calling the compiled Dijkstra and the
+    compiled loops of :mod:`rapp.sampling_kernel`; None without numba."""
+    dijkstra, loops = _compiled_dijkstra(), sampling_kernel.kernels()
+    if dijkstra is None or loops is None:
+        return None
+    g = globals()
+    g["_dijkstra_compiled"], g["_bisect_compiled"], g["_wrap_compiled"] = (
+        dijkstra, loops.bisect, loops.wrap)
+    return jit(_lazy_searches)

@@ -1,0 +1,332 @@
+"""What the sampling planners share: trees in joint space, uniform samples, budgets, checks.
+
+A free joint is a circle, so every distance and every step is taken the short way round
+(:meth:`rapp.Arm.joint_delta`); nodes are stored wrapped (:meth:`rapp.Arm.wrap`) and paths
+are returned unwrapped, each waypoint the previous one plus the certified edge, so that the
+straight segment between consecutive waypoints is exactly the motion that was certified
+collision-free (:func:`rapp.collision.segment_collision_free`).
+
+References
+----------
+LaValle (2006), *Planning Algorithms*, ch. 5: sampling-based motion planning.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from rapp.checks import finite_number, positive_integer
+from rapp import collision_kernel
+from rapp.collision import collides, reach_matrix, segment_collision_free
+from rapp.collision_kernel import pack
+from rapp.errors import NoPathFound
+
+__all__ = ["ClearanceTree", "squared_norms", "motion_bounds_of", "endpoint_certified", "EdgeCertifier", "Tree", "Budget", "check_start_and_goals", "uniform_samples", "unwrapped_chain"]
+
+
+def squared_norms(d) -> np.ndarray:
+    """Sum of squares along the last axis, joint by joint in order: ``(..., n) -> (...)``.
+
+    Written out rather than ``d @ d`` or ``einsum``, whose rounding depends on the BLAS and
+    the processor (fused multiply-adds, vector lanes): this order is the one the compiled
+    loops of :mod:`rapp.sampling_kernel` use, so both find the same nearest nodes and steps
+    to the last bit.
+
+    Examples
+    --------
+    >>> squared_norms(np.array([[3.0, 4.0], [1.0, 1.0]])).tolist()
+    [25.0, 2.0]
+    """
+    d = np.asarray(d, float)
+    s = d[..., 0] * d[..., 0]
+    for j in range(1, d.shape[-1]):
+        s = s + d[..., j] * d[..., j]
+    return s
+
+
+def motion_bounds_of(dq, reach) -> np.ndarray:
+    """``np.abs(dq) @ reach`` (:func:`rapp.collision.motion_bounds`), summed joint by joint in
+    order: the compiled loops' order, whatever the BLAS rounds (see :func:`squared_norms`).
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> from rapp.collision import reach_matrix
+    >>> motion_bounds_of(np.array([[0.1, 0.0]]), reach_matrix(Arm([1.0, 1.0]))).tolist()
+    [[0.1, 0.2]]
+    """
+    a = np.abs(np.asarray(dq, float))
+    b = a[..., 0, None] * reach[0]
+    for j in range(1, a.shape[-1]):
+        b = b + a[..., j, None] * reach[j]
+    return b
+
+
+def endpoint_certified(c0, c1, bounds, touch):
+    """Edges certified free by their end clearances alone: ``c0 + c1 > B`` on every link.
+
+    Along a straight joint-space edge every point of link ``j`` moves at most ``B_j t`` from
+    where it is at the start (parameter ``t``) and ``B_j (1 - t)`` from where it is at the end
+    (:func:`rapp.collision.motion_bounds`), and a clearance changes no faster than the points
+    move. So link ``j`` is free at ``t`` when ``c0_j > B_j t`` or ``c1_j > B_j (1 - t)``, and
+    both intervals of ``t`` together cover ``[0, 1]`` exactly when ``c0_j + c1_j > B_j``. The
+    same lemma as the bisection of :func:`rapp.collision.segment_collision_free`, applied at the
+    ends, where the clearances are already known: most short edges need nothing more.
+
+    Examples
+    --------
+    >>> endpoint_certified(np.array([[0.3, 0.2]]), np.array([[0.3, 0.2]]),
+    ...                    np.array([[0.5, 0.5]]), 1e-14).tolist()
+    [False]
+    """
+    return ((c0 + c1 > bounds) & (c0 > touch) & (c1 > touch)).all(axis=-1)
+
+
+class EdgeCertifier:
+    """:func:`rapp.collision.segment_collision_free` for a planner's own edges, the same answers.
+
+    A planner certifies a few edges at a time, thousands of times, always with the same arm
+    and obstacles, and its configurations are its own finite arithmetic: the obstacles'
+    arrays, the reach matrix and the touching distance are made once here, the angles are
+    not checked again, and the compiled bisection first runs with a small interval allowance
+    (an edge needing more goes through ``segment_collision_free``, which also raises its
+    message). Without the compiled kernel it is ``segment_collision_free``.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> arm, obs = Arm([1.0, 1.0]), [Circle((0.0, 1.5), 0.3)]
+    >>> EdgeCertifier(arm, obs)(np.zeros((2, 2)), np.array([[0.5, 0.0], [3.0, 0.0]])).tolist()
+    [True, False]
+    """
+
+    #: Pending intervals of the first, compiled try (the answer does not depend on it).
+    FIRST_CAP = 64
+
+    def __init__(self, arm, obstacles):
+        self.arm, self.obstacles = arm, list(obstacles)
+        self.kernel = collision_kernel.loaded() if self.obstacles else None
+        if self.kernel is not None:
+            self.packed = pack(self.obstacles)
+            self.reach = reach_matrix(arm)
+            self.touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
+
+    def __call__(self, q0, q1, c0=None, c1=None) -> np.ndarray:
+        """Free or not, for each straight edge ``q0 -> q1`` (``(m, n)`` each): bool ``(m,)``.
+
+        With the link clearances ``c0``, ``c1`` of both ends, an edge whose ends certify it
+        (:func:`endpoint_certified`) is free and one with an end within touching distance is
+        not, without a bisection: the answers the bisection gives.
+        """
+        if self.kernel is None:
+            return segment_collision_free(self.arm, q0, q1, self.obstacles)
+        q0 = np.ascontiguousarray(q0, dtype=float)
+        dq = np.ascontiguousarray(q1 - q0)  # as segment_collision_free forms it
+        bounds = motion_bounds_of(dq, self.reach)
+        if c0 is not None:
+            free = endpoint_certified(c0, c1, bounds, self.touch)
+            hit = ((c0 <= self.touch) | (c1 <= self.touch)).any(axis=-1)
+            rest = np.flatnonzero(~free & ~hit)
+            if rest.size:
+                free[rest] = self(q0[rest], q1[rest])
+            return free
+        code = self.kernel.certify(self.arm.lengths, q0, dq, bounds, *self.packed, 1e-9,
+                                   self.FIRST_CAP, self.touch)
+        if (code < 0).any():
+            return segment_collision_free(self.arm, q0, q1, self.obstacles)
+        return code > 0
+
+
+class Tree:
+    """A tree in joint space as growable arrays: wrapped nodes, parent map, cost from the root.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> t = Tree(Arm([1.0, 1.0]), [[0.0, 0.0]])
+    >>> t.add([3.0, 0.0], 0, cost=3.0)
+    1
+    >>> t.nearest([-3.1, 0.0])      # 3.0 is 0.18 rad from -3.1 the short way round
+    1
+    >>> t.parent.tolist(), t.cost.tolist()
+    ([-1, 0], [0.0, 3.0])
+    """
+
+    def __init__(self, arm, roots):
+        self.arm = arm
+        roots = np.atleast_2d(np.asarray(roots, float))
+        cap = max(256, 2 * len(roots))
+        self._nodes = np.empty((cap, arm.n))
+        self._parent = np.empty(cap, dtype=int)
+        self._cost = np.empty(cap)
+        self.m = 0
+        for r in roots:
+            self.add(r, -1, 0.0)
+
+    nodes = property(lambda self: self._nodes[: self.m], doc="Nodes ``(m, n)``, wrapped.")
+    parent = property(lambda self: self._parent[: self.m], doc="Parent index, -1 for a root.")
+    cost = property(lambda self: self._cost[: self.m], doc="Path length from the root (rad).")
+
+    def add(self, q, parent_index: int, cost: float = 0.0) -> int:
+        """Append a node; returns its index."""
+        if self.m == len(self._nodes):
+            self._nodes = np.concatenate((self._nodes, np.empty_like(self._nodes)))
+            self._parent = np.concatenate((self._parent, np.empty_like(self._parent)))
+            self._cost = np.concatenate((self._cost, np.empty_like(self._cost)))
+        self._nodes[self.m] = self.arm.wrap(q)
+        self._parent[self.m] = parent_index
+        self._cost[self.m] = cost
+        self.m += 1
+        return self.m - 1
+
+    def deltas(self, q) -> np.ndarray:
+        """``q - node`` for every node, the short way round: ``(m, n)``."""
+        return self.arm.joint_delta(self.nodes, q)
+
+    def nearest(self, q) -> int:
+        """Index of the node nearest ``q`` (wrap-aware Euclidean distance)."""
+        return int(np.argmin(squared_norms(self.deltas(q))))
+
+    def set_parent(self, i: int, parent_index: int, cost: float) -> None:
+        """Rewire node ``i`` under ``parent_index`` at path cost ``cost``."""
+        self._parent[i] = parent_index
+        self._cost[i] = cost
+
+    def shift_cost(self, indices, delta: float) -> None:
+        """Add ``delta`` to the cost of the (distinct) nodes ``indices``: a rewired branch."""
+        self._cost[np.asarray(indices, dtype=int)] += delta
+
+
+class Budget:
+    """Iterations and an optional wall-clock budget; ``spent()`` says when either ran out.
+
+    A time budget makes a run depend on the machine; without one, the same seed gives the same
+    result everywhere.
+
+    Examples
+    --------
+    >>> b = Budget(3, None)
+    >>> [b.spent() for _ in range(4)]
+    [False, False, False, True]
+    """
+
+    def __init__(self, max_iterations, time_budget):
+        self.max_iterations = positive_integer(max_iterations, "max_iterations")
+        self.time_budget = None if time_budget is None else finite_number(
+            time_budget, "time_budget", above=0.0)
+        self.t0 = time.perf_counter()
+        self.iterations = 0
+
+    def spent(self) -> bool:
+        """Count one iteration; True when none is left (the iteration must not run)."""
+        if self.iterations >= self.max_iterations:
+            return True
+        if self.time_budget is not None and time.perf_counter() - self.t0 > self.time_budget:
+            return True
+        self.iterations += 1
+        return False
+
+    def grant(self, k: int) -> int:
+        """How many of the next ``k`` iterations may run (0 when none is left); the caller
+        adds those it ran to ``iterations``. The time is looked at once, for the batch.
+
+        Examples
+        --------
+        >>> b = Budget(100, None)
+        >>> b.grant(64), b.iterations
+        (64, 0)
+        >>> b.iterations = 90
+        >>> b.grant(64)
+        10
+        """
+        left = self.max_iterations - self.iterations
+        if left <= 0 or (self.time_budget is not None
+                         and time.perf_counter() - self.t0 > self.time_budget):
+            return 0
+        return min(int(k), left)
+
+
+def check_start_and_goals(arm, start, goal, obstacles):
+    """Validated start ``(n,)`` and goals ``(g, n)``; NoPathFound if the start or every goal collides.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> s, g = check_start_and_goals(Arm([1.0, 1.0]), [0, 0], [1, 0], [])
+    >>> s.tolist(), g.tolist()
+    ([0.0, 0.0], [[1.0, 0.0]])
+    """
+    start = arm.check_q(start, "start").reshape(arm.n)
+    goals = arm.check_q(np.atleast_2d(goal), "goal").reshape(-1, arm.n)
+    obstacles = list(obstacles)
+    if obstacles:
+        # A sampling planner checks thousands of single configurations and edges: load the
+        # compiled collision kernel (rapp.collision_kernel) for them, whatever their size.
+        collision_kernel.kernels()
+    if obstacles and collides(arm, start, obstacles):
+        raise NoPathFound("the start configuration collides")
+    if obstacles:
+        goals = goals[~collides(arm, goals, obstacles)]
+        if len(goals) == 0:
+            raise NoPathFound("every goal configuration collides")
+    return start, goals
+
+
+def uniform_samples(arm, rng, k: int) -> np.ndarray:
+    """``k`` configurations drawn uniformly within the joint bounds, ``(k, n)``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> q = uniform_samples(Arm([1.0, 1.0], [None, (0.0, 1.0)]), np.random.default_rng(0), 100)
+    >>> q.shape, bool((q[:, 1] >= 0).all() and (q[:, 1] <= 1).all())
+    ((100, 2), True)
+    """
+    return rng.uniform(arm.lower, arm.upper, (k, arm.n))
+
+
+def unwrapped_chain(arm, walk, start) -> np.ndarray:
+    """The waypoints ``walk`` (wrapped) as a path from the exact ``start``: each step the short way.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> unwrapped_chain(Arm([1.0]), [[3.0], [-3.0]], [3.0]).round(4).tolist()
+    [[3.0], [3.2832]]
+    """
+    walk = np.asarray(walk, float)
+    start = np.asarray(start, float)
+    steps = arm.joint_delta(walk[:-1], walk[1:])
+    return np.concatenate((start[None], start + np.cumsum(steps, axis=0)))
+
+
+class ClearanceTree(Tree):
+    """A :class:`Tree` that also keeps every node's link clearances ``(m, n)``.
+
+    Certifying an edge needs the clearances at its two ends, and the start of every new edge
+    is a node already in the tree: stored once, they are never computed twice.
+    ``clearance`` maps configurations ``(k, n)`` to their link clearances ``(k, n)``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> t = ClearanceTree(Arm([1.0, 1.0]), [[0.0, 0.0]], lambda q: np.ones(q.shape))
+    >>> t.add([0.1, 0.0], 0, 0.1, [0.5, 0.5]), t.clear.tolist()
+    (1, [[1.0, 1.0], [0.5, 0.5]])
+    """
+
+    def __init__(self, arm, roots, clearance):
+        self._clear = np.empty((max(256, 2 * len(np.atleast_2d(roots))), arm.n))
+        super().__init__(arm, roots)
+        self.clear[:] = clearance(self.nodes)
+
+    clear = property(lambda self: self._clear[: self.m], doc="Link clearances of every node.")
+
+    def add(self, q, parent_index: int, cost: float = 0.0, clearance=None) -> int:
+        if self.m == len(self._clear):
+            self._clear = np.concatenate((self._clear, np.empty_like(self._clear)))
+        if clearance is not None:
+            self._clear[self.m] = clearance
+        return super().add(q, parent_index, cost)

@@ -1,0 +1,571 @@
+"""From path to motion under velocity and acceleration limits: minimum-time timing.
+
+A planner returns a path, a list of joint-space waypoints; a motor can only
+turn so fast (``|qd_i| <= vmax_i``) and accelerate so hard
+(``|qdd_i| <= amax_i``). This module answers two questions about a path:
+
+* what is the fastest motion that stops at every waypoint?
+  :func:`trapezoidal` (one move) and :func:`trapezoidal_path` (a path) build
+  the time-optimal LSPB profile, a *linear segment with parabolic blends*;
+* how short may the duration of :func:`rapp.trajectory.time_path` be?
+  :func:`minimum_duration` scales its cubic, quintic or spline timing
+  uniformly until the first joint touches a limit.
+
+:func:`peak_rates` gives the exact peak speed and acceleration of any
+:class:`~rapp.trajectory.PiecewisePolynomial`, the check behind both.
+
+Conventions are those of :mod:`rapp.trajectory`: coefficients in ascending
+powers, each piece kept in its local time ``tau = t - breakpoint``, and every
+result a :class:`~rapp.trajectory.PiecewisePolynomial` whose ``sample(t)``
+returns ``(q, qd, qdd)``. Every joint moves along the straight joint-space
+segment between two waypoints, the segment the planner checked for collisions.
+
+Examples
+--------
+>>> pp = trapezoidal(0.0, 1.0, vmax=1.0, amax=2.0)   # accelerate, cruise, decelerate
+>>> pp.breakpoints.tolist()
+[0.0, 0.5, 1.0, 1.5]
+>>> [r.tolist() for r in peak_rates(pp)]
+[[1.0], [2.0]]
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+# rapp.trajectory's argument checks, so that a bad or overflowing input is refused with the
+# same messages in both modules.
+from rapp.trajectory import PiecewisePolynomial, finite_array, overflow_checked, step_lengths, time_path
+
+__all__ = ["trapezoidal", "trapezoidal_moves", "TrapezoidMoves", "trapezoidal_path",
+           "minimum_duration", "peak_rates", "PROFILES", "clock_after", "clean_waypoints"]
+
+#: The profiles :func:`minimum_duration` knows: the three of
+#: :func:`rapp.trajectory.time_path` and the trapezoid of :func:`trapezoidal_path`.
+PROFILES = ("cubic", "quintic", "spline", "trapezoidal")
+
+
+# --------------------------------------------------------------------------- arguments
+
+
+def _limit(value, name: str, n: int) -> np.ndarray:
+    """``value`` as ``(n,)`` positive finite limits (a scalar applies to every joint)."""
+    a = finite_array(value, name)
+    if not (a.ndim == 0 or (a.ndim == 1 and a.size in (1, n))):
+        raise ValueError(f"{name} must be a number or one number per joint ({n}), "
+                         f"got shape {a.shape}")
+    if np.any(a <= 0):
+        raise ValueError(f"{name} must be > 0 for every joint, got {a.tolist()}")
+    return np.broadcast_to(a, (n,)).astype(float)
+
+
+def clean_waypoints(waypoints, wraps) -> np.ndarray:
+    """``(k, n)`` waypoints, unwrapped where ``wraps`` says, repeats dropped (as time_path does)."""
+    w = finite_array(waypoints, "waypoints")
+    if w.ndim == 1:
+        w = w[:, None]
+    if w.ndim != 2 or w.shape[0] < 2 or w.shape[1] < 1:
+        raise ValueError(f"waypoints must have shape (k, n) with k >= 2 waypoints, got {w.shape}")
+    if wraps is not None:
+        wraps = np.asarray(wraps, dtype=bool)
+        if wraps.ndim > 1 or wraps.size not in (1, w.shape[1]):
+            raise ValueError(f"wraps must have one bool per joint ({w.shape[1]}), "
+                             f"got {wraps.tolist()}")
+        w = np.where(wraps, np.unwrap(w, axis=0), w)
+    # A repeated waypoint is a move of length 0: no time, no piece.
+    return w[np.concatenate([[True], step_lengths(w) > 0])]
+
+
+# --------------------------------------------------------------------------- the trapezoid
+
+
+def _timing(delta: np.ndarray, vmax: np.ndarray, amax: np.ndarray):
+    """Blend time ``tb`` and cruise time of the fastest synchronized move by ``delta`` (m, n).
+
+    ``tv = max_i |delta_i| / vmax_i`` is the shortest time to cover the move at
+    full speed and ``ta2 = max_i |delta_i| / amax_i`` the square of the
+    time scale of the acceleration limit; the slowest joint of each sets them.
+    Written as times, not as rates ``vmax_i / |delta_i|``, so that a joint
+    that barely moves never divides by a tiny ``delta_i``.
+    """
+    d = np.abs(delta)
+    with np.errstate(all="ignore"):
+        tv = np.max(d / vmax, axis=-1)
+        ta2 = np.max(d / amax, axis=-1)
+        cruise = tv * tv > ta2                 # the move is long enough to reach full speed
+        tb = np.where(cruise, ta2 / np.where(cruise, tv, 1.0), np.sqrt(ta2))
+        # tv - tb, not T - 2 tb: no cancellation, and never negative.
+        tc = np.where(cruise, np.maximum(tv - tb, 0.0), 0.0)
+    msg = "the waypoints move too far for vmax and amax: the duration overflows float64"
+    return overflow_checked(tb, msg), overflow_checked(tc, msg)
+
+
+def clock_after(t: float, length: float) -> float:
+    """The first float ``b`` with ``b - t >= length``: ``t + length`` rounded up.
+
+    Breakpoints are absolute times, so late in a long path a short blend is
+    only resolved to the spacing of floats near ``t`` (2e-10 s at 1e6 s).
+    Rounding each piece *up* and fitting the coefficients to the piece as
+    rounded (see :func:`_pieces`) means the rounding can only lower a speed or
+    an acceleration, never push it over its limit, and costs at most an ulp
+    of ``t`` per piece.
+    """
+    b = t + length
+    while b - t < length:
+        b = float(np.nextafter(b, np.inf))
+    return b
+
+
+def _pieces(w: np.ndarray, vmax: np.ndarray, amax: np.ndarray):
+    """Breakpoints (p + 1,) and local coefficients (p, 3, n) of the trapezoids between rows of ``w``."""
+    tb, tc = _timing(w[1:] - w[:-1], vmax, amax)
+    bp, local = [0.0], []
+    msg = "the waypoints move too far for vmax and amax: the duration overflows float64"
+    with np.errstate(all="ignore"):
+        for p0, pf, blend, cruise in zip(w[:-1], w[1:], tb, tc):
+            # The pieces as the clock will run them (a triangle has no cruise).
+            ends = [clock_after(bp[-1], blend)]
+            if cruise > 0:
+                ends.append(clock_after(ends[-1], cruise))
+            ends.append(clock_after(ends[-1], blend))
+            if not np.isfinite(ends[-1]):
+                raise ValueError(msg)
+            h = np.diff([bp[-1], *ends])
+            h1, h2, h3 = h[0], (h[1] if cruise > 0 else 0.0), h[-1]
+            # Every joint shares the timing: joint i cruises at delta_i / (T - tb),
+            # T - tb = h1/2 + h2 + h3/2 with the pieces as rounded, which puts
+            # each move exactly on its waypoints and keeps q and qd continuous.
+            vel = (pf - p0) / (0.5 * h1 + h2 + 0.5 * h3)
+            zero = np.zeros_like(vel)
+            local.append([p0, zero, 0.5 * (vel / h1)])                   # accelerate
+            if cruise > 0:
+                local.append([p0 + 0.5 * vel * h1, vel, zero])           # cruise
+            # Decelerate from pf backwards, so that the move ends exactly there.
+            local.append([pf - 0.5 * vel * h3, vel, -0.5 * (vel / h3)])
+            bp.extend(ends)
+    local = np.array(local)
+    overflow_checked(local, "the waypoints move too far or too little for vmax and amax: "
+                 "the velocities or accelerations overflow float64")
+    return np.array(bp), local
+
+
+def trapezoidal(p0, pf, vmax, amax) -> PiecewisePolynomial:
+    """The fastest rest-to-rest move from ``p0`` to ``pf``, every joint synchronized.
+
+    An LSPB profile (linear segment with parabolic blends): accelerate at a
+    constant rate for ``tb``, cruise at constant speed, decelerate for ``tb``.
+    If the move is too short to reach full speed the cruise disappears and the
+    profile is a triangle (``T = 2 tb``).
+
+    Parameters
+    ----------
+    p0, pf : float or (n,)
+        Start and goal configurations.
+    vmax, amax : float or (n,), > 0
+        Speed and acceleration limits, one for all joints or one per joint.
+
+    Returns
+    -------
+    PiecewisePolynomial
+        Degree 2 in local time, pieces accelerate, cruise and decelerate over
+        ``[0, T]`` (a cruise of zero length is dropped); ``sample(t)`` gives
+        ``q, qd, qdd``.
+
+    Notes
+    -----
+    *Synchronized.* All joints start and stop together and share the blend
+    time ``tb`` and the duration ``T``: each joint follows the same
+    normalized profile ``s(t)`` scaled by its own displacement,
+    ``q_i(t) = p0_i + delta_i s(t)``, so the arm stays on the straight
+    joint-space segment the planner checked. Joint ``i`` cruises at
+    ``delta_i / (T - tb)`` and blends at ``delta_i / (tb (T - tb))``.
+
+    *Minimum time.* On that segment the limits of joint ``i`` read
+    ``|s'| <= vmax_i / |delta_i|`` and ``|s''| <= amax_i / |delta_i|``; all of
+    them hold exactly when ``s`` respects the tightest of each. In time units:
+    ``tv = max_i |delta_i| / vmax_i`` (full speed) and
+    ``ta2 = max_i |delta_i| / amax_i``. The fastest rest-to-rest motion of a
+    double integrator under such bounds is bang-coast-bang, so
+
+    * ``tv**2 > ta2`` (full speed reached): ``tb = ta2 / tv``, ``T = tv + tb``;
+    * otherwise (triangle): ``tb = sqrt(ta2)``, ``T = 2 tb``.
+
+    For one joint this is the textbook ``T = delta/vmax + vmax/amax`` when
+    ``delta >= vmax**2 / amax``, else ``T = 2 sqrt(delta / amax)``. The joint
+    that sets ``tv`` cruises exactly at its ``vmax``, the one that sets ``ta2``
+    blends exactly at its ``amax`` (up to rounding).
+
+    Copying the timing of the joint that is slowest on its own is *not*
+    enough: its blend time can be too short for another joint (second example
+    below; joint 0 would cruise at ``1 / 0.707 = 1.41 > vmax``). Letting every
+    joint keep its own blend time would end all of them at that slowest time
+    (here ``sqrt(2) = 1.414``), but then the joints no longer move in
+    proportion and the arm leaves the segment between the waypoints.
+
+    Examples
+    --------
+    >>> pp = trapezoidal([0.0, 0.0], [2.0, -1.0], vmax=1.0, amax=1.0)
+    >>> pp.breakpoints.tolist()                   # tb = 1, T = 2/1 + 1/1
+    [0.0, 1.0, 2.0, 3.0]
+    >>> q, qd, qdd = pp.sample([0.5, 1.5, 3.0])
+    >>> qd.tolist()                               # joint 1 at half speed: synchronized
+    [[0.5, -0.25], [1.0, -0.5], [0.0, 0.0]]
+    >>> q[-1].tolist()
+    [2.0, -1.0]
+
+    Two joints, each limited by a different bound (``tv = 1``, ``ta2 = 0.5``):
+
+    >>> trapezoidal([0.0, 0.0], [1.0, 0.5], vmax=[1.0, 100.0], amax=[100.0, 1.0]).breakpoints.tolist()
+    [0.0, 0.5, 1.0, 1.5]
+
+    A short move never reaches full speed (triangle):
+
+    >>> trapezoidal(0.0, 1.0, vmax=10.0, amax=1.0).breakpoints.tolist()
+    [0.0, 1.0, 2.0]
+    """
+    a, b = finite_array(p0, "p0"), finite_array(pf, "pf")
+    if a.ndim > 1 or b.ndim > 1 or a.shape != b.shape:
+        raise ValueError(f"p0 and pf must be numbers or (n,) configurations of the same shape, "
+                         f"got {a.shape} and {b.shape}")
+    w = np.stack([np.atleast_1d(a), np.atleast_1d(b)])
+    if not np.any(w[1] != w[0]):
+        raise ValueError(f"pf must differ from p0 (a move of length 0 takes no time), "
+                         f"got {b.tolist()}")
+    n = w.shape[1]
+    return PiecewisePolynomial.from_local(*_pieces(w, _limit(vmax, "vmax", n),
+                                                  _limit(amax, "amax", n)))
+
+
+def _clock_after_array(t: np.ndarray, length: np.ndarray) -> np.ndarray:
+    """:func:`clock_after` of arrays, element by element (the same floats)."""
+    b = t + length
+    short = b - t < length
+    while short.any():
+        b = np.where(short, np.nextafter(b, np.inf), b)
+        short = b - t < length
+    return b
+
+
+@dataclass(frozen=True)
+class TrapezoidMoves:
+    """``m`` independent rest-to-rest trapezoids as plain arrays (see :func:`trapezoidal_moves`).
+
+    Move ``i`` accelerates over ``[0, ends[i, 0]]``, cruises to ``ends[i, 1]`` (equal to
+    ``ends[i, 0]`` for a triangle) and decelerates to ``ends[i, 2] = duration[i]``, every
+    joint at ``velocity[i]`` while cruising: the breakpoints and coefficients
+    :func:`trapezoidal` builds for that move, without building it.
+    """
+
+    p0: np.ndarray        #: (m, n) start configurations
+    pf: np.ndarray        #: (m, n) goal configurations
+    ends: np.ndarray      #: (m, 3) end of the acceleration, of the cruise, of the move
+    velocity: np.ndarray  #: (m, n) cruise velocity of every joint
+
+    @property
+    def duration(self) -> np.ndarray:
+        """``(m,)`` durations, equal to ``trapezoidal(p0[i], pf[i], ...).duration``."""
+        return self.ends[:, 2]
+
+    def sample(self, t):
+        """``q, qd, qdd`` of every move at times ``t`` of shape ``(m,)`` or ``(m, k)``.
+
+        Each shaped ``t.shape + (n,)``; times are clipped to ``[0, duration]``.
+        """
+        t = np.asarray(t, dtype=float)
+        extra = (slice(None),) + (None,) * (t.ndim - 1)
+        e1, e2, e3 = (self.ends[:, j][extra] for j in range(3))
+        t = np.clip(t, 0.0, e3)[..., None]
+        e1, e2, e3 = e1[..., None], e2[..., None], e3[..., None]
+        h1, h3 = e1, e3 - e2
+        v, p0, pf = self.velocity[extra], self.p0[extra], self.pf[extra]
+        acc, dec = 0.5 * (v / h1), -0.5 * (v / h3)
+        tau2 = t - e2
+        q = np.where(t <= e1, p0 + acc * t * t,
+                     np.where(t <= e2, p0 + 0.5 * v * h1 + v * (t - e1),
+                              pf - 0.5 * v * h3 + v * tau2 + dec * tau2 * tau2))
+        qd = np.where(t <= e1, 2 * acc * t, np.where(t <= e2, v, v + 2 * dec * tau2))
+        qdd = np.where(t <= e1, 2 * acc, np.where(t <= e2, 0.0 * v, 2 * dec))
+        return q, qd, qdd
+
+
+def _one_move(a, b, vmax, amax):
+    """``(ends, velocity)`` of one move in Python floats, the operations of :func:`_timing`
+    and :func:`_pieces` one by one (so the same floats); None where a value is not finite
+    (the numpy path then raises its message)."""
+    tv = ta2 = 0.0
+    for x0, x1, v, acc in zip(a, b, vmax, amax):
+        d = abs(x1 - x0)
+        tv = max(tv, d / v)
+        ta2 = max(ta2, d / acc)
+    if not (math.isfinite(tv) and math.isfinite(ta2)):
+        return None
+    if tv * tv > ta2:
+        tb = ta2 / tv
+        tc = max(tv - tb, 0.0)
+    else:
+        tb, tc = math.sqrt(ta2), 0.0
+    e1 = clock_after(0.0, tb)
+    e2 = clock_after(e1, tc) if tc > 0 else e1
+    e3 = clock_after(e2, tb)
+    den = 0.5 * e1 + (e2 - e1) + 0.5 * (e3 - e2)
+    vel = [(x1 - x0) / den for x0, x1 in zip(a, b)]
+    if not (math.isfinite(e3) and all(map(math.isfinite, vel))):
+        return None
+    return (e1, e2, e3), vel
+
+
+def _floats(x):
+    """A vector (list, tuple or 1-D array) or a number as a list of Python floats, else None."""
+    if isinstance(x, np.ndarray):
+        if x.ndim > 1:
+            return None
+        x = x.tolist()
+    if isinstance(x, (int, float)) and not isinstance(x, bool):
+        return [float(x)]
+    if not isinstance(x, (list, tuple)) or not x:
+        return None
+    try:
+        out = [float(v) for v in x]
+    except (TypeError, ValueError):
+        return None
+    return out if all(map(math.isfinite, out)) else None
+
+
+def _one_move_checked(p0, pf, vmax, amax):
+    """One well-formed move timed in Python floats, or None: the numpy path then times it (or
+    refuses it with its message)."""
+    a, b, v, acc = _floats(p0), _floats(pf), _floats(vmax), _floats(amax)
+    if a is None or b is None or v is None or acc is None or len(a) != len(b) or a == b:
+        return None
+    n = len(a)
+    if len(v) not in (1, n) or len(acc) not in (1, n) or min(v) <= 0 or min(acc) <= 0:
+        return None
+    one = _one_move(a, b, v * n if len(v) == 1 else v, acc * n if len(acc) == 1 else acc)
+    if one is None:
+        return None
+    ends, vel = one
+    return TrapezoidMoves(np.array([a]), np.array([b]), np.array([ends]), np.array([vel]))
+
+
+def trapezoidal_moves(p0, pf, vmax, amax) -> TrapezoidMoves:
+    """Many :func:`trapezoidal` moves at once, as plain arrays: the same durations, no objects.
+
+    The timing of :func:`trapezoidal` (blend and cruise times set by the tightest joint,
+    every piece's end rounded up on the clock as :func:`clock_after` does) computed for
+    ``m`` moves in one pass of numpy, the arguments checked once. For timing many moves
+    (a benchmark, a planner comparing candidate paths) where a
+    :class:`~rapp.trajectory.PiecewisePolynomial` per move would cost most of the time.
+
+    Parameters
+    ----------
+    p0, pf : array_like, shape (m, n) or (n,)
+        Start and goal of every move; each goal differs from its start.
+    vmax, amax : float or (n,), > 0
+        Limits, one for all joints or one per joint.
+
+    Returns
+    -------
+    TrapezoidMoves
+
+    Examples
+    --------
+    >>> moves = trapezoidal_moves([[0.0, 0.0], [0.0, 0.0]], [[2.0, -1.0], [0.1, 0.0]], 1.0, 1.0)
+    >>> moves.duration.tolist()
+    [3.0, 0.6324555320336759]
+    >>> bool(moves.duration[0] == trapezoidal([0.0, 0.0], [2.0, -1.0], 1.0, 1.0).duration)
+    True
+    """
+    one = _one_move_checked(p0, pf, vmax, amax)
+    if one is not None:
+        return one
+    a, b = finite_array(p0, "p0"), finite_array(pf, "pf")
+    if a.ndim == 1:
+        a = a[None, :]
+    if b.ndim == 1:
+        b = b[None, :]
+    if a.ndim != 2 or a.shape != b.shape or a.shape[1] < 1:
+        raise ValueError(f"p0 and pf must be (m, n) configurations of the same shape, "
+                         f"got {np.shape(p0)} and {np.shape(pf)}")
+    still = ~np.any(b != a, axis=1)
+    if still.any():
+        raise ValueError(f"pf must differ from p0 in every move (a move of length 0 takes no "
+                         f"time), move {int(np.argmax(still))} does not move")
+    n = a.shape[1]
+    vmax, amax = _limit(vmax, "vmax", n), _limit(amax, "amax", n)
+    tb, tc = _timing(b - a, vmax, amax)
+    msg = "the waypoints move too far for vmax and amax: the duration overflows float64"
+    with np.errstate(all="ignore"):
+        e1 = _clock_after_array(np.zeros_like(tb), tb)
+        e2 = np.where(tc > 0, _clock_after_array(e1, tc), e1)
+        e3 = overflow_checked(_clock_after_array(e2, tb), msg)
+        h1, h2, h3 = e1, e2 - e1, e3 - e2
+        vel = (b - a) / (0.5 * h1 + h2 + 0.5 * h3)[:, None]
+    overflow_checked(vel, "the waypoints move too far or too little for vmax and amax: "
+                     "the velocities or accelerations overflow float64")
+    return TrapezoidMoves(a, b, np.stack((e1, e2, e3), axis=1), vel)
+
+
+def trapezoidal_path(waypoints, vmax, amax, *, wraps=None) -> PiecewisePolynomial:
+    """The fastest motion along a path that stops at every waypoint.
+
+    One :func:`trapezoidal` move per segment, back to back: each segment
+    takes its own minimum time, its joints synchronized, and the arm is at
+    rest at every waypoint (the straight segments the planner checked are
+    followed exactly, corners included).
+
+    Parameters
+    ----------
+    waypoints : (k, n) or (k,), k >= 2
+        Repeated consecutive waypoints are dropped.
+    vmax, amax : float or (n,), > 0
+    wraps : sequence of bool, optional
+        Joints that turn freely, unwrapped first as in
+        :func:`rapp.trajectory.time_path`.
+
+    Returns
+    -------
+    PiecewisePolynomial
+        Over ``[0, T_total]``, up to three pieces per segment. Each breakpoint
+        is rounded up to a float and the coefficients fit the pieces as
+        rounded, so rounding never pushes a joint over a limit (late in a
+        long path a blend may end an ulp of ``t`` late).
+
+    Examples
+    --------
+    >>> pp = trapezoidal_path([[0.0, 0.0], [1.0, 0.0], [1.0, 2.0]], vmax=1.0, amax=1.0)
+    >>> pp.breakpoints.tolist()                   # a triangle, then a trapezoid
+    [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]
+    >>> pp.evaluate([2.0, 5.0]).tolist(), pp.evaluate(2.0, 1).tolist()
+    ([[1.0, 0.0], [1.0, 2.0]], [0.0, 0.0])
+    """
+    w = clean_waypoints(waypoints, wraps)
+    n = w.shape[1]
+    vmax, amax = _limit(vmax, "vmax", n), _limit(amax, "amax", n)
+    if w.shape[0] < 2:
+        raise ValueError("waypoints must move: all of them are the same configuration "
+                         "(a motion of length 0 takes no time)")
+    return PiecewisePolynomial.from_local(*_pieces(w, vmax, amax))
+
+
+# --------------------------------------------------------------------------- peaks
+
+
+def _peaks(local: np.ndarray, h: np.ndarray, order: int) -> np.ndarray:
+    """Max over pieces and local times ``[0, h]`` of ``|d^order q / dt^order|``, per joint.
+
+    The extremes of a polynomial on an interval lie at its ends or at real
+    roots of its derivative. The roots come from ``np.roots``; the real part
+    of every root, clipped into ``[0, h]``, is a time inside the piece, so a
+    spurious candidate (a complex root) can never raise the maximum above the
+    true one, and a true critical point is never missed.
+    """
+    P = np.polynomial.polynomial
+    c = P.polyder(local, m=order, axis=1)
+    dc = P.polyder(c, axis=1)
+    peak = np.zeros(local.shape[2])
+    for i in range(c.shape[0]):
+        for j in range(c.shape[2]):
+            taus = [0.0, h[i]]
+            slope = np.trim_zeros(dc[i, :, j], "b")   # drop zero leading powers
+            if slope.size > 1:
+                taus.extend(np.clip(np.roots(slope[::-1]).real, 0.0, h[i]))
+            peak[j] = max(peak[j], np.abs(P.polyval(np.array(taus), c[i, :, j])).max())
+    return peak
+
+
+def peak_rates(pp: PiecewisePolynomial) -> tuple[np.ndarray, np.ndarray]:
+    """Exact peak ``|qd|`` and ``|qdd|`` of each joint over ``[pp.t0, pp.tf]``.
+
+    Analytic per piece (ends and critical points, see the module's ``_peaks``),
+    not sampled: a dense sample can only under-estimate a peak between its
+    times. A jump of the acceleration at a breakpoint (a trapezoid's) counts
+    with both of its one-sided values.
+
+    Returns
+    -------
+    vpeak, apeak : (n,) arrays
+
+    Examples
+    --------
+    >>> from rapp.trajectory import time_path
+    >>> v, a = peak_rates(time_path([0.0, 1.0], 1.0, "quintic"))   # smoothstep
+    >>> v.tolist(), a.round(12).tolist(), round(10 / 3**0.5, 12)
+    ([1.875], [5.773502691896], 5.773502691896)
+    """
+    if not isinstance(pp, PiecewisePolynomial):
+        raise ValueError(f"pp must be a PiecewisePolynomial, got {type(pp).__name__}")
+    h = np.diff(pp.breakpoints)
+    with np.errstate(all="ignore"):
+        v, a = _peaks(pp.local, h, 1), _peaks(pp.local, h, 2)
+    msg = "the trajectory's velocities or accelerations overflow float64"
+    return overflow_checked(v, msg), overflow_checked(a, msg)
+
+
+# --------------------------------------------------------------------------- minimum duration
+
+
+def minimum_duration(waypoints, profile: str, vmax, amax, *, wraps=None) -> float:
+    """The shortest duration of a rest-to-rest timing of ``waypoints`` within the limits.
+
+    Parameters
+    ----------
+    waypoints : (k, n) or (k,), k >= 2
+    profile : "cubic", "quintic", "spline" or "trapezoidal"
+        The first three: the timing of
+        :func:`rapp.trajectory.time_path` with that profile. ``"trapezoidal"``:
+        :func:`trapezoidal_path`, which stops at every waypoint.
+    vmax, amax : float or (n,), > 0
+    wraps : sequence of bool, optional
+        As in :func:`rapp.trajectory.time_path`.
+
+    Returns
+    -------
+    float
+        ``time_path(waypoints, T, profile)`` (or ``trapezoidal_path``) keeps
+        every joint within ``vmax`` and ``amax`` for this ``T``, and some joint
+        reaches one of its limits. 0.0 when the waypoints do not move.
+
+    Notes
+    -----
+    ``time_path`` fixes the *shape* of the motion and only stretches it: its
+    waypoint times are proportional to the duration, and every velocity of
+    its construction (the via-point heuristic, the quintic's accelerations,
+    the spline's tridiagonal solve) scales as ``1 / T``. So
+    ``q_T(t) = q_1(t / T)``: velocities scale as ``1 / T`` and accelerations
+    as ``1 / T**2``. With ``V_i, A_i`` the exact peaks (:func:`peak_rates`) of
+    the reference timing at ``T = 1``, the smallest ``T`` is
+
+        ``T = max_i max(V_i / vmax_i, sqrt(A_i / amax_i))``.
+
+    Examples
+    --------
+    One joint, one unit: cubic ``max(1.5 D/v, sqrt(6 D/a))``, quintic
+    ``max(15 D/(8 v), sqrt(10 D/(sqrt(3) a)))``, trapezoid ``D/v + v/a``:
+
+    >>> [round(minimum_duration([0.0, 1.0], p, vmax=1.0, amax=6.0), 12)
+    ...  for p in ("cubic", "quintic", "trapezoidal")]
+    [1.5, 1.875, 1.166666666667]
+    >>> minimum_duration([[0.0, 0.0], [0.0, 0.0]], "cubic", 1.0, 1.0)
+    0.0
+    """
+    if not isinstance(profile, str) or profile not in PROFILES:
+        raise ValueError(f"profile must be one of {', '.join(map(repr, PROFILES))}, "
+                         f"got {profile!r}")
+    w = clean_waypoints(waypoints, wraps)
+    n = w.shape[1]
+    vmax, amax = _limit(vmax, "vmax", n), _limit(amax, "amax", n)
+    if w.shape[0] < 2:
+        return 0.0          # nowhere to go
+    if profile == "trapezoidal":
+        return trapezoidal_path(w, vmax, amax).duration
+    # w is already unwrapped and free of repeats: time_path leaves it as it is.
+    V, A = peak_rates(time_path(w, 1.0, profile))
+    with np.errstate(all="ignore"):
+        T = float(np.max(np.maximum(V / vmax, np.sqrt(A / amax))))
+    if not np.isfinite(T):
+        raise ValueError("the waypoints move too far for vmax and amax: the duration "
+                         "overflows float64")
+    return T

@@ -1,0 +1,305 @@
+"""Timing a certified path into a motion ``q(t)``: the pipeline's timing policy.
+
+:func:`time_route` is step 6 of :func:`rapp.plan`. It takes the shortcut polyline (every
+straight joint-space edge certified free) and the scenario's
+:class:`~rapp.scenario.TrajectorySettings`, and returns the sampled motion:
+
+* without joint limits: :func:`rapp.trajectory.time_path` of the profile asked, over the
+  duration asked; if that smooth curve leaves the certified polyline and collides (or breaks a
+  joint limit), each segment is timed rest-to-rest instead
+  (:func:`rapp.trajectory.time_polyline`), which follows the polyline exactly;
+* with ``max_velocity`` and/or ``max_acceleration`` (:mod:`rapp.time_scaling`):
+  ``"trapezoidal"`` (needs both) is the time-optimal LSPB move along each segment, joints
+  synchronized, at rest at every waypoint; ``"cubic"``, ``"quintic"``, ``"spline"`` are
+  ``time_path`` scaled uniformly to the smallest duration within the limits (a missing limit
+  is unbounded); if that curve leaves the free polyline, each segment is timed rest-to-rest
+  with the quintic smoothstep, each at its own shortest time;
+* a line goal (``line=True``): rest-to-rest per edge of the line's waypoints (trapezoidal, or
+  the cubic or quintic rest-to-rest shape), never a spline through them, which would cut
+  their corners and leave the line.
+
+Without ``duration`` the motion takes the shortest duration times ``1 + DURATION_MARGIN``,
+so that the peaks stay strictly below the limits after rounding. A ``duration`` is kept as
+given: the motion is the same one stretched uniformly in time (speeds scale as ``1/c``,
+accelerations as ``1/c**2``); a duration shorter than the shortest is an
+:class:`~rapp.errors.InvalidValue` naming ``trajectory.duration`` and that shortest
+duration.
+
+Examples
+--------
+>>> from rapp import Arm
+>>> from rapp.scenario import TrajectorySettings
+>>> path = np.array([[0.0, 0.0], [1.0, 0.5]])
+>>> m = time_route(Arm([1.0, 1.0]), [], path, TrajectorySettings(duration=None, max_velocity=(1.0, 1.0),
+...                                                               max_acceleration=(2.0, 2.0), profile="trapezoidal"))
+>>> m.profile, round(m.info["min_duration_s"], 6), m.q[-1].tolist()
+('trapezoidal', 1.5, [1.0, 0.5])
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from decimal import ROUND_CEILING, Decimal
+
+import numpy as np
+
+from rapp.checks import sorted_unique
+
+from rapp.collision import segment_collision_free
+from rapp.errors import InvalidValue
+from rapp.scenario import MAX_DURATION, MIN_DURATION
+from rapp.time_scaling import clean_waypoints, clock_after, peak_rates, trapezoidal_path
+from rapp.trajectory import (PiecewisePolynomial, cubic_local, quintic_local, time_path,
+                             time_polyline)
+
+__all__ = ["time_route", "TimedPath", "sample_times", "round_up", "DURATION_MARGIN"]
+
+#: Relative margin on a shortest duration: the plan runs ``T_min * (1 + DURATION_MARGIN)``,
+#: so that its peak speeds and accelerations stay strictly within the limits after rounding.
+DURATION_MARGIN = 1e-9
+#: Peak ``|s'|`` and ``|s''|`` of the rest-to-rest shapes ``s(u)`` on ``[0, 1]``: the cubic
+#: ``3u^2 - 2u^3`` and the quintic smoothstep ``10u^3 - 15u^4 + 6u^5``.
+_REST_SHAPES = {"cubic": (1.5, 6.0), "quintic": (1.875, 10.0 / math.sqrt(3.0))}
+
+
+def sample_times(duration: float, samples: int, breakpoints, dt: float | None = None) -> np.ndarray:
+    """``samples`` even times, plus each breakpoint and three inner times of every piece that
+    the even times leave with fewer than three samples inside.
+
+    With ``dt`` (a fixed time step, ``trajectory.dt``) the even times are ``0, dt, 2 dt, ...``
+    and ``duration`` (the last step may be shorter); ``samples`` is then not used.
+
+    The verification bounds the motion between consecutive samples by their velocities and
+    accelerations; a polynomial piece seen only at its two ends (a rest-to-rest quintic has
+    zero velocity and acceleration there) would look like a jump.
+    """
+    if dt is None:
+        t = np.linspace(0.0, duration, samples)
+    else:
+        steps = np.arange(0.0, duration, dt)
+        t = np.append(steps[steps < duration - 1e-9 * dt], duration)
+    bp = np.asarray(breakpoints, float)
+    inside = np.searchsorted(t, bp[1:], side="left") - np.searchsorted(t, bp[:-1], side="right")
+    sparse = np.flatnonzero(inside < 3)
+    if sparse.size:
+        h = np.diff(bp)[sparse, None]
+        extra = bp[sparse, None] + h * np.array([0.0, 0.25, 0.5, 0.75, 1.0])
+        t = sorted_unique(np.concatenate((t, extra.ravel())))
+    t[-1] = duration
+    return t
+
+
+def _time_smooth(arm, obs, path, tr):
+    """The requested smooth profile of ``tr`` (TrajectorySettings) if it stays free and within
+    limits, else ``time_polyline``."""
+    if len(path) >= 2:
+        pp = time_path(path, tr.duration, profile=tr.profile)
+        t = sample_times(tr.duration, tr.samples, pp.breakpoints, getattr(tr, "dt", None))
+        q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
+        good = (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
+                and np.abs(q[0] - path[0]).max() <= 1e-9
+                and np.abs(q[-1] - path[-1]).max() <= 1e-9
+                and arm.within_limits(q, 1e-9).all()
+                and segment_collision_free(arm, q[:-1], q[1:], obs).all())
+        if good:
+            q[0], q[-1] = path[0], path[-1]
+            return t, q, qd, qdd, tr.profile
+        fallback = f"rest-to-rest per segment (the {tr.profile} curve left the free polyline)"
+    else:
+        fallback = "rest (start is the goal)"
+    t, q, qd, qdd = time_polyline(path, tr.duration, tr.samples)
+    return t, q, qd, qdd, fallback
+
+
+def round_up(x: float, digits: int = 6) -> float:
+    """``x`` rounded up to ``digits`` significant digits (a duration that is sure to suffice).
+
+    Examples
+    --------
+    >>> round_up(1.8750000018), round_up(2.0)
+    (1.87501, 2.0)
+    """
+    if not x > 0:
+        return float(x)
+    step = Decimal(1).scaleb(math.floor(math.log10(x)) - digits + 1)
+    return float(Decimal(x).quantize(step, rounding=ROUND_CEILING))
+
+
+def _stretch(pp: PiecewisePolynomial, c: float) -> PiecewisePolynomial:
+    """``pp`` run ``c`` times slower: ``q_c(t) = q(t / c)``, speeds ``/ c``, accelerations ``/ c**2``."""
+    k = np.arange(pp.local.shape[1])
+    return PiecewisePolynomial.from_local(pp.breakpoints * c, pp.local / c ** k[None, :, None])
+
+
+def _rest_to_rest(w: np.ndarray, shape: str, h: np.ndarray) -> PiecewisePolynomial:
+    """Edge ``j`` of ``w`` in time ``h[j]`` with the cubic or quintic rest-to-rest shape: the arm
+    stays on each straight joint-space edge and is at rest at every waypoint."""
+    bp = [0.0]
+    for hj in h:
+        bp.append(clock_after(bp[-1], float(hj)))   # each piece rounded up: never faster than asked
+    bp = np.array(bp)
+    hh = np.diff(bp)[:, None]
+    p0, pf = w[:-1], w[1:]
+    z = np.zeros_like(p0)
+    b = (quintic_local(hh, p0, pf, z, z, z, z) if shape == "quintic"
+         else cubic_local(hh, p0, pf, z, z))
+    return PiecewisePolynomial.from_local(bp, np.moveaxis(b, 0, 1))
+
+
+def _limits(tr):
+    vmax = None if tr.max_velocity is None else np.asarray(tr.max_velocity, float)
+    amax = None if tr.max_acceleration is None else np.asarray(tr.max_acceleration, float)
+    return vmax, amax
+
+
+def _shortest(tr, w: np.ndarray, kind: str):
+    """``(T_min, build, T_v, T_a)`` of the timing ``kind`` of ``w`` under the limits of ``tr``.
+
+    ``build(T)`` is the motion of duration ``T >= T_min``; ``T_v`` and ``T_a`` are the shortest
+    durations under the velocity and under the acceleration limit alone (which one binds).
+    ``kind``: ``"trapezoidal"``, ``"uniform"`` (time_path of ``tr.profile``, scaled) or
+    ``"rest-cubic"`` / ``"rest-quintic"`` (rest-to-rest per edge, each edge at its own shortest).
+    """
+    vmax, amax = _limits(tr)
+    d = np.abs(np.diff(w, axis=0))
+    with np.errstate(all="ignore"):
+        if kind == "trapezoidal":
+            pp = trapezoidal_path(w, vmax, amax)
+            tv = float(np.max(d / vmax, axis=1).sum())
+            ta = float(2.0 * np.sqrt(np.max(d / amax, axis=1)).sum())
+            return pp.duration, lambda T: _stretch(pp, T / pp.duration), tv, ta
+        if kind == "uniform":
+            # minimum_duration's formula, with either limit allowed to be absent (unbounded).
+            V, A = peak_rates(time_path(w, 1.0, tr.profile))
+            tv = float(np.max(V / vmax)) if vmax is not None else 0.0
+            ta = float(np.max(np.sqrt(A / amax))) if amax is not None else 0.0
+            return max(tv, ta), lambda T: time_path(w, T, tr.profile), tv, ta
+        shape = kind.split("-", 1)[1]
+        s1, s2 = _REST_SHAPES[shape]
+        hv = np.max(s1 * d / vmax, axis=1) if vmax is not None else np.zeros(len(d))
+        ha = np.max(np.sqrt(s2 * d / amax), axis=1) if amax is not None else np.zeros(len(d))
+        h = np.maximum(hv, ha)
+        total = float(h.sum())
+        return total, lambda T: _rest_to_rest(w, shape, h * (T / total)), float(hv.sum()), \
+            float(ha.sum())
+
+
+def _limited_motion(tr, w: np.ndarray, kind: str, what: str):
+    """The motion of ``kind`` within the limits: ``(pp, T_min)``; the duration is ``tr.duration``
+    or the shortest times ``1 + DURATION_MARGIN``. Refuses a duration that is too short."""
+    T_min, build, tv, ta = _shortest(tr, w, kind)
+    if tr.duration is None:
+        T = T_min * (1.0 + DURATION_MARGIN)
+        if T > MAX_DURATION:
+            field = "max_velocity" if tv >= ta else "max_acceleration"
+            raise InvalidValue(
+                f"the {what} needs {T:.4g} s within these limits, above the longest duration "
+                f"{MAX_DURATION:g} s: raise the limit", field=f"trajectory.{field}")
+    else:
+        T = tr.duration
+        if T < T_min:
+            raise InvalidValue(
+                f"{T:g} s is too short for the joint limits: the {what} needs at least "
+                f"{round_up(T_min)} s (the shortest feasible duration)",
+                field="trajectory.duration")
+    return build(T), T_min
+
+
+def _sample(pp: PiecewisePolynomial, path, duration: float, samples: int, every_breakpoint=False,
+            dt: float | None = None):
+    t = sample_times(duration, samples, pp.breakpoints, dt)
+    if every_breakpoint:   # every sample chord then lies on one edge of the path
+        bp = pp.breakpoints[(pp.breakpoints > 0) & (pp.breakpoints < duration)]
+        t = sorted_unique(np.concatenate((t, bp)))
+    q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
+    q[0], q[-1] = path[0], path[-1]
+    return t, q, qd, qdd
+
+
+def _time_motion(arm, obs, path, tr, line: bool):
+    """Timing under joint limits, or of a line goal: ``(t, q, qd, qdd, profile, motion, info)``."""
+    w = clean_waypoints(path, None) if len(path) >= 2 else np.asarray(path, float)
+    if len(w) < 2:
+        T = tr.duration if tr.duration is not None else MIN_DURATION
+        t, q, qd, qdd = time_polyline(np.asarray(path, float)[:1], T, tr.samples)
+        return t, q, qd, qdd, "rest (start is the goal)", None, {"duration_s": T}
+    info = {}
+    rest = "quintic" if tr.profile in ("quintic", "spline") else "cubic"
+    if line:
+        shape = "trapezoidal" if tr.profile == "trapezoidal" else rest
+        label = f"rest-to-rest {shape} per edge of the line's waypoints"
+        if tr.limited:
+            kind = "trapezoidal" if shape == "trapezoidal" else f"rest-{rest}"
+            pp, info["min_duration_s"] = _limited_motion(
+                tr, w, kind, f"rest-to-rest {shape} motion along the line's waypoints")
+        else:   # time shares proportional to the joint-space length of each edge
+            lengths = np.linalg.norm(np.diff(w, axis=0), axis=1)
+            pp = _rest_to_rest(w, rest, tr.duration * lengths / lengths.sum())
+        T = tr.duration if tr.duration is not None else pp.tf
+        t, q, qd, qdd = _sample(pp, w, T, tr.samples, every_breakpoint=True, dt=getattr(tr, "dt", None))
+    elif tr.profile == "trapezoidal":
+        label = "trapezoidal"
+        pp, info["min_duration_s"] = _limited_motion(tr, w, "trapezoidal",
+                                                     "trapezoidal motion along the planned path")
+        T = tr.duration if tr.duration is not None else pp.tf
+        t, q, qd, qdd = _sample(pp, w, T, tr.samples, dt=getattr(tr, "dt", None))
+    else:
+        label = tr.profile
+        pp, info["min_duration_s"] = _limited_motion(
+            tr, w, "uniform", f"{tr.profile} motion along the planned path")
+        T = tr.duration if tr.duration is not None else pp.tf
+        t, q, qd, qdd = _sample(pp, w, T, tr.samples, dt=getattr(tr, "dt", None))
+        good = (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
+                and arm.within_limits(q, 1e-9).all()
+                and segment_collision_free(arm, q[:-1], q[1:], obs).all())
+        if not good:   # rest-to-rest along the certified polyline, each segment at its shortest
+            label = (f"rest-to-rest quintic per segment (the {tr.profile} curve left the free "
+                     "polyline)")
+            pp, info["min_duration_s"] = _limited_motion(
+                tr, w, "rest-quintic", "rest-to-rest quintic motion along the planned path "
+                f"(the {tr.profile} curve leaves the free polyline)")
+            T = tr.duration if tr.duration is not None else pp.tf
+            t, q, qd, qdd = _sample(pp, w, T, tr.samples, dt=getattr(tr, "dt", None))
+    info["duration_s"] = float(t[-1])
+    return t, q, qd, qdd, label, pp, info
+
+
+@dataclass(frozen=True, eq=False)
+class TimedPath:
+    """A sampled motion: times ``t`` (k,), ``q``, ``qd``, ``qdd`` (k, n), the ``profile`` as the
+    plan reports it, the ``motion`` as a :class:`~rapp.trajectory.PiecewisePolynomial` when it
+    was timed under limits or along a line (else None), and ``info`` (``duration_s``,
+    ``min_duration_s``) for the plan's metrics."""
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    profile: str
+    motion: PiecewisePolynomial | None = None
+    info: dict = field(default_factory=dict)
+
+
+def time_route(arm, obstacles, path, trajectory, *, line: bool = False) -> TimedPath:
+    """Time the certified polyline ``path`` (m, n) by the settings ``trajectory``.
+
+    Parameters
+    ----------
+    arm : Arm
+    obstacles : iterable of Circle and Polygon
+    path : ndarray (m, n)
+        Every straight segment between consecutive rows certified free.
+    trajectory : TrajectorySettings
+    line : bool
+        The waypoints are a line goal's: rest-to-rest along each edge, never a spline.
+
+    Raises
+    ------
+    InvalidValue
+        Naming ``trajectory.duration`` when it is too short for the limits, or the binding
+        limit when the shortest motion is longer than ``MAX_DURATION``.
+    """
+    if trajectory.limited or line:
+        return TimedPath(*_time_motion(arm, obstacles, path, trajectory, line))
+    return TimedPath(*_time_smooth(arm, obstacles, path, trajectory))

@@ -1,0 +1,347 @@
+"""Verification of a planned trajectory: every check with its measured value and its limit.
+
+Every check reports what it measured next to the limit it was held to, so a
+passing report is evidence and a failing one says by how much:
+
+* ``collision-free``: every straight joint-space segment between consecutive
+  samples is certified free (:func:`rapp.collision.segment_collision_free`, a
+  proof over the whole segment, not a test of the samples alone);
+* ``min clearance``: the smallest link-obstacle distance over the samples;
+* ``joint limits``: the largest violation of a limit;
+* ``starts at start`` and ``goal reached``: the first sample is the start, and
+  the last one is the joint goal within 0.01 rad or puts the end effector
+  within 1 mm of the Cartesian goal;
+* ``continuity``: no jump between samples larger than the motion the sampled
+  velocity and acceleration allow, and finite derivatives;
+* ``time``: the sample times increase from 0 to the duration;
+* ``FK consistency``: the reported Cartesian path is ``FK(q)`` to 1e-9 m;
+* ``peak velocity`` and ``peak acceleration`` (only when ``trajectory.max_velocity``
+  or ``trajectory.max_acceleration`` is given): the largest ``|q'|`` and ``|q''|``
+  of each joint against its limit, exact when the plan carries its motion
+  (:func:`rapp.time_scaling.peak_rates` over every piece), else over the samples;
+  the joint nearest its limit is reported, and a peak above its limit by more
+  than the relative rounding ``RATE_TOL`` fails;
+* ``on the line`` (only for a goal with ``"path": "line"``): the end effector's
+  distance from the segment from its start position to the goal, bounded over
+  the whole straight joint-space chord between consecutive samples (the largest
+  distance at 17 even points of the chord plus the curvature term ``K / 2048``,
+  the bound of :func:`rapp.cartesian.edge_deviation_bound` on 16 intervals
+  instead of 4), at most 1 mm. The bound covers the motion itself when the arm
+  moves along each chord between samples, as a plan of a line goal does.
+
+References
+----------
+SRS of 2D-RAPP (seed 000): R4 (verify the output), NFR1 (accuracy: 0.01 rad, 0.1 cm).
+MIS of 2D-RAPP (seed 001): ``verifyOutput``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rapp.collision import clearance, collides, segment_collision_free, segment_point_distance
+from rapp.time_scaling import peak_rates
+from rapp.trajectory import PiecewisePolynomial
+
+__all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL", "RATE_TOL"]
+
+#: NFR1: joint angles within 0.01 rad, Cartesian positions within 0.1 cm.
+JOINT_TOL = 0.01
+POSITION_TOL = 0.001
+#: Reported Cartesian samples must be FK of the joint samples to rounding.
+FK_TOL = 1e-9
+START_TOL = 1e-9
+LIMIT_TOL = 1e-9
+#: A peak speed or acceleration may exceed its limit by this relative amount (rounding).
+RATE_TOL = 1e-9
+
+
+def _num(v):
+    if v is None:
+        return None
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+@dataclass(frozen=True)
+class Check:
+    """One verification: measured ``value`` against ``limit`` (in ``unit``)."""
+
+    name: str
+    ok: bool
+    value: float | None
+    limit: float | None
+    unit: str
+    detail: str = ""
+
+    def to_dict(self) -> dict:
+        """A JSON-ready mapping; non-finite numbers become ``None``.
+
+        Examples
+        --------
+        >>> Check("time", True, float("nan"), 1e-9, "s").to_dict()["value"] is None
+        True
+        """
+        return {"name": self.name, "ok": bool(self.ok), "value": _num(self.value),
+                "limit": _num(self.limit), "unit": self.unit, "detail": self.detail}
+
+    @classmethod
+    def from_dict(cls, d) -> "Check":
+        """Inverse of :meth:`to_dict`.
+
+        Examples
+        --------
+        >>> c = Check("joint limits", True, 0.0, 1e-9, "rad", "no limited joint")
+        >>> Check.from_dict(c.to_dict()) == c
+        True
+        """
+        return cls(str(d["name"]), bool(d["ok"]), d.get("value"), d.get("limit"),
+                   str(d.get("unit", "")), str(d.get("detail", "")))
+
+
+@dataclass(frozen=True)
+class Report:
+    """The outcome of :func:`verify`: ``ok`` when every check passed.
+
+    Examples
+    --------
+    >>> r = Report.from_checks([Check("goal reached", True, 2e-12, 0.001, "m")])
+    >>> r.ok, r["goal reached"].value
+    (True, 2e-12)
+    >>> Report.from_dict(r.to_dict()) == r
+    True
+    """
+
+    ok: bool
+    checks: tuple
+
+    @classmethod
+    def from_checks(cls, checks) -> "Report":
+        """A report whose ``ok`` is the conjunction of the checks.
+
+        Examples
+        --------
+        >>> Report.from_checks([Check("a", True, 0, 1, ""), Check("b", False, 2, 1, "")]).ok
+        False
+        """
+        checks = tuple(checks)
+        return cls(all(c.ok for c in checks), checks)
+
+    def __getitem__(self, name: str) -> Check:
+        for c in self.checks:
+            if c.name == name:
+                return c
+        raise KeyError(name)
+
+    @property
+    def failed(self) -> tuple:
+        """The checks that did not pass.
+
+        Examples
+        --------
+        >>> r = Report.from_checks([Check("a", True, 0, 1, ""), Check("b", False, 2, 1, "")])
+        >>> [c.name for c in r.failed]
+        ['b']
+        """
+        return tuple(c for c in self.checks if not c.ok)
+
+    def to_dict(self) -> dict:
+        """A JSON-ready mapping: ``ok`` and one entry per check (see :meth:`Check.to_dict`).
+
+        Examples
+        --------
+        >>> Report.from_checks([Check("a", True, 0.5, 1.0, "m")]).to_dict()["checks"][0]["value"]
+        0.5
+        """
+        return {"ok": bool(self.ok), "checks": [c.to_dict() for c in self.checks]}
+
+    @classmethod
+    def from_dict(cls, d) -> "Report":
+        """Inverse of :meth:`to_dict` (see the class example)."""
+        return cls(bool(d["ok"]), tuple(Check.from_dict(c) for c in d["checks"]))
+
+    def __str__(self) -> str:
+        def fmt(v):
+            return "-" if v is None else f"{v:.3g}"
+
+        rows = [("check", "ok", "measured", "limit", "unit")]
+        rows += [(c.name, "yes" if c.ok else "NO", fmt(c.value), fmt(c.limit), c.unit)
+                 for c in self.checks]
+        w = [max(len(r[i]) for r in rows) for i in range(5)]
+        lines = ["  ".join(f"{r[i]:<{w[i]}}" for i in range(5)).rstrip() for r in rows]
+        lines.insert(1, "  ".join("-" * x for x in w))
+        lines.append(f"verification: {'passed' if self.ok else 'FAILED'}")
+        return "\n".join(lines)
+
+
+def _joint_error(arm, q, target) -> np.ndarray:
+    """|q - target| per joint, measured the short way round on a free joint."""
+    return np.abs(arm.joint_delta(target, q))
+
+
+def _check_collision(arm, obs, q) -> list:
+    """A certified continuous check of each chord between samples; one sample is a point."""
+    k = len(q)
+    if k >= 2:
+        n_bad = int((~segment_collision_free(arm, q[:-1], q[1:], obs)).sum())
+    else:
+        n_bad = int(bool(obs) and bool(collides(arm, q, obs).any()))
+    checks = [Check("collision-free", n_bad == 0, n_bad, 0, "segments",
+                    f"{max(k - 1, 1)} segments between samples, each certified over its whole length")]
+    if obs:
+        c = float(clearance(arm, q, obs).min())
+        checks.append(Check("min clearance", c > 0, c, 0.0, "m",
+                            "smallest link-obstacle distance over the samples; must be > 0"))
+    return checks
+
+
+def _check_limits(arm, q) -> Check:
+    lo, hi, lim = arm.lower, arm.upper, arm.limited
+    viol = np.where(lim, np.maximum(lo - q, q - hi), -np.inf).max() if lim.any() else -np.inf
+    viol = max(float(viol), 0.0)
+    return Check("joint limits", viol <= LIMIT_TOL, viol, LIMIT_TOL, "rad",
+                 "largest excess beyond a joint limit" if lim.any() else "no limited joint")
+
+
+def _check_ends(arm, q, scenario) -> list:
+    e0 = float(_joint_error(arm, q[0], scenario.start).max())
+    checks = [Check("starts at start", e0 <= START_TOL, e0, START_TOL, "rad",
+                    "first sample against the scenario's start")]
+    if scenario.goal_q is not None:
+        eg = float(_joint_error(arm, q[-1], scenario.goal_q).max())
+        checks.append(Check("goal reached", eg <= JOINT_TOL, eg, JOINT_TOL, "rad",
+                            "last sample against the joint goal (NFR1: 0.01 rad)"))
+    else:
+        eg = float(np.hypot(*(arm.end_effector(q[-1]) - np.asarray(scenario.goal_xy))))
+        checks.append(Check("goal reached", eg <= POSITION_TOL, eg, POSITION_TOL, "m",
+                            "FK of the last sample against the Cartesian goal (NFR1: 0.1 cm)"))
+    return checks
+
+
+def _check_continuity(t, q, qd, qdd) -> Check:
+    """By Taylor, |q(t+h) - q(t)| <= |q'(t)| h + max|q''| h^2 / 2 per joint; a jump beyond
+    1.5 times that (plus rounding) is not a continuous motion."""
+    h = np.diff(t)[:, None]
+    amax = np.abs(qdd).max(axis=0)
+    vmax = np.maximum(np.abs(qd[:-1]), np.abs(qd[1:]))
+    bound = 1.5 * (vmax * h + 0.5 * amax * h**2) + 1e-9
+    jump = np.abs(np.diff(q, axis=0))
+    ratio = float((jump / bound).max())
+    return Check("continuity", ratio <= 1.0, ratio, 1.0, "ratio",
+                 f"largest step {float(jump.max()):.3g} rad between samples over its "
+                 "bound 1.5 (|q'| dt + max|q''| dt^2 / 2)")
+
+
+def _check_time(t, duration) -> Check:
+    k = len(t)
+    dt_ok = bool(np.all(np.diff(t) > 0)) if k >= 2 else True
+    terr = abs(float(t[0])) + abs(float(t[-1] - t[0]) - duration) if k >= 2 else 0.0
+    tlim = 1e-9 * max(duration, 1.0)  # relative to the duration: times are sums of float steps
+    return Check("time", dt_ok and terr <= tlim, terr, tlim, "s",
+                 f"times increase from 0 to the duration {duration:g} s")
+
+
+def _check_rates(plan, qd, qdd, trajectory) -> list:
+    """Peak speed and acceleration of every joint against its limit (where one is given)."""
+    motion = getattr(plan, "motion", None)
+    if isinstance(motion, PiecewisePolynomial):
+        v, a = peak_rates(motion)
+        how = "exact peak over the whole motion"
+    else:
+        v, a = np.abs(qd).max(axis=0), np.abs(qdd).max(axis=0)
+        how = "largest value at the samples"
+    checks = []
+    for name, peak, limit, unit in (("peak velocity", v, trajectory.max_velocity, "rad/s"),
+                                    ("peak acceleration", a, trajectory.max_acceleration,
+                                     "rad/s^2")):
+        if limit is None:
+            continue
+        limit = np.asarray(limit, float)
+        ratio = peak / limit
+        j = int(np.argmax(ratio))
+        checks.append(Check(name, bool(np.all(ratio <= 1.0 + RATE_TOL)), float(peak[j]),
+                            float(limit[j]), unit, f"joint {j}, the nearest its limit "
+                            f"({ratio[j]:.10g} of it); {how}"))
+    return checks
+
+
+#: The points of a chord at which ``on the line`` measures the distance: 16 intervals.
+_CHORD_T = np.linspace(0.0, 1.0, 17)
+
+
+def _check_line(arm, q, xy, scenario) -> Check:
+    """Distance of the end effector from the segment start -> goal, over the chords between
+    samples: 17 points of each chord plus ``K h^2 / 8 = K / 2048`` (``h = 1/16``),
+    ``K = sum_i L_i Phi_i^2``: the bound of :func:`rapp.cartesian.edge_deviation_bound`,
+    proved in :mod:`rapp.cartesian`, on a finer partition."""
+    a = arm.end_effector(np.asarray(scenario.start, float))
+    b = np.asarray(scenario.goal_xy, float)
+    sampled = float(segment_point_distance(a, b, xy).max())
+    if len(q) >= 2:
+        dq = np.diff(q, axis=0)
+        phi = np.cumsum(dq, axis=1)
+        curve = (phi * phi) @ arm.lengths / 2048.0
+        pts = arm.end_effector(q[:-1, None, :] + _CHORD_T[None, :, None] * dq[:, None, :])
+        bound = float((segment_point_distance(a, b, pts).max(axis=1) + curve).max())
+    else:
+        bound = sampled
+    return Check("on the line", bound <= POSITION_TOL, bound, POSITION_TOL, "m",
+                 f"end effector's distance from the straight segment to the goal, bounded "
+                 f"between samples along each joint-space chord ({sampled:.3g} m at the samples)")
+
+
+def verify(plan, scenario) -> Report:
+    """Check a plan's timed trajectory against the scenario.
+
+    Parameters
+    ----------
+    plan : Plan or any object with ``t`` (k,), ``q``, ``qd``, ``qdd`` (k, n) and ``xy`` (k, 2)
+    scenario : Scenario
+
+    Returns
+    -------
+    Report
+
+    Examples
+    --------
+    >>> from rapp import load_scenario, plan
+    >>> s = load_scenario("default")
+    >>> r = verify(plan(s), s)
+    >>> r.ok, r["goal reached"].unit
+    (True, 'm')
+    """
+    arm, obs = scenario.arm, scenario.obstacles
+    t = np.asarray(plan.t, dtype=float)
+    q = np.asarray(plan.q, dtype=float)
+    qd = np.asarray(plan.qd, dtype=float)
+    qdd = np.asarray(plan.qdd, dtype=float)
+    xy = np.asarray(plan.xy, dtype=float)
+    k = t.shape[0] if t.ndim == 1 else -1
+    shapes_ok = (t.ndim == 1 and k >= 1 and q.shape == (k, arm.n) and qd.shape == q.shape
+                 and qdd.shape == q.shape and xy.shape == (k, 2))
+    shape_check = Check("shapes", shapes_ok, None, None, "",
+                        f"t {t.shape}, q {q.shape}, qd {qd.shape}, qdd {qdd.shape}, xy {xy.shape}")
+    if not shapes_ok:
+        return Report.from_checks([shape_check])
+    finite = bool(np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
+                  and np.isfinite(t).all() and np.isfinite(xy).all())
+    if not finite:
+        return Report.from_checks([shape_check, Check(
+            "finite", False, None, None, "", "t, q, q', q'' or xy holds NaN or infinity")])
+    checks = [shape_check, *_check_collision(arm, obs, q), _check_limits(arm, q),
+              *_check_ends(arm, q, scenario)]
+    if k >= 2:
+        checks.append(_check_continuity(t, q, qd, qdd))
+    tr = scenario.trajectory
+    # Without a duration the plan took the shortest within the limits: its own last time.
+    checks.append(_check_time(t, tr.duration if tr.duration is not None else float(t[-1])))
+    fk = float(np.abs(arm.end_effector(q) - xy).max())
+    checks.append(Check("FK consistency", fk <= FK_TOL, fk, FK_TOL, "m",
+                        "reported Cartesian path against FK of the joint samples"))
+    if getattr(scenario, "goal_path", None) == "line":
+        checks.append(_check_line(arm, q, xy, scenario))
+    checks.extend(_check_rates(plan, qd, qdd, tr))
+    return Report.from_checks(checks)

@@ -1,0 +1,499 @@
+"""Interactive explorers for the book, built on :mod:`rapp.plotting` and :mod:`rapp.view_stack`.
+
+Every explorer is a view stack: each combination of its sliders' values is drawn when the
+explorer is built, and the browser switches between the drawings itself. So an explorer works
+the same in JupyterLab and in the static HTML book, where no kernel runs: moving a slider
+changes the figure at once, offline. A slider steps through a fixed set of values (fine enough
+to follow a motion; the status line prints the exact numbers); to explore other values, build
+the explorer again with other ranges.
+
+Examples
+--------
+>>> from rapp import Arm, Circle
+>>> w = arm_explorer(Arm([1.0, 1.0]), [Circle((1.2, 0.8), 0.3)], steps=5)
+>>> list(sliders_of(w)), "end effector" in selected(w)[1]
+(['θ1 (rad)', 'θ2 (rad)'], True)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import html
+
+import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
+
+from rapp import plotting
+from rapp.collision import clearance, collides, line_distance_mis, segment_circle_distance
+from rapp.cspace import JointGrid, occupancy
+from rapp.errors import RappError
+from rapp.planner import plan as run_plan
+from rapp.search import bfs_distances
+from rapp.plotting import subplots
+from rapp.trajectory import cubic, quintic
+from rapp.view_stack import Control, selected, values_of, view_stack
+from rapp.view_stack import sliders_of as stack_sliders  # widgets.sliders_of names them
+
+__all__ = [
+    "arm_explorer",
+    "collision_explorer",
+    "planner_playground",
+    "trajectory_explorer",
+    "astar_explorer",
+    "rrt_explorer",
+    "sliders_of",
+    "selected",
+    "values_of",
+]
+
+
+def _book_style(explorer):
+    """Build ``explorer`` in the book's figure style, whatever the session's matplotlib defaults.
+
+    Type sizes are fixed when text is created, and an explorer's views are all drawn while it
+    is built, so the style must hold for the whole call: the figure is drawn at 72 dpi, a point
+    is a pixel, and the smallest text (10 pt) stays about 10 CSS px in the book's column.
+    """
+    @functools.wraps(explorer)
+    def styled(*args, **kwargs):
+        with matplotlib.rc_context(plotting.BOOK_STYLE):
+            return explorer(*args, **kwargs)
+    return styled
+
+
+def _figure(w, h):
+    fig = Figure(figsize=(w, h), layout="constrained")
+    fig.patch.set_facecolor("white")
+    return fig
+
+
+def _badge(ok, yes, no):
+    color = plotting.COLORS["green"] if ok else plotting.COLORS["vermillion"]
+    return f'<span style="color:{color};font-weight:bold">{yes if ok else no}</span>'
+
+
+def _steps(lo, hi, n):
+    """``n`` values from ``lo`` to ``hi``, rounded so the slider prints them exactly."""
+    return [float(v) for v in np.round(np.linspace(lo, hi, n), 4)]
+
+
+def sliders_of(widget):
+    """The sliders of an explorer, by description, in order.
+
+    Examples
+    --------
+    >>> list(sliders_of(collision_explorer(steps=3)))
+    ['centre x (m)', 'centre y (m)']
+    """
+    return {s.description: s for s in stack_sliders(widget)}
+
+
+@_book_style
+def arm_explorer(arm, obstacles=(), grid=None, *, q=None, cells=90, steps=None):
+    """A slider per joint; the arm in the workspace and, for 2 joints, its point in C-space.
+
+    Parameters
+    ----------
+    arm : rapp.Arm
+    obstacles : sequence of Circle / Polygon
+    grid : rapp.JointGrid, optional
+        The C-space grid (2-joint arms); ``JointGrid(arm, cells)`` when None.
+    q : array_like, shape (n,), optional
+        The configuration shown first, exactly: each angle inside its joint's limits is added to
+        its slider's values (an angle outside them opens at the nearest value). All zeros when
+        None.
+    steps : int, optional
+        Evenly spaced values per slider, from each joint's lower to upper limit. Default: 19 for
+        two joints (20 degrees apart on a free joint), fewer for more joints so that the views
+        (one per combination of values, ``q``'s included) stay under about 400 (the page stays
+        light and becomes interactive quickly).
+
+    Returns
+    -------
+    ipywidgets.VBox
+        The status line says ``collision`` or ``free``, with the clearance and the end effector.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> w = arm_explorer(Arm([1.0, 1.0]), [Circle((1.5, 0.0), 0.3)], cells=16, steps=5)
+    >>> list(sliders_of(w)), "collision" in selected(w)[1]
+    (['θ1 (rad)', 'θ2 (rad)'], True)
+    >>> values_of(arm_explorer(Arm([1.0, 1.0]), q=[0.123, -1.5], steps=5))
+    {'q0': 0.123, 'q1': -1.5}
+    """
+    obstacles = tuple(obstacles)
+    n = arm.n
+    if steps is None:
+        steps = max(3, int(np.floor(361 ** (1.0 / n) + 1e-9)))
+        if q is not None and (steps + 1) ** n > 400:
+            steps -= 1  # room for q's own values
+    q0 = np.zeros(n) if q is None else np.asarray(q, dtype=float)
+
+    def values(i):
+        even = _steps(arm.lower[i], arm.upper[i], int(steps))
+        if q is None or not arm.lower[i] <= q0[i] <= arm.upper[i]:
+            return even
+        return sorted(set(even) | {round(float(q0[i]), 4)})
+
+    controls = {f"q{i}": Control(f"θ{i + 1} (rad)", values(i), default=float(q0[i]))
+                for i in range(n)}
+    fig = _figure(10.0 if n == 2 else 5.0, 5.0)
+    axs = subplots(fig, 1, 2 if n == 2 else 1)
+    ax_w = axs[-1] if n == 2 else axs
+    if n == 2:
+        grid = JointGrid(arm, cells) if grid is None else grid
+        plotting.plot_cspace(occupancy(arm, obstacles, grid), grid, axs[0])
+    plotting.plot_workspace(arm, ax_w)
+    plotting.plot_obstacles(obstacles, ax_w)
+
+    framed = []
+
+    def view(**values):
+        q = np.array([values[f"q{i}"] for i in range(n)])
+        if n == 2:
+            axs[0].plot(*q, "o", color=plotting.START, ms=10, mec="white", mew=1.5, zorder=5)
+        # The view stack freezes the limits its first view leaves: framing once is enough, and
+        # re-framing every view was a third of the explorer's build time.
+        plotting.plot_arm(arm, q, ax_w, frame=not framed)
+        framed.append(True)
+        hit = bool(collides(arm, q, obstacles)) if obstacles else False
+        ax_w.set_title("collision" if hit else "free", fontsize="medium",
+                       color=plotting.COLORS["vermillion"] if hit else plotting.TEXT)
+        text = _badge(not hit, "free", "collision")
+        if obstacles:
+            text += f" &nbsp; clearance {float(clearance(arm, q, obstacles)):.3f} m"
+        ee = arm.end_effector(q)
+        return text + f" &nbsp; end effector ({ee[0]:.3f}, {ee[1]:.3f}) m"
+
+    return view_stack(fig, controls, view, title="Arm explorer")
+
+
+@_book_style
+def collision_explorer(a=(0.0, 0.0), b=(1.0, 0.0), center=(1.6, 0.1), radius=0.3, *,
+                       extent=2.0, steps=17):
+    """Segment against disc: move the disc and watch the closest point of the segment follow.
+
+    Two sliders move the disc's centre over ``[-extent, extent]``; the segment ``ab`` and the
+    radius stay. The figure shows the clipped projection (the true closest point) and the
+    foot on the infinite line (the MIS's formula); the status compares
+    ``segment_circle_distance`` (the true clearance) with ``line_distance_mis - r`` and flags a
+    *false collision* when the MIS's formula reports a hit the segment does not make. The
+    default view is such a case: the disc lies beyond the segment's end, on its line.
+
+    Returns
+    -------
+    ipywidgets.VBox
+
+    Examples
+    --------
+    >>> w = collision_explorer(steps=5)
+    >>> "false collision" in selected(w)[1]
+    True
+    """
+    values = _steps(-extent, extent, steps)
+    controls = {"cx": Control("centre x (m)", values, default=float(center[0])),
+                "cy": Control("centre y (m)", values, default=float(center[1]))}
+    A, B, r = tuple(map(float, a)), tuple(map(float, b)), float(radius)
+    fig = _figure(5.5, 5.5)
+    ax = subplots(fig)
+    ax.set_xlim(-extent - r, extent + r)
+    ax.set_ylim(-extent - r, extent + r)
+
+    def view(cx, cy):
+        C = (cx, cy)
+        seg = float(segment_circle_distance(A, B, C, r))
+        line = float(line_distance_mis(A, B, C)) - r
+        plotting.plot_segment_circle(A, B, C, r, ax)
+        hit, mis_hit = seg <= 0, line <= 0
+        false = mis_hit and not hit
+        ax.set_title("FALSE COLLISION (MIS formula)" if false else
+                     ("collision" if hit else "free"), fontsize="medium",
+                     color=plotting.COLORS["vermillion"] if (false or hit) else plotting.TEXT)
+        text = (f"segment clearance {seg:.3f} m: {_badge(not hit, 'free', 'collision')}"
+                f" &nbsp;|&nbsp; MIS line clearance {line:.3f} m: "
+                f"{_badge(not mis_hit, 'free', 'collision')}")
+        if false:
+            text += (" &nbsp; <b>disagree: a false collision</b>: the obstacle is near the"
+                     " line's extension, not the segment")
+        return text
+
+    return view_stack(fig, controls, view, title="Segment–circle collision")
+
+
+def _failure_cspace(scenario, cells, ax):
+    """What a failed plan's grid shows: its C-space, the start's free region, the joint limits.
+
+    A failure view teaches only if it shows why: the cells reachable from the start (shaded
+    blue) and whether the goal is among them. Returns that sentence (empty for arms of more than
+    two joints or a Cartesian goal, where the grid has no single goal cell to show).
+    """
+    arm = scenario.arm
+    if arm.n != 2:
+        return ""
+    grid = JointGrid(arm, cells)
+    occ = occupancy(arm, scenario.obstacles, grid)
+    start = grid.index(np.asarray(scenario.start, dtype=float))
+    reach = bfs_distances(occ, tuple(int(i) for i in start), wraps=grid.wraps) >= 0
+    goal = None if scenario.goal_q is None else np.asarray(scenario.goal_q, dtype=float)
+    plotting.plot_cspace(occ, grid, ax, start=np.asarray(scenario.start, dtype=float), goal=goal,
+                         expanded=reach, title="C-space: blue = reachable from the start")
+    lo, hi = ax.get_xlim()
+    for i, axis in enumerate("xy"):
+        if not grid.wraps[i]:  # the angles the joint may not take, outside its limits
+            span = ax.axvspan if axis == "x" else ax.axhspan
+            for a, b in ((-np.pi, arm.lower[i]), (arm.upper[i], np.pi)):
+                if b > a:
+                    span(a, b, facecolor="none", edgecolor=plotting.TEXT, hatch="///", lw=0.0,
+                         alpha=0.5, zorder=1)
+    free = int((~occ).sum())
+    if goal is None:
+        return f"The start reaches {int(reach.sum())} of the grid's {free} free cells."
+    inside = bool(reach[tuple(int(i) for i in grid.index(goal))])
+    where = "and the goal is among them" if inside else "and the goal is not among them"
+    limits = "; hatched: beyond the joint limits" if not all(grid.wraps) else ""
+    return (f"The start reaches {int(reach.sum())} of the grid's {free} free cells (blue), "
+            f"{where}{limits}.")
+
+
+@_book_style
+def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0, 3.0, 5.0)):
+    """Plan scenarios at several grid sizes and heuristic weights, and compare.
+
+    Every combination is planned with :func:`rapp.plan` when the playground is built and drawn
+    with :func:`rapp.plotting.plot_plan`, the cells A* expanded shaded: a larger weight
+    visibly expands fewer, a coarser grid plans faster and may find no path. A planning
+    failure (no path, no IK solution) is shown as such.
+
+    Parameters
+    ----------
+    scenarios : Scenario or mapping of str to Scenario
+        One scenario, or several by name (a slider picks one).
+    cells : sequence of int
+        Cells per joint to offer.
+    weights : sequence of float
+        Heuristic weights ``w >= 1`` to offer.
+
+    Returns
+    -------
+    ipywidgets.VBox
+
+    Examples
+    --------
+    >>> from rapp import load_scenario
+    >>> w = planner_playground(load_scenario("default"), cells=(40,), weights=(1.0, 3.0))
+    >>> list(sliders_of(w)), "cells expanded" in selected(w)[1]
+    (['cells / joint', 'heuristic w'], True)
+    """
+    named = dict(scenarios) if hasattr(scenarios, "items") else {"scenario": scenarios}
+    first = next(iter(named.values()))
+    controls = {}
+    if len(named) > 1:
+        controls["name"] = Control("scenario", list(named), default=next(iter(named)), fmt="{}")
+    controls["cells"] = Control("cells / joint", [int(c) for c in cells],
+                                default=int(np.max(first.planner.cells)), fmt="{}")
+    controls["weight"] = Control("heuristic w", [float(w) for w in weights],
+                                 default=float(first.planner.heuristic_weight), fmt="{:g}")
+    fig = _figure(10.5, 5.0)
+    ax_c, ax_w = subplots(fig, 1, 2)
+    reach = max(s.arm.reach[1] for s in named.values())
+    lim = 1.1 * reach
+    ax_w.set_xlim(-lim, lim)
+    ax_w.set_ylim(-lim, lim)
+    ax_c.set_xlim(-np.pi, np.pi)
+    ax_c.set_ylim(-np.pi, np.pi)
+
+    def view(cells, weight, name=next(iter(named))):
+        scenario = named[name]
+        planner = dataclasses.replace(scenario.planner, cells=(int(cells),) * scenario.arm.n,
+                                      heuristic_weight=float(weight))
+        s = dataclasses.replace(scenario, planner=planner)
+        try:
+            p = run_plan(s)
+        except RappError as exc:
+            plotting.plot_workspace(s.arm, ax_w)
+            plotting.plot_obstacles(s.obstacles, ax_w)
+            plotting.plot_arm(s.arm, np.asarray(s.start, dtype=float), ax_w, color=plotting.START)
+            if s.goal_xy is not None:
+                ax_w.plot(*s.goal_xy, "*", color=plotting.GOAL, ms=14)
+            ax_w.set_title(f"{type(exc).__name__}", fontsize="medium",
+                           color=plotting.COLORS["vermillion"])
+            told = _failure_cspace(s, int(cells), ax_c)
+            return (_badge(False, "", type(exc).__name__) + " " + html.escape(str(exc))
+                    + ("<br>" + told if told else ""))
+        closed = p.expanded if np.ndim(p.occupancy) == 2 else None
+        plotting.plot_plan(p, s, expanded=closed, axes=(ax_c, ax_w))
+        shown = [f"{k} {v:.4g}" for k, v in p.metrics.items()
+                 if isinstance(v, (int, float, np.number)) and not isinstance(v, bool)
+                 and not (closed is not None and k == "expansions")][:6]
+        if closed is not None:
+            shown.insert(0, f"<b>{int(closed.sum())} cells expanded</b> (blue)")
+        return _badge(True, "planned", "") + " &nbsp; " + ", ".join(shown)
+
+    return view_stack(fig, controls, view, title="Planner playground")
+
+
+@_book_style
+def trajectory_explorer(t0=0.0, tf=2.0, p0=0.0, pf=1.0, v0=0.0, vf=0.0, a0=0.0, af=0.0, *,
+                        accelerations=None):
+    """Cubic against quintic for the same boundary values; sliders set the end accelerations.
+
+    The cubic (``rapp.cubic``) meets positions and velocities only, so it ignores the
+    accelerations asked for; the quintic (``rapp.quintic``) meets them too. The sliders choose
+    the accelerations at the start and the end; the status shows what each polynomial actually
+    has there.
+
+    Parameters
+    ----------
+    accelerations : sequence of float, optional
+        The values each slider offers (rad/s²); default -5 to 5 in steps of 1.
+
+    Returns
+    -------
+    ipywidgets.VBox
+
+    Examples
+    --------
+    >>> w = trajectory_explorer(a0=1.0, accelerations=[0.0, 1.0])
+    >>> "quintic 1.000, 0.000 (set: 1.000, 0.000)" in selected(w)[1]
+    True
+    """
+    values = [float(v) for v in (np.arange(-5.0, 5.5, 1.0) if accelerations is None else accelerations)]
+    controls = {"a0": Control("a0 (rad/s²)", values, default=float(a0), fmt="{:g}"),
+                "af": Control("af (rad/s²)", values, default=float(af), fmt="{:g}")}
+    P = np.polynomial.polynomial
+    c3 = np.asarray(cubic(t0, tf, p0, pf, v0, vf), dtype=float)
+    fig = _figure(6.5, 6.0)
+    axs = subplots(fig, 3, 1, sharex=True)
+    # Limits that hold every view: the curves of the extreme accelerations bound the rest.
+    t = np.linspace(t0, tf, 200)
+    curves = [c3] + [np.asarray(quintic(t0, tf, p0, pf, v0, vf, x, y), dtype=float)
+                     for x in (min(values), max(values)) for y in (min(values), max(values))]
+    for d, ax in enumerate(axs):
+        ys = np.concatenate([P.polyval(t, P.polyder(c, d) if d else c) for c in curves])
+        pad = 0.08 * max(float(np.ptp(ys)), 1e-6)
+        ax.set_ylim(float(ys.min()) - pad, float(ys.max()) + pad)
+        ax.set_xlim(t0, tf)
+
+    def view(a0, af):
+        c5 = np.asarray(quintic(t0, tf, p0, pf, v0, vf, a0, af), dtype=float)
+        plotting.plot_polynomials({"cubic": c3, "quintic": c5}, t0, tf, axes=axs)
+        ends = np.array([t0, tf])
+        acc3 = P.polyval(ends, P.polyder(c3, 2))
+        acc5 = P.polyval(ends, P.polyder(c5, 2))
+        return (f"end accelerations (rad/s²): cubic {acc3[0]:.3f}, {acc3[1]:.3f} (not chosen)"
+                f" &nbsp;|&nbsp; quintic {acc5[0]:.3f}, {acc5[1]:.3f} (set: {a0:.3f}, {af:.3f})")
+
+    return view_stack(fig, controls, view, title="Cubic vs quintic")
+
+
+@_book_style
+def astar_explorer(occupied, start, goal, *, weights=(1.0,), wraps=True, step=None):
+    """Step through A* one expansion at a time, for one or several heuristic weights.
+
+    One trace (:func:`rapp.search.astar_steps`) per weight; the step slider runs over the
+    longest, and a search that ended earlier shows its final state with its path. Drawn with
+    :func:`rapp.plotting.plot_astar_step`: closed set, open list, the cell being expanded, and
+    the path at the end.
+
+    Parameters
+    ----------
+    occupied : bool array, 2-D
+    start, goal : pair of int
+    weights : sequence of float
+        Heuristic weights ``w >= 1`` to compare (a slider when more than one).
+    step : int, optional
+        The step shown first (1-based); the last when None.
+
+    Returns
+    -------
+    ipywidgets.VBox
+
+    Examples
+    --------
+    >>> grid = np.zeros((6, 6), bool); grid[1:5, 3] = True
+    >>> w = astar_explorer(grid, (2, 1), (2, 5), weights=(1.0, 3.0), step=1)
+    >>> list(sliders_of(w)), "step 1 of" in selected(w)[1]
+    (['heuristic w', 'step'], True)
+    """
+    from rapp.search import astar_steps
+
+    traces = {float(w): astar_steps(occupied, start, goal, wraps=wraps, heuristic_weight=float(w))
+              for w in weights}
+    last = max(t.expansions for t in traces.values()) + 1
+    controls = {}
+    if len(traces) > 1:
+        controls["weight"] = Control("heuristic w", list(traces), default=min(traces), fmt="{:g}")
+    controls["step"] = Control("step", list(range(1, last + 1)), default=last if step is None else step,
+                               fmt="{}")
+    fig = _figure(8.4, 5.6)
+    ax = subplots(fig)
+
+    def view(step, weight=min(traces)):
+        trace = traces[weight]
+        k = min(step - 1, trace.expansions)
+        plotting.plot_astar_step(trace, k, ax)
+        if k == trace.expansions:
+            return (f"w = {weight:g}: step {step} of {last}: done after {trace.expansions} "
+                    f"expansions, path of {trace.cost} steps")
+        cell = tuple(int(i) for i in trace.current[k])
+        g = int(trace.g[k][cell])
+        return (f"w = {weight:g}: step {step} of {last}: expand {cell}, g = {g}, "
+                f"f = g + w h = {g + float(trace.h[cell]):g}; {int(trace.closed[k].sum())} closed, "
+                f"{int(trace.frontier[k].sum())} open")
+
+    return view_stack(fig, controls, view, title="A*, one expansion at a time")
+
+
+@_book_style
+def rrt_explorer(arm, result, trace, *, occupancy=None, grid=None, goal=None, step=None):
+    """Step through the growth of an RRT, one iteration at a time.
+
+    Parameters
+    ----------
+    arm : rapp.Arm
+    result : rapp.RRTResult
+        What :func:`rapp.rrt` returned ...
+    trace : list of rapp.rrt.RRTStep
+        ... with this ``trace``; each step is drawn with :func:`rapp.plotting.plot_rrt_step`.
+    occupancy, grid, goal : optional
+        As for :func:`rapp.plotting.plot_rrt_step`.
+    step : int, optional
+        The iteration shown first (1-based); the end when None.
+
+    Returns
+    -------
+    ipywidgets.VBox
+
+    Examples
+    --------
+    >>> from rapp import Arm, rrt
+    >>> arm = Arm([1.0, 1.0]); steps = []
+    >>> r = rrt(arm, [0.0, 0.0], [1.0, 1.0], [], step=0.5, seed=1, trace=steps)
+    >>> w = rrt_explorer(arm, r, steps, step=1)
+    >>> "iteration 1 of" in selected(w)[1]
+    True
+    """
+    last = len(trace) + 1
+    controls = {"step": Control("iteration", list(range(1, last + 1)),
+                                default=last if step is None else step, fmt="{}")}
+    fig = _figure(8.4, 5.6)
+    ax = subplots(fig)
+    if occupancy is not None:  # the same in every view: drawn once, in the background
+        plotting.plot_light_cspace(occupancy, grid, ax)
+
+    def view(step):
+        k = step - 1
+        plotting.plot_rrt_step(arm, result, trace, k, ax, occupancy=occupancy, grid=grid, goal=goal)
+        if k == len(trace):
+            return (f"iteration {step} of {last}: the end, {len(result.nodes)} nodes"
+                    + (f", path cost {result.cost:.3f} rad" if result.success else ", no path"))
+        record = trace[k]
+        toward = "the goal (goal bias)" if record.goal_biased else "a random sample"
+        what = {"added": "the new edge is free: added", "blocked": "the new edge is blocked",
+                "no move": "the target is the nearest node: no move"}.get(record.status, record.status)
+        return f"iteration {step} of {last}: extend toward {toward}; {what}"
+
+    return view_stack(fig, controls, view, title="RRT, one iteration at a time")
