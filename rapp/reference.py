@@ -7,20 +7,19 @@ random inputs (the reference is the oracle) and the benchmarks time them side by
 them; a new fast path keeps its predecessor here, documented, instead of as a private copy
 next to it.
 
-=====================  ==========================================================
-reference              the fast function it checks
-=====================  ==========================================================
-:func:`occupancy`      :func:`rapp.cspace.occupancy` (every link against every
-                       obstacle on every cell of its prefix grid)
-:func:`certified_free` :func:`rapp.cspace.certified_free` (link clearances on
-                       every prefix cell)
-=====================  ==========================================================
-:func:`collides`       :func:`rapp.collision.collides` (numpy over a batch; the
-                       compiled kernel of :mod:`rapp.collision_kernel` replaced it)
-:func:`link_clearances` :func:`rapp.collision.link_clearances`
-:func:`segment_collision_free` :func:`rapp.collision.segment_collision_free` (the
-                       bisection as numpy arrays, level by level)
-=====================  ==========================================================
+================================  ==========================================================
+reference                         the fast function it checks
+================================  ==========================================================
+:func:`occupancy`                 :func:`rapp.cspace.occupancy` (every link against every
+                                  obstacle on every cell of its prefix grid)
+:func:`certified_free`            :func:`rapp.cspace.certified_free` (link clearances on
+                                  every prefix cell)
+:func:`collides`                  :func:`rapp.collision.collides` (numpy over a batch; the
+                                  compiled kernel of :mod:`rapp.collision_kernel` replaced it)
+:func:`link_clearances`           :func:`rapp.collision.link_clearances`
+:func:`segment_collision_free`    :func:`rapp.collision.segment_collision_free` (the
+                                  bisection as numpy arrays, level by level)
+================================  ==========================================================
 
 Without numba, :mod:`rapp.collision` runs these numpy versions itself.
 

@@ -265,6 +265,8 @@ class PiecewisePolynomial:
         constructors of this module pass it; otherwise it is derived from
         ``coefficients``.
 
+    Notes
+    -----
     Evaluation uses the local form. Absolute-time coefficients of a segment
     late in a long trajectory are large and cancel each other (evaluating
     ``sum a_k t^k`` at ``t = 20`` for a degree-5 segment 0.5 s long loses about

@@ -11,6 +11,9 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 __all__ = ["Arm", "wrap_angle", "MAX_COORDINATE", "MAX_ANGLE"]
 
@@ -31,7 +34,7 @@ MAX_ANGLE = 1e100
 _TWO_PI = 2 * np.pi
 
 
-def wrap_angle(q):
+def wrap_angle(q: ArrayLike) -> np.ndarray:
     """Wrap angles into ``[-pi, pi)``.
 
     Examples

@@ -35,6 +35,7 @@ import shutil
 import sys
 import warnings
 from contextlib import contextmanager, nullcontext
+from typing import Any
 
 import numpy as np
 
@@ -211,6 +212,7 @@ def _plot_formats() -> dict:
     if "pgf" in formats and not shutil.which(tex):
         # The pgf backend measures text with LaTeX; without it savefig fails after planning.
         formats["pgf"] = f"needs {tex}, which is not installed"
+    features: Any
     try:
         from PIL import features
     except ImportError:  # pragma: no cover - Pillow is a dependency of matplotlib
@@ -468,6 +470,7 @@ def _cmd_plan(args, out, err, caught) -> int:
     if not args.quiet:
         _say_notes(out, caught)
     m = p.metrics
+    assert p.report is not None  # rapp.plan always verifies
     status = "verified" if p.report.ok else "VERIFICATION FAILED"
     _say(out, f"planned {len(p.t)} samples over {float(p.t[-1]):g} s, "
               f"joint path {m.get('joint_length_rad', 0):.3f} rad, end effector "
@@ -502,7 +505,7 @@ def _grading():
 # --------------------------------------------------------------------------- main
 
 
-def _interrupted(e: BaseException) -> bool:
+def _interrupted(e: BaseException | None) -> bool:
     """Whether ``e`` is a Ctrl-C, or was raised while one was being handled.
 
     A KeyboardInterrupt inside ``Animation.save`` surfaces as an IndexError from the
@@ -517,7 +520,7 @@ def _interrupted(e: BaseException) -> bool:
     return False
 
 
-def _signal_exit(e: BaseException) -> tuple:
+def _signal_exit(e: BaseException | None) -> tuple:
     """Exit code and line for an interrupt found in ``e``'s chain (SIGTERM or Ctrl-C)."""
     seen = set()
     while e is not None and id(e) not in seen:

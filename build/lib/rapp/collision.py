@@ -21,6 +21,12 @@ from __future__ import annotations
 
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
 
 from rapp.arm import MAX_ANGLE
 from rapp.checks import finite_number, positive_integer
@@ -315,7 +321,7 @@ def segment_clearances(a, b, obstacles) -> np.ndarray:
     return out
 
 
-def collides(arm, q, obstacles) -> np.ndarray:
+def collides(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon]) -> np.ndarray:
     """True where a configuration puts any link on any obstacle (touching counts).
 
     Parameters
@@ -367,7 +373,7 @@ def _checked(arm, q):
     return arm.check_q(q)
 
 
-def clearance(arm, q, obstacles) -> np.ndarray:
+def clearance(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon]) -> np.ndarray:
     """Smallest distance from any link to any obstacle, shape ``(...)``; ``<= 0`` is a collision.
 
     Examples
@@ -452,7 +458,8 @@ def check_segments(arm, q0, q1, min_interval, max_intervals) -> tuple:
     return q0, q1, dq, bounds, shape, min_interval, cap
 
 
-def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9,
+def segment_collision_free(arm: Arm, q0: ArrayLike, q1: ArrayLike, obstacles: Iterable[Circle | Polygon], *,
+                           min_interval: float = 1e-9,
                            max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
     """Certify that every configuration on the joint-space segments ``q0 → q1`` is free.
 
@@ -533,7 +540,8 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     return (code > 0).reshape(shape)
 
 
-def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9,
+def path_collision_free(arm: Arm, path_q: ArrayLike, obstacles: Iterable[Circle | Polygon], *,
+                        min_interval: float = 1e-9,
                         max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
     """True where every straight joint-space segment of a polyline is certified free.
 

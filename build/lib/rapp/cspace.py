@@ -24,6 +24,12 @@ import sys
 from dataclasses import dataclass
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
 
 from rapp.arm import Arm, wrap_angle
 from rapp.collision import check_obstacle, motion_bounds
@@ -467,7 +473,7 @@ def _paint(intervals, ax, wraps, step, chunk=2048):
 COMPILE_FROM = 1 << 16
 
 
-def occupancy(arm, obstacles, grid) -> np.ndarray:
+def occupancy(arm: Arm, obstacles: Iterable[Circle | Polygon], grid: JointGrid) -> np.ndarray:
     """Collision of every grid configuration: a bool array of ``grid.shape`` (True = collides).
 
     Link ``i`` depends on joints ``0..i`` only. On the grid of joints

@@ -26,6 +26,13 @@ import itertools
 import time
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
+    from rapp.obstacles import Circle, Polygon
 
 from rapp import heap, progress, sampling_kernel
 from rapp.checks import positive_integer
@@ -170,7 +177,8 @@ def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None):
     return parent, -1
 
 
-def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int = 10, seed=0,
+def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle | Polygon] = (), *,
+        samples: int = 500, neighbours: int = 10, seed: int | np.random.SeedSequence = 0,
         max_iterations: int = 500, time_budget: float | None = None,
         max_samples: int | None = None, raise_on_failure: bool = True,
         neighbors: int | None = None) -> PlannerResult:

@@ -20,6 +20,9 @@ from dataclasses import dataclass, field as dc_field, replace
 from typing import Any, Sequence
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 from rapp.arm import Arm
 from rapp.cspace import JointGrid
@@ -203,7 +206,7 @@ def _jsonable(x):
     return x
 
 
-def save_result(plan: Plan, path, *, timings: bool = False) -> None:
+def save_result(plan: Plan, path: str | os.PathLike, *, timings: bool = False) -> None:
     """Write ``plan.to_dict()`` as JSON atomically (temporary file, then ``os.replace``).
 
     A crash while writing leaves any previous file at ``path`` intact. The
@@ -229,7 +232,7 @@ def save_result(plan: Plan, path, *, timings: bool = False) -> None:
             os.fsync(fh.fileno())
 
 
-def load_result(path) -> Plan:
+def load_result(path: str | os.PathLike) -> Plan:
     """Read a result file written by :func:`save_result`.
 
     Raises :class:`~rapp.errors.FileNotFound` or :class:`~rapp.errors.InvalidFormat`

@@ -67,6 +67,13 @@ from dataclasses import dataclass
 from typing import Mapping
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
+    from rapp.obstacles import Circle, Polygon
 
 from rapp import collision_kernel
 from rapp import progress
@@ -144,17 +151,17 @@ class RRTStep:
 
 
 def rrt(
-    arm,
-    start,
-    goal=None,
-    obstacles=(),
+    arm: Arm,
+    start: ArrayLike,
+    goal: ArrayLike | None = None,
+    obstacles: Iterable[Circle | Polygon] = (),
     *,
-    goal_xy=None,
+    goal_xy: ArrayLike | None = None,
     step: float = 0.1,
     goal_bias: float = 0.1,
     goal_threshold: float = 0.05,
     max_iterations: int = 5000,
-    seed=0,
+    seed: int | np.random.SeedSequence = 0,
     steer: str = "step",
     raise_on_failure: bool = True,
     trace: list | None = None,

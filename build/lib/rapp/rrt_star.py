@@ -23,6 +23,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
+    from rapp.obstacles import Circle, Polygon
 
 from rapp import collision_kernel, sampling_kernel
 from rapp.checks import finite_number
@@ -93,8 +100,9 @@ def _shift_subtree_cost(tree: Tree, root: int, delta: float) -> None:
         todo = kids.tolist()
 
 
-def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.2, goal_bias: float = 0.05,
-             goal_threshold: float = 0.05, seed=0, max_iterations: int = 2000,
+def rrt_star(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle | Polygon] = (), *,
+             step: float = 0.2, goal_bias: float = 0.05,
+             goal_threshold: float = 0.05, seed: int | np.random.SeedSequence = 0, max_iterations: int = 2000,
              time_budget: float | None = None, gamma: float | None = None,
              radius: float | None = None, raise_on_failure: bool = True) -> PlannerResult:
     """Plan with RRT*: the best path found to a goal configuration within the budget.

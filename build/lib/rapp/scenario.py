@@ -37,6 +37,9 @@ from types import MappingProxyType
 from typing import Any, Mapping
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 from rapp.arm import Arm
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
@@ -1036,7 +1039,8 @@ def preflight(scenario: Scenario) -> None:
                 f"this configuration collides with an obstacle (clearance {d:.3g} m)", field=field)
 
 
-def load_scenario(source, *, check: bool = True) -> Scenario:
+def load_scenario(source: str | os.PathLike | Mapping[str, Any] | Scenario, *,
+                  check: bool = True) -> Scenario:
     """Load and validate a scenario.
 
     Parameters

@@ -276,5 +276,5 @@ def shipped_schema(name: str) -> dict:
     """
     if name not in SCHEMAS:
         raise ValueError(f"unknown schema {name!r} (known: {', '.join(SCHEMAS)})")
-    text = resources.files("rapp").joinpath("schemas", f"{name}.schema.json").read_text("utf-8")
+    text = resources.files("rapp").joinpath("schemas").joinpath(f"{name}.schema.json").read_text("utf-8")
     return json.loads(text)

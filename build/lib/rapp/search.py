@@ -40,6 +40,9 @@ import sys
 from dataclasses import dataclass
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 from rapp import heap
 from rapp.errors import InvalidCell, NoPathFound
@@ -724,7 +727,9 @@ def _compiled_astar():
     return jit(_astar_kernel)
 
 
-def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expansions=None):
+def astar(occupied: ArrayLike, start: Sequence[int], goal: Sequence[int], *,
+          wraps: bool | Sequence[bool] = True, heuristic_weight: float = 1.0,
+          max_expansions: int | None = None) -> list[tuple[int, ...]]:
     """Shortest path on an occupancy grid by A* (TM:AStarJointSpace, MIS planPath).
 
     The search of :func:`astar_search` (see there for the heuristic, the
@@ -815,7 +820,8 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
 # --------------------------------------------------------------------------- BFS oracle
 
 
-def bfs_distances(occupied, start, wraps=True):
+def bfs_distances(occupied: ArrayLike, start: Sequence[int],
+                  wraps: bool | Sequence[bool] = True) -> np.ndarray:
     """Step distance from ``start`` to every cell, by breadth-first search.
 
     The frontier of each level is expanded at once with numpy, so the cost is

@@ -31,6 +31,9 @@ from dataclasses import dataclass, field
 from math import comb
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 from rapp.checks import sorted_unique, positive_integer
 
@@ -122,7 +125,8 @@ def _too_short(what, h):
             "accelerations asked")
 
 
-def cubic(t0, tf, p0, pf, v0=0.0, vf=0.0) -> np.ndarray:
+def cubic(t0: ArrayLike, tf: ArrayLike, p0: ArrayLike, pf: ArrayLike, v0: ArrayLike = 0.0,
+          vf: ArrayLike = 0.0) -> np.ndarray:
     """Cubic through ``(t0, p0, v0)`` and ``(tf, pf, vf)`` (seed 002, eq. 5-6).
 
     Returns
@@ -175,7 +179,8 @@ def _positive_durations(h):
     return h
 
 
-def quintic(t0, tf, p0, pf, v0=0.0, vf=0.0, a0=0.0, af=0.0) -> np.ndarray:
+def quintic(t0: ArrayLike, tf: ArrayLike, p0: ArrayLike, pf: ArrayLike, v0: ArrayLike = 0.0,
+            vf: ArrayLike = 0.0, a0: ArrayLike = 0.0, af: ArrayLike = 0.0) -> np.ndarray:
     """Quintic through position, velocity and acceleration at both ends.
 
     Returns
@@ -526,8 +531,9 @@ def _end_values(values, d):
     return values[0], values[-1]
 
 
-def via_points(times, positions, velocities=None, profile: str = "cubic",
-               accelerations=None) -> PiecewisePolynomial:
+def via_points(times: ArrayLike, positions: ArrayLike, velocities: ArrayLike | None = None,
+               profile: str = "cubic",
+               accelerations: ArrayLike | None = None) -> PiecewisePolynomial:
     """A trajectory through via points (seed 002 Task 1, generalized).
 
     Parameters
@@ -595,8 +601,9 @@ def via_points(times, positions, velocities=None, profile: str = "cubic",
     return PiecewisePolynomial.from_local(times, np.moveaxis(c, 0, 1))
 
 
-def time_path(waypoints, duration: float | None = None, profile: str = "cubic", *,
-              vmax=None, amax=None, wraps=None, t0: float = 0.0) -> PiecewisePolynomial:
+def time_path(waypoints: ArrayLike, duration: float | None = None, profile: str = "cubic", *,
+              vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
+              wraps: ArrayLike | None = None, t0: float = 0.0) -> PiecewisePolynomial:
     """Turn a joint-space path into ``q(t)``, starting and ending at rest.
 
     The time of each waypoint is proportional to the joint-space (Euclidean)
