@@ -1,4 +1,4 @@
-"""Command line: ``python -m rapp plan|check|list``.
+"""Command line: ``python -m rapp plan|check|list|schema`` (and ``grade``, ``assign``, ``--version``).
 
 Exit codes: 0 done; 1 a planning answer (no path, no IK solution, a straight
 line the end effector cannot follow), said in one line; 2 bad input, one line on stderr naming the field or option and what is
