@@ -255,3 +255,15 @@ def test_offsets_names_and_base_come_from_the_scenario_and_go_back_to_it():
             rapp.load_scenario(dict(SMALL, arm=dict(SMALL["arm"], **bad)))
     with pytest.raises(ValueError, match="joint_names"):
         rapp.Arm([1.0, 1.0], joint_names=["a"])
+
+
+def test_ci_runs_the_smoke_test_of_the_library_on_other_pythons():
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    assert "scripts/smoke_pythons.py" in ci
+    script = (ROOT / "scripts" / "smoke_pythons.py").read_text(encoding="utf-8")
+    tests = re.search(r"^TESTS = \((.*?)\)$", script, re.M | re.S).group(1)
+    for name in re.findall(r'"(tests/[\w.]+)"', tests):
+        text = (ROOT / name).read_text(encoding="utf-8")
+        # The library's own tests: no notebook, Jupyter or browser machinery.
+        assert not re.search(r"^\s*(import|from) (nbformat|nbval|jupyter|playwright|notebook_kernels)",
+                             text, re.M), name
