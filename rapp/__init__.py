@@ -57,13 +57,16 @@ __all__ = [
     "manipulability", "condition_number", "manipulability_ellipse",
     # trajectories
     "cubic", "quintic", "via_points", "time_path", "PiecewisePolynomial",
+    # composing a motion: shorten a planner's path, then time it under joint limits
+    "shortcut", "trapezoidal_path", "minimum_duration", "peak_rates",
     # the application
     "Scenario", "load_scenario", "list_scenarios", "echo",
     "plan", "Plan", "verify", "Report", "save_result", "load_result",
     "rrt", "rrt_connect", "rrt_star", "prm", "RRTResult",
 ]
 
-__version__ = "0.1.0"
+#: The package version (``rapp --version``); pyproject.toml holds the same (a test compares).
+__version__ = "0.2.0"
 
 # Where each contract name lives. They are imported on first use (module __getattr__, the
 # lazy-loading pattern of scikit-image), so `import rapp` costs little more than numpy and
@@ -77,6 +80,8 @@ _LAZY = {
     "ik": ("ik", "ik_2link", "ik_numeric", "jacobian"),
     "manipulability": ("condition_number", "manipulability", "manipulability_ellipse"),
     "trajectory": ("PiecewisePolynomial", "cubic", "quintic", "time_path", "via_points"),
+    "paths": ("shortcut",),
+    "time_scaling": ("minimum_duration", "peak_rates", "trapezoidal_path"),
     "scenario": ("Scenario", "echo", "list_scenarios", "load_scenario"),
     "verify": ("Report", "verify"),
     "results": ("Plan", "load_result", "save_result"),

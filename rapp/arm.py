@@ -12,6 +12,9 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 __all__ = ["Arm", "wrap_angle", "MAX_COORDINATE", "MAX_ANGLE"]
 
@@ -32,7 +35,7 @@ MAX_ANGLE = 1e100
 _TWO_PI = 2 * np.pi
 
 
-def wrap_angle(q):
+def wrap_angle(q: ArrayLike) -> np.ndarray:
     """Wrap angles into ``[-pi, pi)``.
 
     Examples
@@ -125,6 +128,18 @@ class Arm:
         The radius each link keeps from the other links in the self-collision test:
         ``link_radius``, except on :meth:`centre_lines` ``(margin)``, which keeps the original
         radii plus half the margin here so that the zero-width arm asks the same question.
+    joint_names : sequence of str, optional
+        One distinct name per joint (default ``joint1 .. jointn``): the names
+        exports such as :func:`rapp.results.joint_trajectory` give the joints.
+    base : (x, y, heading), optional
+        Where the arm's base frame lies in the world (length units, radians;
+        default ``(0, 0, 0)``). The arm's own kinematics (:meth:`joint_positions`,
+        and every planner, collision test and IK solver with it) work in that
+        frame; :meth:`world_positions` and :meth:`to_world` give world coordinates.
+    joint_offsets : sequence of float, optional
+        What each joint's encoder reads when the joint is at the model's zero
+        (radians, default zeros): ``encoder = q - offset`` (:meth:`to_encoder`),
+        ``q = encoder + offset`` (:meth:`from_encoder`).
 
     Raises
     ------
@@ -153,9 +168,16 @@ class Arm:
     link_radius: tuple = ()
     self_collision: bool = field(default=False, repr=False)
     pair_radius: tuple = field(default=(), repr=False)
+    joint_names: tuple = field(default=(), repr=False)
+    base: tuple = field(default=(0.0, 0.0, 0.0), repr=False)
+    joint_offsets: tuple = field(default=(), repr=False)
 
-    def __init__(self, link_lengths: Sequence[float], joint_limits=None, link_radius=0.0,
-                 self_collision=False):
+    def __init__(self, link_lengths: Sequence[float],
+                 joint_limits: Sequence[tuple[float, float] | None] | None = None,
+                 link_radius: float | Sequence[float] = 0.0, self_collision: bool = False, *,
+                 joint_names: Sequence[str] | None = None,
+                 base: Sequence[float] = (0.0, 0.0, 0.0),
+                 joint_offsets: Sequence[float] | None = None) -> None:
         try:
             lengths = np.asarray(link_lengths, dtype=float)
         except (TypeError, ValueError):
@@ -195,6 +217,7 @@ class Arm:
             raise ValueError(f"self_collision must be true or false, got {self_collision!r}")
         object.__setattr__(self, "self_collision", bool(self_collision))
         object.__setattr__(self, "pair_radius", self.link_radius)
+        _set_frame(self, n, joint_names, base, joint_offsets)
         # Read-only arrays built once: planners ask for them per configuration.
         cached = {
             "_lengths": np.array(self.link_lengths),
@@ -206,7 +229,7 @@ class Arm:
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
 
-    def __eq__(self, other):
+    def __eq__(self, other: object) -> bool:
         return (
             isinstance(other, Arm)
             and self.link_lengths == other.link_lengths
@@ -214,9 +237,12 @@ class Arm:
             and self.link_radius == other.link_radius
             and self.self_collision == other.self_collision
             and self.pair_radius == other.pair_radius
+            and self.joint_names == other.joint_names
+            and self.base == other.base
+            and self.joint_offsets == other.joint_offsets
         )
 
-    def __hash__(self):
+    def __hash__(self) -> int:
         return hash((self.link_lengths, self.joint_limits, self.link_radius, self.self_collision))
 
     def centre_lines(self, margin: float = 0.0) -> "Arm":
@@ -382,6 +408,65 @@ class Arm:
         np.cumsum(steps, axis=-2, out=out[..., 1:, :])
         return out
 
+    def to_world(self, xy) -> np.ndarray:
+        """Points ``(..., 2)`` of the arm's base frame in world coordinates (see ``base``).
+
+        Examples
+        --------
+        >>> Arm([1.0], base=(2.0, 1.0, np.pi / 2)).to_world([1.0, 0.0]).round(12).tolist()
+        [2.0, 2.0]
+        """
+        x, y, heading = self.base
+        p = np.asarray(xy, dtype=float)
+        c, s = np.cos(heading), np.sin(heading)
+        return np.stack((x + c * p[..., 0] - s * p[..., 1], y + s * p[..., 0] + c * p[..., 1]),
+                        axis=-1)
+
+    def from_world(self, xy) -> np.ndarray:
+        """World points ``(..., 2)`` in the arm's base frame: :meth:`to_world` undone.
+
+        Examples
+        --------
+        >>> arm = Arm([1.0], base=(2.0, 1.0, np.pi / 2))
+        >>> arm.from_world(arm.to_world([0.3, -0.4])).round(12).tolist()
+        [0.3, -0.4]
+        """
+        x, y, heading = self.base
+        p = np.asarray(xy, dtype=float)
+        dx, dy = p[..., 0] - x, p[..., 1] - y
+        c, s = np.cos(heading), np.sin(heading)
+        return np.stack((c * dx + s * dy, -s * dx + c * dy), axis=-1)
+
+    def world_positions(self, q) -> np.ndarray:
+        """:meth:`joint_positions` placed in the world by ``base``: shape ``(..., n + 1, 2)``.
+
+        Examples
+        --------
+        >>> Arm([1.0, 1.0], base=(0.5, 0.0, np.pi)).world_positions([0.0, 0.0]).round(12).tolist()
+        [[0.5, 0.0], [-0.5, 0.0], [-1.5, 0.0]]
+        """
+        return self.to_world(self.joint_positions(q))
+
+    def to_encoder(self, q) -> np.ndarray:
+        """Joint angles ``(..., n)`` as the encoders read them: ``q - joint_offsets``.
+
+        Examples
+        --------
+        >>> Arm([1.0, 1.0], joint_offsets=[0.5, 0.0]).to_encoder([1.0, 1.0]).tolist()
+        [0.5, 1.0]
+        """
+        return np.asarray(q, dtype=float) - np.asarray(self.joint_offsets)
+
+    def from_encoder(self, readings) -> np.ndarray:
+        """Encoder readings ``(..., n)`` as the model's joint angles: ``readings + joint_offsets``.
+
+        Examples
+        --------
+        >>> Arm([1.0, 1.0], joint_offsets=[0.5, 0.0]).from_encoder([0.5, 1.0]).tolist()
+        [1.0, 1.0]
+        """
+        return np.asarray(readings, dtype=float) + np.asarray(self.joint_offsets)
+
     def end_effector(self, q) -> np.ndarray:
         """End-effector position ``x = f(q)`` of DD1, shape ``(..., 2)``.
 
@@ -404,3 +489,33 @@ class Arm:
         lim = self.limited
         ok = (q >= self.lower - tol) & (q <= self.upper + tol)
         return np.all(ok | ~lim, axis=-1)
+
+
+def _set_frame(arm: Arm, n: int, joint_names, base, joint_offsets) -> None:
+    """Check and set an arm's ``joint_names``, ``base`` and ``joint_offsets`` (ValueErrors name them)."""
+    if joint_names is None:
+        names = tuple(f"joint{i + 1}" for i in range(n))
+    else:
+        if isinstance(joint_names, str):
+            raise ValueError(f"joint_names must be a list of {n} names, got {joint_names!r}")
+        names = tuple(joint_names)
+        if len(names) != n or not all(isinstance(s, str) and s for s in names):
+            raise ValueError(f"joint_names must be {n} non-empty strings, got {list(names)!r}")
+        if len(set(names)) != n:
+            raise ValueError(f"joint_names must be distinct, got {list(names)!r}")
+    try:
+        pose = tuple(float(v) for v in base)
+    except (TypeError, ValueError):
+        raise ValueError(f"base must be (x, y, heading), got {base!r}") from None
+    if len(pose) != 3 or not all(np.isfinite(pose)) or max(abs(pose[0]), abs(pose[1])) > MAX_COORDINATE \
+            or abs(pose[2]) > MAX_ANGLE:
+        raise ValueError(f"base must be finite (x, y, heading), got {base!r}")
+    try:
+        offsets = (0.0,) * n if joint_offsets is None else tuple(float(v) for v in joint_offsets)
+    except (TypeError, ValueError):
+        raise ValueError(f"joint_offsets must be {n} angles, got {joint_offsets!r}") from None
+    if len(offsets) != n or not all(np.isfinite(offsets)) or max(map(abs, offsets)) > MAX_ANGLE:
+        raise ValueError(f"joint_offsets must be {n} finite angles, got {joint_offsets!r}")
+    object.__setattr__(arm, "joint_names", names)
+    object.__setattr__(arm, "base", pose)
+    object.__setattr__(arm, "joint_offsets", offsets)

@@ -28,7 +28,7 @@ The bound between waypoints
 ---------------------------
 Along an edge ``q(t) = qa + t dq``, ``0 <= t <= 1``, the absolute link angles
 are ``phi_i(t) = phi_i(0) + t Phi_i`` with ``Phi_i = dq_1 + ... + dq_i``, so
-the tip ``x(t) = sum_i L_i (cos phi_i, sin phi_i)`` has
+the tip ``x(t) = sum_i L_i (cos phi_i, sin phi_i)`` has::
 
     x''(t) = -sum_i L_i Phi_i^2 (cos phi_i, sin phi_i),
     |x''(t)| <= K = sum_i L_i Phi_i^2      (<= (sum L) |dq|_1^2).

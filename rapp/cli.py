@@ -1,4 +1,4 @@
-"""Command line: ``python -m rapp plan|check|list``.
+"""Command line: ``python -m rapp plan|check|list|schema`` (and ``grade``, ``assign``, ``--version``).
 
 Exit codes: 0 done; 1 a planning answer (no path, no IK solution, a straight
 line the end effector cannot follow), said in one line; 2 bad input, one line on stderr naming the field or option and what is
@@ -36,6 +36,7 @@ import shutil
 import sys
 import warnings
 from contextlib import contextmanager, nullcontext
+from typing import Any
 
 import numpy as np
 
@@ -48,7 +49,11 @@ from rapp import interrupts, planner, progress, results, scenario
 # --plot or --animate is given: `check`, `list` and a plan without a figure start fast. A figure
 # costs that import on top of the plan; benchmarks/bench_cli.py records how much.
 
-__all__ = ["main", "build_parser", "printable", "COMMANDS"]
+__all__ = ["main", "build_parser", "printable", "COMMANDS", "OUT_FORMATS", "command"]
+
+#: What ``plan --out`` can write (``--format``); without it, ``.csv`` names a CSV, anything
+#: else a result file.
+OUT_FORMATS = ("result", "csv", "joint-trajectory")
 
 EXIT_OK, EXIT_NO_PLAN, EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 #: 128 + SIGTERM: ended by ``kill`` (handled as Ctrl-C is: temporary files removed, one line).
@@ -127,8 +132,11 @@ def build_parser() -> argparse.ArgumentParser:
     >>> args.command, args.scenario, args.out, args.timings
     ('plan', 'default', 'r.json', False)
     """
+    import rapp
+
     p = _Parser(prog="rapp", description="2D robot-arm path planning (2D-RAPP).")
-    sub = p.add_subparsers(dest="command", metavar="{plan,check,list,grade,assign}", parser_class=_Parser)
+    p.add_argument("--version", action="version", version=f"rapp {rapp.__version__}")
+    sub = p.add_subparsers(dest="command", metavar="{plan,check,list,schema,grade,assign}", parser_class=_Parser)
     sub.required = True
     pp = sub.add_parser("plan", help="plan, time and verify a trajectory",
                         description="Plan a collision-free trajectory for SCENARIO (a JSON file "
@@ -139,7 +147,14 @@ def build_parser() -> argparse.ArgumentParser:
                         "scenario unless --timings is given.")
     pp.add_argument("scenario", nargs="?", default="default",
                     help="scenario file or embedded name (see 'rapp list')")
-    pp.add_argument("--out", metavar="RESULT.json", help="write the result as JSON (atomically)")
+    pp.add_argument("--out", metavar="RESULT.json",
+                    help="write the result (atomically): rapp's result JSON, or a CSV of t and "
+                    "each joint's q, qd, qdd when the name ends in .csv (see --format)")
+    pp.add_argument("--format", choices=OUT_FORMATS, default=None,
+                    help="what --out holds: 'result' (rapp's JSON, the default), 'csv' (the "
+                    "default for .csv) or 'joint-trajectory' (JSON: joint_names and points "
+                    "with positions, velocities, accelerations, time_from_start, as ROS's "
+                    "JointTrajectory)")
     pp.add_argument("--plot", metavar="FIG.png",
                     help="save a figure of the plan (atomically), drawn with matplotlib; the "
                     "extension picks the format: .png, .svg, .pdf, ...")
@@ -159,6 +174,10 @@ def build_parser() -> argparse.ArgumentParser:
     pc.add_argument("scenario", help="scenario file or embedded name")
     sub.add_parser("list", help="list the embedded scenarios",
                    description="List the embedded scenarios with their descriptions.")
+    ps = sub.add_parser("schema", help="print the JSON Schema of scenario or result files",
+                        description="Print the JSON Schema (draft 2020-12) of a scenario file "
+                        "or of a result file, as the package ships it (rapp/schemas/).")
+    ps.add_argument("which", choices=("scenario", "result"), help="which file's schema")
     _grading().add_parser(sub)  # the instructors' subcommands live with their logic
     return p
 
@@ -194,6 +213,7 @@ def _plot_formats() -> dict:
     if "pgf" in formats and not shutil.which(tex):
         # The pgf backend measures text with LaTeX; without it savefig fails after planning.
         formats["pgf"] = f"needs {tex}, which is not installed"
+    features: Any
     try:
         from PIL import features
     except ImportError:  # pragma: no cover - Pillow is a dependency of matplotlib
@@ -338,8 +358,14 @@ def _write_outputs(args, p, s) -> None:
         with OutputBatch() as batch:
             if args.out:
                 options[args.out] = "--out"
+                kind = _out_format(args)
                 with _writing("--out"):
-                    results.save_result(p, batch.stage(args.out, ".json"), timings=args.timings)
+                    if kind == "csv":
+                        results.save_csv(p, batch.stage(args.out, ".csv"))
+                    elif kind == "joint-trajectory":
+                        results.save_joint_trajectory(p, batch.stage(args.out, ".json"))
+                    else:
+                        results.save_result(p, batch.stage(args.out, ".json"), timings=args.timings)
             if args.plot:
                 options[args.plot] = "--plot"
                 ext = os.path.splitext(args.plot)[1]
@@ -374,6 +400,22 @@ def _say_notes(out, caught) -> None:
         n = len(caught)
         _say(out, f"note: {n} warning{'s' if n > 1 else ''} silenced while running "
                   f"(first: {_one_line(first.message)})")
+
+
+def _out_format(args) -> str:
+    """What ``--out`` holds: ``--format``, else CSV for a ``.csv`` name, else the result file."""
+    if getattr(args, "format", None):
+        return args.format
+    return "csv" if os.path.splitext(args.out or "")[1].lower() == ".csv" else "result"
+
+
+def _cmd_schema(args, out) -> int:
+    import json
+
+    from rapp import schema
+
+    _say(out, json.dumps(schema.shipped_schema(args.which), indent=2), lines=True)
+    return EXIT_OK
 
 
 def _cmd_list(out) -> int:
@@ -433,6 +475,7 @@ def _cmd_plan(args, out, err, caught) -> int:
     if not args.quiet:
         _say_notes(out, caught)
     m = p.metrics
+    assert p.report is not None  # rapp.plan always verifies
     status = "verified" if p.report.ok else "VERIFICATION FAILED"
     _say(out, f"planned {len(p.t)} samples over {float(p.t[-1]):g} s, "
               f"joint path {m.get('joint_length_rad', 0):.3f} rad, end effector "
@@ -451,6 +494,7 @@ COMMANDS = {
     "plan": _cmd_plan,
     "check": lambda args, out, err, caught: _cmd_check(args, out, caught),
     "list": lambda args, out, err, caught: _cmd_list(out),
+    "schema": lambda args, out, err, caught: _cmd_schema(args, out),
     "grade": lambda args, out, err, caught: _grading().run(args, out, err),
     "assign": lambda args, out, err, caught: _grading().run_assign(args, out, err),
 }
@@ -470,7 +514,7 @@ def _grading():
 # --------------------------------------------------------------------------- main
 
 
-def _interrupted(e: BaseException) -> bool:
+def _interrupted(e: BaseException | None) -> bool:
     """Whether ``e`` is a Ctrl-C, or was raised while one was being handled.
 
     A KeyboardInterrupt inside ``Animation.save`` surfaces as an IndexError from the
@@ -485,7 +529,7 @@ def _interrupted(e: BaseException) -> bool:
     return False
 
 
-def _signal_exit(e: BaseException) -> tuple:
+def _signal_exit(e: BaseException | None) -> tuple:
     """Exit code and line for an interrupt found in ``e``'s chain (SIGTERM or Ctrl-C)."""
     seen = set()
     while e is not None and id(e) not in seen:

@@ -21,6 +21,12 @@ from __future__ import annotations
 
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
 
 from rapp.checks import finite_number
 from rapp.errors import CertificationLimit
@@ -358,7 +364,7 @@ def link_clearances(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
     return _backend.link_clearances(arm, q, obstacles)
 
 
-def collides(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
+def collides(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon], *, margin: float = 0.0) -> np.ndarray:
     """True where a configuration puts any link on any obstacle (touching counts).
 
     Parameters
@@ -392,7 +398,7 @@ def collides(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
     return hit
 
 
-def clearance(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
+def clearance(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon], *, margin: float = 0.0) -> np.ndarray:
     """Smallest distance from any link to any obstacle, shape ``(...)``; ``<= 0`` is a collision.
 
     With link radii or a ``margin``, the smallest gap beyond the one required
@@ -435,8 +441,9 @@ def motion_bounds(arm, dq) -> np.ndarray:
         return dq @ reach_matrix(arm)
 
 
-def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9,
-                           max_intervals: int = MAX_PENDING_INTERVALS, margin=0.0) -> np.ndarray:
+def segment_collision_free(arm: Arm, q0: ArrayLike, q1: ArrayLike, obstacles: Iterable[Circle | Polygon], *,
+                           min_interval: float = 1e-9,
+                           max_intervals: int = MAX_PENDING_INTERVALS, margin: float = 0.0) -> np.ndarray:
     """Certify that every configuration on the joint-space segments ``q0 → q1`` is free.
 
     The straight segment ``q(t) = q0 + t (q1 - q0)``, ``t in [0, 1]``, is
@@ -516,8 +523,9 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     return ok
 
 
-def path_collision_free(arm, path_q, obstacles, *, min_interval: float = 1e-9,
-                        max_intervals: int = MAX_PENDING_INTERVALS, margin=0.0) -> np.ndarray:
+def path_collision_free(arm: Arm, path_q: ArrayLike, obstacles: Iterable[Circle | Polygon], *,
+                        min_interval: float = 1e-9,
+                        max_intervals: int = MAX_PENDING_INTERVALS, margin: float = 0.0) -> np.ndarray:
     """True where every straight joint-space segment of a polyline is certified free.
 
     Parameters

@@ -23,6 +23,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
 
 from rapp._kernels import occupancy as _backend
 from rapp._kernels import occupancy_numpy as _numpy
@@ -207,7 +213,8 @@ def check_grid(arm, grid):
         raise ValueError("grid was built for a different arm")
 
 
-def occupancy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
+def occupancy(arm: Arm, obstacles: Iterable[Circle | Polygon], grid: JointGrid, *,
+              margin: float = 0.0) -> np.ndarray:
     """Collision of every grid configuration: a bool array of ``grid.shape`` (True = collides).
 
     Link ``i`` depends on joints ``0..i`` only. On the grid of joints

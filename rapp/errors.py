@@ -32,7 +32,7 @@ class ScenarioError(RappError, ValueError):
         Dotted path of the offending field, e.g. ``"arm.link_lengths[1]"``.
     """
 
-    def __init__(self, message: str, field: str | None = None):
+    def __init__(self, message: str, field: str | None = None) -> None:
         self.field = field
         self.message = message
         super().__init__(f"{field}: {message}" if field else message)
@@ -79,7 +79,7 @@ class InvalidSetting(RappError, ValueError):
     ('step', 'step must be at least 1e-06 rad, got 1e-09')
     """
 
-    def __init__(self, message: str, setting: str):
+    def __init__(self, message: str, setting: str) -> None:
         self.setting = setting
         self.message = message
         super().__init__(message)
@@ -110,7 +110,7 @@ class NoIKSolution(RappError):
     ``reason`` is ``"out of reach"``, ``"joint limits"`` or ``"did not converge"``.
     """
 
-    def __init__(self, message: str, reason: str = "out of reach"):
+    def __init__(self, message: str, reason: str = "out of reach") -> None:
         self.reason = reason
         super().__init__(message)
 
@@ -123,7 +123,7 @@ class PathNotFollowable(RappError):
     ``s`` is the line parameter in ``[0, 1]`` at which it happens.
     """
 
-    def __init__(self, message: str, reason: str | None = None, s: float | None = None):
+    def __init__(self, message: str, reason: str | None = None, s: float | None = None) -> None:
         self.reason = reason
         self.s = s
         super().__init__(message)

@@ -35,6 +35,9 @@ name for the same configuration.
 from __future__ import annotations
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 from rapp import ik_kernel
 from rapp.arm import Arm, wrap_angle
@@ -58,7 +61,7 @@ def _target(target) -> np.ndarray:
     return target
 
 
-def jacobian(arm: Arm, q) -> np.ndarray:
+def jacobian(arm: Arm, q: ArrayLike) -> np.ndarray:
     """Jacobian ``d(x, y)/dq`` of the end effector, shape ``(..., 2, n)``.
 
     With ``phi_i = q_1 + ... + q_i`` the absolute link angles, column ``j`` is
@@ -110,7 +113,8 @@ def _equivalents_within(arm: Arm, q: np.ndarray, tol: float) -> np.ndarray:
     return np.concatenate(out, axis=0)
 
 
-def ik_2link(arm_or_lengths, targets, *, tol: float = 1e-10) -> np.ndarray:
+def ik_2link(arm_or_lengths: Arm | ArrayLike, targets: ArrayLike, *,
+            tol: float = 1e-10) -> np.ndarray:
     """Both analytic solutions of a 2-link arm for a batch of targets, shape ``(..., 2, 2)``.
 
     Law of cosines: ``|target|^2 = L1^2 + L2^2 + 2 L1 L2 cos q2``, then
@@ -637,15 +641,15 @@ def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
 
 def ik_numeric(
     arm: Arm,
-    targets,
-    q0=None,
+    targets: ArrayLike,
+    q0: ArrayLike | None = None,
     *,
     tol: float = 1e-10,
     max_iter: int = 30,
     restarts: int = 16,
     seed: int = 0,
     max_step: float = 1.0,
-):
+) -> tuple[np.ndarray, np.ndarray]:
     """Numerical IK for a batch of targets: Newton-Raphson with damped least squares.
 
     Every target is solved at the same time: each iteration is a handful of
@@ -852,9 +856,9 @@ def _nlink_solutions(arm: Arm, target: np.ndarray, q0, starts: int, seed: int,
 
 def ik(
     arm: Arm,
-    target,
+    target: ArrayLike,
     *,
-    q0=None,
+    q0: ArrayLike | None = None,
     starts: int = 32,
     seed: int = 0,
     tol: float = 1e-10,

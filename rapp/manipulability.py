@@ -23,6 +23,9 @@ of configurations; there is no SVD and no loop over configurations.
 from __future__ import annotations
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 from rapp.arm import Arm
 from rapp.ik import jacobian
@@ -87,7 +90,7 @@ def _singular_values(js: np.ndarray):
     return sigma1, w / sigma1
 
 
-def manipulability(arm: Arm, q) -> np.ndarray:
+def manipulability(arm: Arm, q: ArrayLike) -> np.ndarray:
     """Yoshikawa's manipulability ``w = sqrt(det(J J^T))`` for a batch of configurations.
 
     ``w = sigma1 sigma2``, the product of the singular values of the Jacobian
@@ -128,7 +131,7 @@ def manipulability(arm: Arm, q) -> np.ndarray:
     return _unit_manipulability(js) * scale**2
 
 
-def condition_number(arm: Arm, q) -> np.ndarray:
+def condition_number(arm: Arm, q: ArrayLike) -> np.ndarray:
     """Condition number ``sigma1 / sigma2`` of the Jacobian for a batch of configurations.
 
     How elongated the velocity ellipse is: 1 when the tip moves equally
@@ -167,7 +170,7 @@ def condition_number(arm: Arm, q) -> np.ndarray:
     return np.divide(sigma1, sigma2, out=np.full_like(sigma1, np.inf), where=sigma2 > 0)
 
 
-def manipulability_ellipse(arm: Arm, q):
+def manipulability_ellipse(arm: Arm, q: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Semi-axes and orientation of the velocity ellipse, for a batch of configurations.
 
     The tip velocities ``J qdot`` reachable with ``|qdot| <= 1`` fill an

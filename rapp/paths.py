@@ -13,6 +13,12 @@ from dataclasses import dataclass, field
 from typing import Mapping
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.obstacles import Circle, Polygon
 
 from rapp.checks import sorted_unique
 
@@ -172,7 +178,7 @@ def path_length(path) -> float:
     return float(np.linalg.norm(np.diff(p, axis=0), axis=-1).sum())
 
 
-def shortcut(arm: Arm, path, obstacles) -> np.ndarray:
+def shortcut(arm: Arm, path: ArrayLike, obstacles: Iterable[Circle | Polygon]) -> np.ndarray:
     """Greedy shortcutting: from each kept waypoint, jump to the farthest certified-free one.
 
     ``path`` (m, n) must be unwrapped with every consecutive segment certified

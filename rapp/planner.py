@@ -47,6 +47,14 @@ import time
 from dataclasses import replace
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    import os
+    from typing import Any, Mapping
+    from rapp.scenario import Scenario
 
 from rapp.cartesian import line_path
 from rapp.collision import scene
@@ -163,7 +171,7 @@ STAGES = ("compile", "ik", "cspace", "search", "smoothing", "trajectory", "verif
 PLANNERS = planner_table.PLANNERS
 
 
-def plan(scenario) -> Plan:
+def plan(scenario: Scenario | str | os.PathLike | Mapping[str, Any]) -> Plan:
     """Plan, time and verify a collision-free trajectory.
 
     Parameters

@@ -288,6 +288,9 @@ def run(name: str, arm, start, goal, obstacles=(), **settings) -> PlannerResult:
     (True, 'certified cells', [-4.2832, 0.0])
     """
     p = entry(name)
+    if "neighbors" in settings:  # the American spelling of the setting, accepted as well
+        settings = {"neighbours": settings["neighbors"],
+                    **{k: v for k, v in settings.items() if k != "neighbors"}}
     kw = {s.key: settings.get(s.key, s.default) for s in p.settings}
     if "raise_on_failure" in settings:
         kw["raise_on_failure"] = settings["raise_on_failure"]

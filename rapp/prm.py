@@ -27,6 +27,13 @@ import time
 from collections import namedtuple
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
+    from rapp.obstacles import Circle, Polygon
 
 from rapp import heap, progress, sampling_kernel
 from rapp.checks import positive_integer
@@ -172,10 +179,11 @@ def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None):
     return parent, -1
 
 
-def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int = 10, seed=0,
+def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle | Polygon] = (), *,
+        samples: int = 500, neighbours: int = 10, seed: int | np.random.SeedSequence = 0,
         max_iterations: int = 500, time_budget: float | None = None,
         max_samples: int | None = None, raise_on_failure: bool = True,
-        margin: float = 0.0) -> PlannerResult:
+        neighbors: int | None = None, margin: float = 0.0) -> PlannerResult:
     """Plan with a lazy probabilistic roadmap from ``start`` to a goal configuration.
 
     Parameters
@@ -186,6 +194,8 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
         Free configurations added to the roadmap each time it holds no path.
     neighbours : int
         Candidate edges from each node to its nearest nodes.
+    neighbors : int, optional
+        The same, spelled the American way; give one of the two.
     max_iterations : int
         Path searches at most (each followed by certifying the path it found).
     max_samples : int, optional
@@ -214,6 +224,11 @@ def prm(arm, start, goal, obstacles=(), *, samples: int = 500, neighbours: int =
     arm, obstacles = scene(arm, list(obstacles), margin)
     obstacles = list(obstacles)
     samples = positive_integer(samples, "samples")
+    if neighbors is not None:
+        if neighbours != 10 and neighbours != neighbors:
+            raise InvalidSetting(f"neighbors={neighbors} and neighbours={neighbours} disagree: "
+                                 "give one of them", "neighbors")
+        neighbours = neighbors
     neighbours = positive_integer(neighbours, "neighbours")
     cap_name = "samples" if max_samples is None else "max_samples"
     max_samples = 20 * samples if max_samples is None else positive_integer(max_samples, "max_samples")

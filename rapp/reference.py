@@ -7,23 +7,23 @@ random inputs (the reference is the oracle) and the benchmarks time them side by
 them; a new fast path keeps its predecessor here, documented, instead of as a private copy
 next to it.
 
-=====================  ==========================================================
-reference              the fast function it checks
-=====================  ==========================================================
-:func:`occupancy`      :func:`rapp.cspace.occupancy` (every link against every
-                       obstacle on every cell of its prefix grid)
-:func:`certified_free` :func:`rapp.cspace.certified_free` (link clearances on
-                       every prefix cell)
-=====================  ==========================================================
-:func:`collides`       :func:`rapp.collision.collides` (numpy over a batch; the
-                       compiled kernel of :mod:`rapp._kernels.collision_numba` replaced it)
-:func:`link_clearances` :func:`rapp.collision.link_clearances`
-:func:`segment_collision_free` :func:`rapp.collision.segment_collision_free` (the
-                       bisection as numpy arrays, level by level)
-:func:`link_gaps`      :func:`rapp.collision.link_clearances` of thick links
-                       (a capsule's distance from each obstacle, one at a time,
-                       with no grown shapes: :func:`capsule_distance`)
-=====================  ==========================================================
+================================  ==========================================================
+reference                         the fast function it checks
+================================  ==========================================================
+:func:`occupancy`                 :func:`rapp.cspace.occupancy` (every link against every
+                                  obstacle on every cell of its prefix grid)
+:func:`certified_free`            :func:`rapp.cspace.certified_free` (link clearances on
+                                  every prefix cell)
+:func:`collides`                  :func:`rapp.collision.collides` (numpy over a batch; the
+                                  compiled kernel of :mod:`rapp._kernels.collision_numba`
+                                  replaced it)
+:func:`link_clearances`           :func:`rapp.collision.link_clearances`
+:func:`segment_collision_free`    :func:`rapp.collision.segment_collision_free` (the
+                                  bisection as numpy arrays, level by level)
+:func:`link_gaps`                 :func:`rapp.collision.link_clearances` of thick links
+                                  (a capsule's distance from each obstacle, one at a time,
+                                  with no grown shapes: :func:`capsule_distance`)
+================================  ==========================================================
 
 The package never calls them: its numpy backend without numba is :mod:`rapp._kernels`'
 ``collision_numpy`` and ``occupancy_numpy``, which the tests compare with these.

@@ -17,10 +17,14 @@ import base64
 import json
 import os
 from dataclasses import dataclass, field as dc_field, replace
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
 
+from numpy.typing import ArrayLike  # noqa: F401
+
+from rapp.arm import Arm
 from rapp.cspace import JointGrid
 from rapp.errors import FileNotFound, InvalidFormat
 from rapp.files import atomic_output
@@ -29,7 +33,8 @@ from rapp.trajectory import PiecewisePolynomial
 from rapp.verify import Report
 
 __all__ = ["Plan", "save_result", "load_result", "motion_to_dict", "motion_from_dict",
-           "RESULT_FORMAT", "RESULT_VERSION"]
+           "RESULT_FORMAT", "RESULT_VERSION", "csv_columns", "save_csv", "joint_trajectory",
+           "save_joint_trajectory"]
 
 RESULT_FORMAT = "rapp-result"
 RESULT_VERSION = 1
@@ -245,7 +250,7 @@ def _jsonable(x):
     return x
 
 
-def save_result(plan: Plan, path, *, timings: bool = False) -> None:
+def save_result(plan: Plan, path: str | os.PathLike, *, timings: bool = False) -> None:
     """Write ``plan.to_dict()`` as JSON atomically (temporary file, then ``os.replace``).
 
     A crash while writing leaves any previous file at ``path`` intact. The
@@ -271,7 +276,7 @@ def save_result(plan: Plan, path, *, timings: bool = False) -> None:
             os.fsync(fh.fileno())
 
 
-def load_result(path) -> Plan:
+def load_result(path: str | os.PathLike) -> Plan:
     """Read a result file written by :func:`save_result`.
 
     Raises :class:`~rapp.errors.FileNotFound` or :class:`~rapp.errors.InvalidFormat`
@@ -307,3 +312,151 @@ def load_result(path) -> Plan:
     if not isinstance(d, dict):
         raise InvalidFormat("a result file holds one JSON object", field="result")
     return Plan.from_dict(d)
+
+
+# --------------------------------------------------------------------------- exports
+
+
+def _rows(source: Plan | PiecewisePolynomial, dt: float | None, joint_names, arm):
+    """``(t, q, qd, qdd, names)`` of a plan (its samples) or of a timed motion (sampled every
+    ``dt`` from its start, and at its end); ``q`` as the encoders read it (``q - offsets``)."""
+    if isinstance(source, Plan):
+        arm = source.scenario.arm if arm is None else arm
+        t, q, qd, qdd = (np.asarray(a, dtype=float) for a in (source.t, source.q, source.qd,
+                                                               source.qdd))
+    elif isinstance(source, PiecewisePolynomial):
+        if dt is None or not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f"a timed motion is sampled every dt seconds: give dt > 0, got {dt!r}")
+        t = np.append(np.arange(0.0, source.duration, dt), source.duration)
+        t = source.t0 + t[np.concatenate((np.diff(t) > 1e-9 * dt, [True]))]
+        q, qd, qdd = (np.asarray(a, dtype=float) for a in source.sample(t))
+    else:
+        raise ValueError(f"expected a Plan or a PiecewisePolynomial, got {type(source).__name__}")
+    n = q.shape[1]
+    if arm is not None:
+        q = arm.to_encoder(q)
+        names = list(arm.joint_names)
+    else:
+        names = [f"joint{i + 1}" for i in range(n)]
+    if joint_names is not None:
+        names = [str(s) for s in joint_names]
+    if len(names) != n:
+        raise ValueError(f"joint_names must hold {n} names, got {names!r}")
+    return t, q, qd, qdd, names
+
+
+def csv_columns(joint_names: Sequence[str]) -> list[str]:
+    """The header of :func:`save_csv`: ``t``, then ``q``, ``qd``, ``qdd`` of each joint in turn.
+
+    Examples
+    --------
+    >>> csv_columns(["shoulder", "elbow"])
+    ['t', 'q_shoulder', 'qd_shoulder', 'qdd_shoulder', 'q_elbow', 'qd_elbow', 'qdd_elbow']
+    """
+    return ["t"] + [f"{kind}_{name}" for name in joint_names for kind in ("q", "qd", "qdd")]
+
+
+def save_csv(source: Plan | PiecewisePolynomial, path: str | os.PathLike, *,
+             dt: float | None = None, joint_names: Sequence[str] | None = None,
+             arm: Arm | None = None) -> None:
+    """Write a trajectory as CSV, atomically: a header (:func:`csv_columns`), one row per sample.
+
+    ``t`` in seconds; per joint ``q`` (rad, as the joint's encoder reads it: ``q -
+    arm.joint_offsets``), ``qd`` (rad/s) and ``qdd`` (rad/s²), each written with ``repr``'s
+    17 significant digits, so the numbers read back exactly.
+
+    Parameters
+    ----------
+    source : Plan or PiecewisePolynomial
+        A plan (its samples, its scenario's arm) or a timed motion such as
+        :func:`rapp.time_path` returns, sampled every ``dt`` seconds and at its end.
+    path : str or path-like
+    dt : float, optional
+        The time step; required for a motion, not used for a plan.
+    joint_names : sequence of str, optional
+        Default: the arm's ``joint_names``, else ``joint1 .. jointn``.
+    arm : Arm, optional
+        For a motion: the arm whose ``joint_offsets`` and names apply.
+
+    Examples
+    --------
+    >>> import csv, os, tempfile
+    >>> from rapp import plan
+    >>> p = plan("default")
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     save_csv(p, os.path.join(d, "q.csv"))
+    ...     with open(os.path.join(d, "q.csv"), newline="") as fh:
+    ...         rows = list(csv.reader(fh))
+    >>> rows[0]
+    ['t', 'q_joint1', 'qd_joint1', 'qdd_joint1', 'q_joint2', 'qd_joint2', 'qdd_joint2']
+    >>> len(rows) - 1 == len(p.t), float(rows[-1][0]) == float(p.t[-1])
+    (True, True)
+    """
+    t, q, qd, qdd, names = _rows(source, dt, joint_names, arm)
+    n = q.shape[1]
+    table = np.empty((len(t), 1 + 3 * n))
+    table[:, 0] = t
+    table[:, 1::3], table[:, 2::3], table[:, 3::3] = q, qd, qdd
+    lines = [",".join(csv_columns(names))]
+    lines += [",".join(repr(float(x)) for x in row) for row in table]
+    _write_text(path, "\n".join(lines) + "\n")
+
+
+def joint_trajectory(source: Plan | PiecewisePolynomial, *, dt: float | None = None,
+                     joint_names: Sequence[str] | None = None,
+                     arm: Arm | None = None) -> dict:
+    """A trajectory as a ROS ``trajectory_msgs/JointTrajectory``-shaped mapping.
+
+    ``joint_names`` and ``points``, one per sample, each with ``positions`` (rad, as the
+    encoders read them: ``q - arm.joint_offsets``), ``velocities`` (rad/s),
+    ``accelerations`` (rad/s²) and ``time_from_start`` as ROS 2 writes a duration:
+    ``{"sec": int, "nanosec": int}``. ``source``, ``dt``, ``joint_names`` and ``arm`` as in
+    :func:`save_csv`.
+
+    Examples
+    --------
+    >>> from rapp import plan, time_path
+    >>> jt = joint_trajectory(plan("default"))
+    >>> jt["joint_names"], sorted(jt["points"][1])
+    (['joint1', 'joint2'], ['accelerations', 'positions', 'time_from_start', 'velocities'])
+    >>> jt["points"][0]["time_from_start"]
+    {'sec': 0, 'nanosec': 0}
+    >>> m = joint_trajectory(time_path([[0.0], [1.0]], 2.0), dt=0.5, joint_names=["wrist"])
+    >>> [p["time_from_start"] for p in m["points"]][-2:]
+    [{'sec': 1, 'nanosec': 500000000}, {'sec': 2, 'nanosec': 0}]
+    """
+    t, q, qd, qdd, names = _rows(source, dt, joint_names, arm)
+    points = []
+    for i, ti in enumerate(t):
+        ns = int(round(float(ti) * 1e9))
+        points.append({"positions": q[i].tolist(), "velocities": qd[i].tolist(),
+                       "accelerations": qdd[i].tolist(),
+                       "time_from_start": {"sec": ns // 1_000_000_000, "nanosec": ns % 1_000_000_000}})
+    return {"joint_names": names, "points": points}
+
+
+def save_joint_trajectory(source: Plan | PiecewisePolynomial, path: str | os.PathLike, *,
+                          dt: float | None = None, joint_names: Sequence[str] | None = None,
+                          arm: Arm | None = None) -> None:
+    """Write :func:`joint_trajectory` as JSON, atomically (arguments as :func:`save_csv`).
+
+    Examples
+    --------
+    >>> import json, os, tempfile
+    >>> from rapp import plan
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     save_joint_trajectory(plan("default"), os.path.join(d, "jt.json"))
+    ...     with open(os.path.join(d, "jt.json"), encoding="utf-8") as fh:
+    ...         sorted(json.load(fh))
+    ['joint_names', 'points']
+    """
+    jt = joint_trajectory(source, dt=dt, joint_names=joint_names, arm=arm)
+    _write_text(path, json.dumps(jt, allow_nan=False, separators=(",", ":")))
+
+
+def _write_text(path, text: str) -> None:
+    with atomic_output(path) as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())

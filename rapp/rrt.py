@@ -68,6 +68,13 @@ from dataclasses import dataclass
 from typing import Mapping
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
+    from rapp.obstacles import Circle, Polygon
 
 from rapp._kernels import collision as collision_backend
 from rapp import progress
@@ -146,17 +153,17 @@ class RRTStep:
 
 
 def rrt(
-    arm,
-    start,
-    goal=None,
-    obstacles=(),
+    arm: Arm,
+    start: ArrayLike,
+    goal: ArrayLike | None = None,
+    obstacles: Iterable[Circle | Polygon] = (),
     *,
-    goal_xy=None,
+    goal_xy: ArrayLike | None = None,
     step: float = 0.1,
     goal_bias: float = 0.1,
     goal_threshold: float = 0.01,
     max_iterations: int = 20000,
-    seed=0,
+    seed: int | np.random.SeedSequence = 0,
     steer: str = "step",
     raise_on_failure: bool = True,
     trace: list | None = None,
@@ -209,7 +216,8 @@ def rrt(
     Raises
     ------
     NoPathFound
-        The start collides, the goal is beyond reach, or ``max_iterations``
+        The start collides, every joint goal collides (said before any iteration; a
+        colliding goal among others is dropped), the goal is beyond reach, or ``max_iterations``
         passed without reaching the goal (unless ``raise_on_failure=False``).
 
     Examples
@@ -242,6 +250,12 @@ def rrt(
         collision_backend.kernels()
     if collides(arm, start, obstacles):
         return fail("the start configuration collides", 0, NO_PATH)
+    if goals is not None and gxy is None and (obstacles or arm.self_collision):
+        # As the other planners do (rapp.sampling.check_start_and_goals): a colliding goal can
+        # never be joined, so it is dropped, and when every goal collides the answer is at once.
+        goals = goals[~collides(arm, goals, obstacles)]
+        if len(goals) == 0:
+            return fail("every goal configuration collides", 0, NO_PATH)
     if gxy is not None and np.linalg.norm(gxy) > arm.reach[1] + goal_threshold:
         return fail("goal_xy is beyond the arm's reach", 0, NO_PATH)
 

@@ -21,6 +21,13 @@ from __future__ import annotations
 from types import SimpleNamespace
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
+    from rapp.obstacles import Circle, Polygon
 
 from rapp import progress
 from rapp.checks import finite_number
@@ -173,7 +180,8 @@ def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reac
     return last, ok == k and frac[-1] == 1.0
 
 
-def rrt_connect(arm, start, goal, obstacles=(), *, step: float = 0.1, seed=0,
+def rrt_connect(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle | Polygon] = (), *,
+                step: float = 0.1, seed: int | np.random.SeedSequence = 0,
                 max_iterations: int = 20000, time_budget: float | None = None,
                 raise_on_failure: bool = True, margin: float = 0.0) -> PlannerResult:
     """Plan from ``start`` to a goal configuration with two trees that grow toward each other.

@@ -23,6 +23,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.arm import Arm
+    from rapp.obstacles import Circle, Polygon
 
 from rapp import sampling_kernel
 from rapp._kernels import collision as collision_backend
@@ -95,8 +102,9 @@ def _shift_subtree_cost(tree: Tree, root: int, delta: float) -> None:
         todo = kids.tolist()
 
 
-def rrt_star(arm, start, goal, obstacles=(), *, step: float = 0.1, goal_bias: float = 0.1,
-             goal_threshold: float = 0.01, seed=0, max_iterations: int = 3000,
+def rrt_star(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle | Polygon] = (), *,
+             step: float = 0.1, goal_bias: float = 0.1,
+             goal_threshold: float = 0.01, seed: int | np.random.SeedSequence = 0, max_iterations: int = 3000,
              time_budget: float | None = None, gamma: float | None = None,
              radius: float | None = None, raise_on_failure: bool = True,
              margin: float = 0.0) -> PlannerResult:

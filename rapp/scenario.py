@@ -37,6 +37,9 @@ from types import MappingProxyType
 from typing import Any, Mapping
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 from rapp.arm import Arm
 from rapp.errors import FileNotFound, InvalidFormat, InvalidValue, MissingParameter
@@ -76,6 +79,9 @@ __all__ = [
     "ALGORITHMS",
     "check_limits",
     "SETTINGS_OF",
+    "TOP_KEYS",
+    "TRAJECTORY_KEYS",
+    "ARM_OPTIONAL_KEYS",
 ]
 
 #: SRS Table 4 software ranges (warnings, not errors).
@@ -158,9 +164,16 @@ PROFILES = ("cubic", "quintic", "spline", "trapezoidal")
 #: from its start position to ``goal.position`` (:func:`rapp.cartesian.line_path`).
 GOAL_PATHS = ("line",)
 
-_TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
-             "description", "safety_margin")
-_TRAJECTORY_KEYS = ("duration", "profile", "samples", "max_velocity", "max_acceleration")
+#: The keys of a scenario file's top level (rapp.schema builds the JSON Schema from these).
+TOP_KEYS = ("arm", "obstacles", "start", "goal", "units", "planner", "trajectory", "name",
+            "description", "safety_margin")
+_TOP_KEYS = TOP_KEYS
+#: The keys of ``trajectory``.
+TRAJECTORY_KEYS = ("duration", "profile", "samples", "dt", "max_velocity", "max_acceleration")
+_TRAJECTORY_KEYS = TRAJECTORY_KEYS
+#: The keys ``arm`` accepts besides ``link_lengths``.
+ARM_OPTIONAL_KEYS = ("joint_limits", "link_radius", "self_collision", "joint_names", "base",
+                     "joint_offsets")
 #: The keys ``planner`` accepts and those only sampling planners read (A* validates them, then
 #: warns they are ignored), from the planner table at import (the loader reads the table).
 _PLANNER_KEYS = ("algorithm",) + tuple(planner_table.all_settings())
@@ -221,6 +234,9 @@ class TrajectorySettings:
     samples: int = 200
     max_velocity: tuple | None = None
     max_acceleration: tuple | None = None
+    #: A fixed time step (s) instead of a sample count: samples at ``0, dt, 2 dt, ...`` and the
+    #: end (:func:`rapp.timing.sample_times`); ``None``: ``samples`` even times.
+    dt: float | None = None
 
     @property
     def limited(self) -> bool:
@@ -318,7 +334,7 @@ class Scenario:
         return {
             "name": self.name,
             "description": self.description,
-            "arm": arm,
+            "arm": {**arm, **self._frame_dict()},
             **extra,
             "obstacles": obs,
             "start": list(self.start),
@@ -327,6 +343,17 @@ class Scenario:
             "planner": planner,
             "trajectory": self._trajectory_dict(),
         }
+
+    def _frame_dict(self) -> dict:
+        """The arm's names, base and offsets, each only when it is not the default."""
+        arm, out = self.arm, {}
+        if arm.joint_names != tuple(f"joint{i + 1}" for i in range(arm.n)):
+            out["joint_names"] = list(arm.joint_names)
+        if any(arm.base):
+            out["base"] = dict(zip(("x", "y", "heading"), arm.base))
+        if any(arm.joint_offsets):
+            out["joint_offsets"] = list(arm.joint_offsets)
+        return out
 
     def _goal_dict(self) -> dict:
         if self.goal_q is not None:
@@ -339,7 +366,7 @@ class Scenario:
     def _trajectory_dict(self) -> dict:
         t = self.trajectory
         out = {} if t.duration is None else {"duration": t.duration}
-        out.update(profile=t.profile, samples=t.samples)
+        out.update(profile=t.profile, **({"samples": t.samples} if t.dt is None else {"dt": t.dt}))
         if t.max_velocity is not None:
             out["max_velocity"] = list(t.max_velocity)
         if t.max_acceleration is not None:
@@ -624,8 +651,7 @@ class _Reader:
 
 
 def _parse_arm(r: _Reader, v) -> Arm:
-    arm_d = _object(v, "arm", required=("link_lengths",), optional=("joint_limits", "link_radius",
-                                                                     "self_collision"))
+    arm_d = _object(v, "arm", required=("link_lengths",), optional=ARM_OPTIONAL_KEYS)
     items = _list(arm_d["link_lengths"], "arm.link_lengths")
     if not items:
         raise InvalidValue("the arm needs at least one link", field="arm.link_lengths")
@@ -642,9 +668,10 @@ def _parse_arm(r: _Reader, v) -> Arm:
     self_collision = arm_d.get("self_collision", False)
     if not isinstance(self_collision, bool):
         raise InvalidValue(f"must be true or false, got {self_collision!r}", field="arm.self_collision")
+    frame = _parse_frame(r, arm_d, n)
     limits_v = arm_d.get("joint_limits")
     if limits_v is None:
-        return Arm(lengths, link_radius=radius, self_collision=self_collision)
+        return Arm(lengths, link_radius=radius, self_collision=self_collision, **frame)
     items = _list(limits_v, "arm.joint_limits", n, f"entries (one per joint; the arm has {n})")
     limits = []
     for i, lim in enumerate(items):
@@ -659,7 +686,7 @@ def _parse_arm(r: _Reader, v) -> Arm:
             raise InvalidValue(f"spans {hi - lo:.4g} rad > 2 pi; use null for a free joint", field=f)
         r.warn_outside_pi([lo, hi], f)
         limits.append((lo, hi))
-    return Arm(lengths, limits, link_radius=radius, self_collision=self_collision)
+    return Arm(lengths, limits, link_radius=radius, self_collision=self_collision, **frame)
 
 
 def _gap(v, field: str) -> float:
@@ -677,6 +704,27 @@ def _link_radius(r: "_Reader", v, n: int) -> list:
         items = _list(v, "arm.link_radius", n, f"entries (one per link; the arm has {n})")
         return [_gap(x, f"arm.link_radius[{i}]") for i, x in enumerate(items)]
     return [_gap(v, "arm.link_radius")] * n
+
+
+def _parse_frame(r: _Reader, arm_d: dict, n: int) -> dict:
+    """``joint_names``, ``base`` and ``joint_offsets`` of ``arm`` as :class:`rapp.Arm` takes them."""
+    out: dict = {}
+    if arm_d.get("joint_names") is not None:
+        names = _list(arm_d["joint_names"], "arm.joint_names", n, f"names (one per joint; the arm has {n})")
+        out["joint_names"] = [_string(s, f"arm.joint_names[{i}]") for i, s in enumerate(names)]
+        for i, s in enumerate(out["joint_names"]):
+            if not s or s in out["joint_names"][:i]:
+                raise InvalidValue(f"must be a non-empty name, distinct from the others, got {s!r}",
+                                   field=f"arm.joint_names[{i}]")
+    if arm_d.get("base") is not None:
+        base = _object(arm_d["base"], "arm.base", optional=("x", "y", "heading"))
+        x, y = r.point([base.get("x", 0.0), base.get("y", 0.0)], "arm.base")
+        out["base"] = (x, y, r.angle(base.get("heading", 0.0), "arm.base.heading"))
+    if arm_d.get("joint_offsets") is not None:
+        items = _list(arm_d["joint_offsets"], "arm.joint_offsets", n,
+                      f"angles (one per joint; the arm has {n})")
+        out["joint_offsets"] = r.angles(items, "arm.joint_offsets")
+    return out
 
 
 def _build(constructor, field: str, *args):
@@ -821,10 +869,25 @@ def _parse_trajectory(r: _Reader, v, n: int) -> TrajectorySettings:
                                f"{duration:g}", field="trajectory.duration")
     else:
         duration = None   # the shortest within the limits, found by rapp.plan
-    samples = _integer(d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES)
+    dt = None
+    if "dt" in d:
+        if "samples" in d:
+            raise InvalidFormat("give samples or dt (a fixed time step), not both",
+                                field="trajectory.dt")
+        dt = _number(d["dt"], "trajectory.dt")
+        if not 1.0 / MAX_SAMPLE_RATE <= dt <= MAX_DURATION:
+            raise InvalidValue(f"must lie in [{1.0 / MAX_SAMPLE_RATE:g}, {MAX_DURATION:g}] s, got "
+                               f"{dt:g}", field="trajectory.dt")
+        if duration is not None and duration / dt + 1 > max(SAMPLES_ANY_RATE, MAX_SAMPLES):
+            raise InvalidValue(f"{duration:g} s in steps of {dt:g} s is too many samples",
+                               field="trajectory.dt")
+        # The sample count the step gives (the motion under limits sets its own duration).
+        samples = max(2, math.ceil(duration / dt - 1e-9) + 1) if duration is not None else 200
+    else:
+        samples = _integer(d.get("samples", 200), "trajectory.samples", 2, MAX_SAMPLES)
     _check_sample_rate(samples, duration)
     return TrajectorySettings(duration=duration, profile=profile, samples=samples,
-                              max_velocity=vmax, max_acceleration=amax)
+                              max_velocity=vmax, max_acceleration=amax, dt=dt)
 
 
 def _check_sample_rate(samples: int, duration) -> None:
@@ -1008,7 +1071,8 @@ def preflight(scenario: Scenario) -> None:
                 f"this configuration collides with an obstacle (clearance {d:.3g} m)", field=field)
 
 
-def load_scenario(source, *, check: bool = True) -> Scenario:
+def load_scenario(source: str | os.PathLike | Mapping[str, Any] | Scenario, *,
+                  check: bool = True) -> Scenario:
     """Load and validate a scenario.
 
     Parameters
@@ -1142,7 +1206,8 @@ def echo(scenario: Scenario) -> str:
     t = s.trajectory
     length = ("the shortest duration within the limits" if t.duration is None
               else f"{_fmt(t.duration)} s")
-    rows.append(("trajectory", f"{t.profile}, {length}, {t.samples} samples"))
+    rows.append(("trajectory", f"{t.profile}, {length}, "
+                 + (f"{t.samples} samples" if t.dt is None else f"a sample every {_fmt(t.dt)} s")))
 
     def rates(values, unit):
         txt = "[" + ", ".join(_fmt(v) for v in values) + f"] rad/{unit}"

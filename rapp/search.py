@@ -37,6 +37,9 @@ import operator
 from dataclasses import dataclass
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 from rapp._kernels import search as _backend
 from rapp._kernels import search_python
@@ -389,7 +392,9 @@ def _raise_for(status, limit, sidx, gidx):
         raise NoPathFound(f"the goal {gidx} cannot be reached from the start {sidx}")
 
 
-def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expansions=None):
+def astar(occupied: ArrayLike, start: Sequence[int], goal: Sequence[int], *,
+          wraps: bool | Sequence[bool] = True, heuristic_weight: float = 1.0,
+          max_expansions: int | None = None) -> list[tuple[int, ...]]:
     """Shortest path on an occupancy grid by A* (TM:AStarJointSpace, MIS planPath).
 
     The search of :func:`astar_search` (see there for the heuristic, the
@@ -450,7 +455,8 @@ def astar(occupied, start, goal, *, wraps=True, heuristic_weight=1.0, max_expans
 # --------------------------------------------------------------------------- BFS oracle
 
 
-def bfs_distances(occupied, start, wraps=True):
+def bfs_distances(occupied: ArrayLike, start: Sequence[int],
+                  wraps: bool | Sequence[bool] = True) -> np.ndarray:
     """Step distance from ``start`` to every cell, by breadth-first search.
 
     The frontier of each level is expanded at once with numpy, so the cost is

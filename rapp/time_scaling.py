@@ -35,6 +35,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 # rapp.trajectory's argument checks, so that a bad or overflowing input is refused with the
 # same messages in both modules.
@@ -408,7 +411,8 @@ def trapezoidal_moves(p0, pf, vmax, amax) -> TrapezoidMoves:
     return TrapezoidMoves(a, b, np.stack((e1, e2, e3), axis=1), vel)
 
 
-def trapezoidal_path(waypoints, vmax, amax, *, wraps=None) -> PiecewisePolynomial:
+def trapezoidal_path(waypoints: ArrayLike, vmax: ArrayLike, amax: ArrayLike, *,
+                     wraps: ArrayLike | None = None) -> PiecewisePolynomial:
     """The fastest motion along a path that stops at every waypoint.
 
     One :func:`trapezoidal` move per segment, back to back: each segment
@@ -507,7 +511,8 @@ def peak_rates(pp: PiecewisePolynomial) -> tuple[np.ndarray, np.ndarray]:
 # --------------------------------------------------------------------------- minimum duration
 
 
-def minimum_duration(waypoints, profile: str, vmax, amax, *, wraps=None) -> float:
+def minimum_duration(waypoints: ArrayLike, profile: str, vmax: ArrayLike, amax: ArrayLike, *,
+                     wraps: ArrayLike | None = None) -> float:
     """The shortest duration of a rest-to-rest timing of ``waypoints`` within the limits.
 
     Parameters

@@ -69,13 +69,15 @@ DURATION_MARGIN = 1e-9
 _REST_SHAPES = {"cubic": (1.5, 6.0), "quintic": (1.875, 10.0 / math.sqrt(3.0))}
 
 
-def sample_times(duration: float, samples: int, breakpoints) -> np.ndarray:
+def sample_times(duration: float, samples: int, breakpoints, dt: float | None = None) -> np.ndarray:
     """``samples`` even times, plus each breakpoint and three inner times of every piece that
     the even times leave with fewer than three samples inside.
 
     The times lie in ``[0, duration]``, strictly increasing, the first 0 and the last exactly
     ``duration``: a breakpoint that rounding put an ulp past the duration is clipped to it,
-    never kept as a second sample next to it. Plotting a piece seen only at its two ends (a
+    never kept as a second sample next to it. With ``dt`` (a fixed time step,
+    ``trajectory.dt``) the even times are ``0, dt, 2 dt, ...`` and ``duration`` (the last step
+    may be shorter); ``samples`` is then not used. Plotting a piece seen only at its two ends (a
     rest-to-rest quintic has zero velocity and acceleration there) would show a jump.
 
     Examples
@@ -83,7 +85,11 @@ def sample_times(duration: float, samples: int, breakpoints) -> np.ndarray:
     >>> sample_times(5.0, 3, [0.0, 2.5, 5.000000000000001]).tolist()
     [0.0, 0.625, 1.25, 1.875, 2.5, 3.125, 3.75, 4.375, 5.0]
     """
-    t = np.linspace(0.0, duration, samples)
+    if dt is None:
+        t = np.linspace(0.0, duration, samples)
+    else:
+        steps = np.arange(0.0, duration, dt)
+        t = np.append(steps[steps < duration - 1e-9 * dt], duration)
     bp = np.asarray(breakpoints, float)
     inside = np.searchsorted(t, bp[1:], side="left") - np.searchsorted(t, bp[:-1], side="right")
     sparse = np.flatnonzero(inside < 3)
@@ -151,7 +157,7 @@ def _time_smooth(arm, obs, path, tr):
     if len(path) >= 2:
         pp = _ending_at(time_path(path, tr.duration, profile=tr.profile), tr.duration)
         if _motion_ok(arm, obs, pp, path):
-            t, q, qd, qdd = _sample(pp, path, tr.duration, tr.samples)
+            t, q, qd, qdd = _sample(pp, path, tr.duration, tr.samples, dt=getattr(tr, "dt", None))
             return t, q, qd, qdd, tr.profile, pp
         fallback = f"rest-to-rest per segment (the {tr.profile} curve left the free polyline)"
     else:
@@ -255,9 +261,10 @@ def _limited_motion(tr, w: np.ndarray, kind: str, what: str):
     return build(T), T_min
 
 
-def _sample(pp: PiecewisePolynomial, path, duration: float, samples: int, every_breakpoint=False):
+def _sample(pp: PiecewisePolynomial, path, duration: float, samples: int, every_breakpoint=False,
+            dt: float | None = None):
     """The motion's samples; ``pp`` must end exactly at ``duration`` (:func:`_ending_at`)."""
-    t = sample_times(duration, samples, pp.breakpoints)
+    t = sample_times(duration, samples, pp.breakpoints, dt)
     if every_breakpoint:   # every sample chord then lies on one edge of the path
         t = _times(np.concatenate((t, pp.breakpoints)), duration)
     q, qd, qdd = (np.asarray(a, float) for a in pp.sample(t))
@@ -287,21 +294,21 @@ def _time_motion(arm, obs, path, tr, line: bool):
             pp = _rest_to_rest(w, rest, tr.duration * lengths / lengths.sum())
         T = tr.duration if tr.duration is not None else pp.tf
         pp = _ending_at(pp, T)
-        t, q, qd, qdd = _sample(pp, w, T, tr.samples, every_breakpoint=True)
+        t, q, qd, qdd = _sample(pp, w, T, tr.samples, every_breakpoint=True, dt=getattr(tr, "dt", None))
     elif tr.profile == "trapezoidal":
         label = "trapezoidal"
         pp, info["min_duration_s"] = _limited_motion(tr, w, "trapezoidal",
                                                      "trapezoidal motion along the planned path")
         T = tr.duration if tr.duration is not None else pp.tf
         pp = _ending_at(pp, T)
-        t, q, qd, qdd = _sample(pp, w, T, tr.samples)
+        t, q, qd, qdd = _sample(pp, w, T, tr.samples, dt=getattr(tr, "dt", None))
     else:
         label = tr.profile
         pp, info["min_duration_s"] = _limited_motion(
             tr, w, "uniform", f"{tr.profile} motion along the planned path")
         T = tr.duration if tr.duration is not None else pp.tf
         pp = _ending_at(pp, T)
-        t, q, qd, qdd = _sample(pp, w, T, tr.samples)
+        t, q, qd, qdd = _sample(pp, w, T, tr.samples, dt=getattr(tr, "dt", None))
         if not _motion_ok(arm, obs, pp, w):   # rest-to-rest along the certified polyline, each segment at its shortest
             label = (f"rest-to-rest quintic per segment (the {tr.profile} curve left the free "
                      "polyline)")
@@ -310,7 +317,7 @@ def _time_motion(arm, obs, path, tr, line: bool):
                 f"(the {tr.profile} curve leaves the free polyline)")
             T = tr.duration if tr.duration is not None else pp.tf
             pp = _ending_at(pp, T)
-            t, q, qd, qdd = _sample(pp, w, T, tr.samples)
+            t, q, qd, qdd = _sample(pp, w, T, tr.samples, dt=getattr(tr, "dt", None))
     info["duration_s"] = float(t[-1])
     return t, q, qd, qdd, label, pp, info
 

@@ -31,6 +31,9 @@ from dataclasses import dataclass, field
 from math import comb
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
 
 from rapp.checks import sorted_unique, positive_integer
 
@@ -122,7 +125,8 @@ def _too_short(what, h):
             "accelerations asked")
 
 
-def cubic(t0, tf, p0, pf, v0=0.0, vf=0.0) -> np.ndarray:
+def cubic(t0: ArrayLike, tf: ArrayLike, p0: ArrayLike, pf: ArrayLike, v0: ArrayLike = 0.0,
+          vf: ArrayLike = 0.0) -> np.ndarray:
     """Cubic through ``(t0, p0, v0)`` and ``(tf, pf, vf)`` (seed 002, eq. 5-6).
 
     Returns
@@ -175,7 +179,8 @@ def _positive_durations(h):
     return h
 
 
-def quintic(t0, tf, p0, pf, v0=0.0, vf=0.0, a0=0.0, af=0.0) -> np.ndarray:
+def quintic(t0: ArrayLike, tf: ArrayLike, p0: ArrayLike, pf: ArrayLike, v0: ArrayLike = 0.0,
+            vf: ArrayLike = 0.0, a0: ArrayLike = 0.0, af: ArrayLike = 0.0) -> np.ndarray:
     """Quintic through position, velocity and acceleration at both ends.
 
     Returns
@@ -260,6 +265,8 @@ class PiecewisePolynomial:
         constructors of this module pass it; otherwise it is derived from
         ``coefficients``.
 
+    Notes
+    -----
     Evaluation uses the local form. Absolute-time coefficients of a segment
     late in a long trajectory are large and cancel each other (evaluating
     ``sum a_k t^k`` at ``t = 20`` for a degree-5 segment 0.5 s long loses about
@@ -526,8 +533,9 @@ def _end_values(values, d):
     return values[0], values[-1]
 
 
-def via_points(times, positions, velocities=None, profile: str = "cubic",
-               accelerations=None) -> PiecewisePolynomial:
+def via_points(times: ArrayLike, positions: ArrayLike, velocities: ArrayLike | None = None,
+               profile: str = "cubic",
+               accelerations: ArrayLike | None = None) -> PiecewisePolynomial:
     """A trajectory through via points (seed 002 Task 1, generalized).
 
     Parameters
@@ -595,20 +603,31 @@ def via_points(times, positions, velocities=None, profile: str = "cubic",
     return PiecewisePolynomial.from_local(times, np.moveaxis(c, 0, 1))
 
 
-def time_path(waypoints, duration: float, profile: str = "cubic", *, wraps=None,
-              t0: float = 0.0) -> PiecewisePolynomial:
+def time_path(waypoints: ArrayLike, duration: float | None = None, profile: str = "cubic", *,
+              vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
+              wraps: ArrayLike | None = None, t0: float = 0.0) -> PiecewisePolynomial:
     """Turn a joint-space path into ``q(t)``, starting and ending at rest.
 
     The time of each waypoint is proportional to the joint-space (Euclidean)
     distance travelled so far, so the arm keeps a roughly even speed along a
-    grid path; repeated waypoints are dropped.
+    grid path; repeated waypoints are dropped. Give the ``duration``, or joint
+    limits ``vmax`` and/or ``amax``: without a duration the motion is the
+    shortest one of that profile within the limits
+    (:func:`rapp.time_scaling.minimum_duration`); with both, a duration too
+    short for the limits is refused.
 
     Parameters
     ----------
     waypoints : (k, n)
-    duration : float, > 0
-    profile : "cubic", "quintic" or "spline"
-        See :func:`via_points`; all three have zero velocity at both ends.
+    duration : float, > 0, optional
+        Required unless ``vmax`` or ``amax`` is given.
+    profile : "cubic", "quintic", "spline" or "trapezoidal"
+        See :func:`via_points`; all of them have zero velocity at both ends.
+        ``"trapezoidal"`` (:func:`rapp.time_scaling.trapezoidal_path`: the
+        fastest motion that stops at every waypoint) needs both limits.
+    vmax, amax : float or (n,), > 0, optional
+        Joint velocity (rad/s) and acceleration (rad/s²) limits; one alone
+        leaves the other unbounded.
     wraps : sequence of bool, optional
         Joints that turn freely: their angles are unwrapped along the path
         first (``np.unwrap``) so that a step across ``+-pi`` moves the short
@@ -623,7 +642,19 @@ def time_path(waypoints, duration: float, profile: str = "cubic", *, wraps=None,
     [0.0, 2.0, 4.0]
     >>> pp.evaluate([0.0, 4.0], 1).tolist()
     [[0.0, 0.0], [0.0, 0.0]]
+
+    Under limits instead of a duration (one joint, one radian: a cubic needs
+    ``max(1.5 D / v, sqrt(6 D / a))``):
+
+    >>> round(time_path([0.0, 1.0], vmax=1.0, amax=6.0).duration, 9)
+    1.5
+    >>> round(time_path([0.0, 1.0], vmax=1.0, amax=1.0, profile="trapezoidal").duration, 9)
+    2.0
     """
+    if vmax is not None or amax is not None or profile == "trapezoidal":
+        return _time_path_within(waypoints, duration, profile, vmax, amax, wraps, t0)
+    if duration is None:
+        raise ValueError("give a duration, or joint limits vmax and/or amax")
     w = finite_array(waypoints, "waypoints")
     if w.ndim == 1:
         w = w[:, None]
@@ -651,6 +682,58 @@ def time_path(waypoints, duration: float, profile: str = "cubic", *, wraps=None,
         return PiecewisePolynomial.from_local(times, np.stack(
             [w[0], np.zeros_like(w[0]), np.zeros_like(w[0]), np.zeros_like(w[0])])[None])
     return via_points(times, w, profile=profile)
+
+
+def _time_path_within(waypoints, duration, profile, vmax, amax, wraps, t0):
+    """:func:`time_path` under joint limits: the shortest duration, or the one given if it is
+    long enough. A motion ``q_T(t) = q_1(t / T)`` has peak speeds ``V / T`` and accelerations
+    ``A / T**2`` (see :func:`rapp.time_scaling.minimum_duration`)."""
+    from rapp import time_scaling  # it builds on this module: imported when first needed
+
+    w = time_scaling.clean_waypoints(waypoints, wraps)
+    n = w.shape[1]
+    if profile == "trapezoidal":
+        if vmax is None or amax is None:
+            raise ValueError("the trapezoidal profile needs both vmax and amax")
+        if w.shape[0] < 2:
+            raise ValueError("waypoints must move: all of them are the same configuration")
+        pp = time_scaling.trapezoidal_path(w, vmax, amax)
+        T_min, stretch = pp.duration, pp
+    else:
+        if w.shape[0] < 2:
+            raise ValueError("waypoints must move under limits: all of them are the same "
+                             "configuration (give a duration to rest there)")
+        V, A = time_scaling.peak_rates(time_path(w, 1.0, profile))
+        with np.errstate(all="ignore"):
+            tv = V / _joint_limit(vmax, "vmax", n) if vmax is not None else np.zeros(n)
+            ta = np.sqrt(A / _joint_limit(amax, "amax", n)) if amax is not None else np.zeros(n)
+        # One ulp-scale margin: the peaks of time_path(w, T) are V / T up to rounding.
+        T_min, stretch = float(np.max(np.maximum(tv, ta))) * (1.0 + 1e-12), None
+        if not np.isfinite(T_min):
+            raise ValueError("the waypoints move too far for vmax and amax: the duration "
+                             "overflows float64")
+    T = T_min
+    if duration is not None:
+        T = _duration(duration)
+        if T < T_min:
+            raise ValueError(f"duration {T:g} s is too short for vmax and amax: the shortest "
+                             f"is {T_min:.6g} s")
+    t0 = float(finite_array(t0, "t0"))
+    if stretch is None:
+        return time_path(w, T, profile, t0=t0)
+    k = np.arange(stretch.local.shape[1])
+    c = T / stretch.duration
+    return PiecewisePolynomial.from_local(t0 + stretch.breakpoints * c,
+                                          stretch.local / c ** k[None, :, None])
+
+
+def _joint_limit(value, name: str, n: int) -> np.ndarray:
+    """``value`` as ``(n,)`` positive finite limits (a scalar applies to every joint)."""
+    a = finite_array(value, name)
+    if not (a.ndim == 0 or (a.ndim == 1 and a.size in (1, n))) or np.any(a <= 0):
+        raise ValueError(f"{name} must be > 0: a number or one number per joint ({n}), "
+                         f"got {a.tolist()}")
+    return np.broadcast_to(a, (n,)).astype(float)
 
 
 def _share(T, lengths, total):

@@ -51,6 +51,13 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
+from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+
+from numpy.typing import ArrayLike  # noqa: F401
+
+if TYPE_CHECKING:
+    from rapp.results import Plan
+    from rapp.scenario import Scenario
 
 from rapp.collision import (clearance, collides, scene, segment_collision_free, segment_point_distance,
                             self_clearance)
@@ -380,7 +387,7 @@ def _check_line(arm, q, xy, scenario) -> Check:
                  f"between samples along each joint-space chord ({sampled:.3g} m at the samples)")
 
 
-def verify(plan, scenario) -> Report:
+def verify(plan: Plan, scenario: Scenario) -> Report:
     """Check a plan's timed trajectory against the scenario.
 
     Parameters

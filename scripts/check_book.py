@@ -605,7 +605,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.shots:
             args.shots.mkdir(parents=True, exist_ok=True)
         live = check_live(base_url, [p.relative_to(root).as_posix() for p in pages
-                                     if "rappLive" in p.read_text(encoding="utf-8")], args.shots)
+                                     if "rapp.live.Explorer" in p.read_text(encoding="utf-8")], args.shots)
     finally:
         server.shutdown()
     book_mb = sum(f.stat().st_size for f in root.rglob("*") if f.is_file()) / 1e6

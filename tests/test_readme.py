@@ -25,6 +25,13 @@ def test_readme_python_blocks_run_and_plan_verifies(capsys):
     solutions = rapp.ik(ns["arm"], (1.2, 0.7))
     assert solutions.shape == (2, 2)
     assert np.allclose(ns["arm"].end_effector(solutions), (1.2, 0.7), atol=1e-12)
+    # The composed motion: shortened, timed within its limits (the shortest), exported.
+    assert len(ns["short"]) <= len(ns["raw"])
+    assert np.all(ns["vmax"] <= 1.0 + 1e-9) and np.all(ns["amax"] <= 2.0 + 1e-9)
+    assert max(ns["vmax"].max(), ns["amax"].max() / 2.0) > 1.0 - 1e-6
+    points = ns["trajectory"]["points"]
+    assert ns["trajectory"]["joint_names"] == ["shoulder", "elbow"] and len(points) > 2
+    assert np.allclose(points[-1]["positions"], ns["short"][-1])
 
 
 def test_readme_names_the_two_commands_ci_runs():

@@ -406,4 +406,5 @@ def test_cross_references_point_at_existing_labels():
     assert {r for r in refs if not r.startswith("srs-")} <= own
     assert PAGE.startswith("(scenario-format)=\n")
     for doc in re.findall(r"\{doc\}`([^`]+)`", PAGE):
-        assert (ROOT / "book" / doc).with_suffix(".ipynb").resolve().is_file(), doc
+        target = ROOT / "book" / doc
+        assert any(target.with_suffix(s).resolve().is_file() for s in (".ipynb", ".md")), doc
