@@ -63,6 +63,14 @@ __all__ = [
     "plot_polynomials",
     "plot_segment_circle",
     "split_at_seam",
+    "legend_outside",
+    "plot_ratios",
+    "plot_tree",
+    "plot_f_contours",
+    "plot_link_clearances",
+    "plot_sweep",
+    "plot_certification",
+    "plot_value_grid",
     "animate",
     "save_gif",
     "animation_html",
@@ -299,6 +307,68 @@ def _legend(ax, **kwargs):
     return style_axes(ax)
 
 
+def legend_outside(ax, extra=()):
+    """The legend of ``ax`` (plus the artists ``extra``) to the right of the axes, covering nothing.
+
+    ``extra`` holds handles the axes did not draw (a patch standing for an image's colour, say);
+    each gives its label. Returns ``ax``.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> ax = Figure().subplots()
+    >>> _ = ax.plot([0, 1], [0, 1], label="path")
+    >>> ax = legend_outside(ax, [patches.Patch(color="0.3", label="obstacle")])
+    >>> [t.get_text() for t in ax.get_legend().get_texts()]
+    ['path', 'obstacle']
+    """
+    handles, labels = ax.get_legend_handles_labels()
+    ax.legend(handles + list(extra), labels + [p.get_label() for p in extra],
+              loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
+    return style_axes(ax)
+
+
+def plot_ratios(labels, ratios, goals, ax=None, *, fmt=None):
+    """Horizontal bars of speed ratios (a peer's time over rapp's) on a log axis, with goal ticks.
+
+    Bars start at 1 (parity): to the right rapp is faster. A bar is blue where its ratio meets its
+    goal, red where it misses it and grey where ``goals`` holds ``None`` (no goal set); a black
+    tick marks each goal. ``fmt`` writes the ratio at a bar's end (default: two significant
+    digits). The first label is drawn at the top. Returns ``ax``.
+
+    Examples
+    --------
+    >>> ax = plot_ratios(["grid", "search"], [12.0, 0.8], [4, None])
+    >>> [round(float(b.get_width()) + 1, 6) for b in ax.patches]   # bar ends: the ratios
+    [12.0, 0.8]
+    >>> plt.close(ax.figure)
+    """
+    ratios = np.asarray(ratios, dtype=float)
+    fmt = fmt or (lambda k: f"{k:.2f}×")
+    met = [None if goal is None else bool(k >= goal) for k, goal in zip(ratios, goals)]
+    ax = _axes(ax, figsize=(8, 0.36 * len(ratios) + 1.2))
+    y = np.arange(len(ratios))[::-1]
+    colour = {True: COLORS["blue"], False: COLORS["vermillion"], None: "#999999"}
+    ax.barh(y, ratios - 1, left=1, height=0.6, color=[colour[ok] for ok in met])
+    for yi, k, goal in zip(y, ratios, goals):
+        end = k if goal is None else max(k, goal) if k >= 1 else min(k, goal)   # clear of the tick
+        ax.annotate(fmt(k), (end, yi), xytext=(4 if k >= 1 else -4, 0), textcoords="offset points",
+                    va="center", ha="left" if k >= 1 else "right", fontsize="small")
+        if goal is not None:
+            ax.plot([goal, goal], [yi - 0.4, yi + 0.4], color="black", lw=2.5)
+    ax.axvline(1, color="black", lw=0.8)
+    ax.set_xscale("log")
+    ax.set_xlim(min(ratios.min(), 0.5) / 40, ratios.max() * 12)
+    ax.set_yticks(y, labels, fontsize="small")
+    ax.set_xlabel("peer's time / rapp's time (right of 1: rapp faster)")
+    shown = [v for v in (True, False, None) if v in met]   # only the verdicts that occur
+    names = {True: "goal met", False: "goal missed", None: "no goal set"}
+    handles = [patches.Patch(color=colour[v], label=names[v]) for v in shown]
+    handles.append(Line2D([], [], color="black", lw=2.5, label="goal"))
+    ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=4, fontsize="small")
+    return style_axes(ax)
+
+
 def _workspace_frame(ax, arm, unit="m"):
     """Square, equal-aspect limits around the reach, grown to hold every patch drawn so far.
 
@@ -369,6 +439,156 @@ def plot_arm(arm, q, ax=None, *, color=ARM, alpha=1.0, label=None, ghost_alpha=(
     if frame:
         _workspace_frame(ax, arm, unit)
     return ax
+
+
+def plot_link_clearances(arm, q, discs, ax=None):
+    """Each link's clearance from its nearest disc, drawn as a dashed gap labelled ``d_j``.
+
+    For one configuration ``q`` of ``arm`` and discs (``rapp.Circle``), link ``j``'s gap runs from
+    its closest point to the nearest disc's rim; its label gives the clearance in metres. Returns
+    ``ax``; the arm and discs themselves are drawn by :func:`plot_arm` and :func:`plot_obstacles`.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> ax = plot_link_clearances(Arm([1.0, 1.0]), [0.0, 0.0], [Circle((1.0, 0.5), 0.2)])
+    >>> [t.get_text() for t in ax.texts]
+    ['$d_1$ = 0.30 m', '$d_2$ = 0.30 m']
+    >>> plt.close(ax.figure)
+    """
+    ax = _axes(ax)
+    p = arm.joint_positions(np.asarray(q, dtype=float))
+    for j in range(arm.n):
+        near = [closest_point_on_segment(p[j], p[j + 1], c.center) for c in discs]
+        gaps = [float(np.linalg.norm(x - c.center)) - c.radius for x, c in zip(near, discs)]
+        k = int(np.argmin(gaps))
+        centre, x = np.asarray(discs[k].center, dtype=float), near[k]
+        rim = centre + discs[k].radius * (x - centre) / np.linalg.norm(x - centre)
+        ax.plot(*np.array([x, rim]).T, "--", color=COLORS["vermillion"], lw=1.5,
+                label="clearance of a link" if j == 0 else None)
+        side = -1 if j % 2 else 1   # alternate sides so that neighbouring labels do not meet
+        ax.text(*((x + rim) / 2 + [side * 0.05, 0.0]), f"$d_{j + 1}$ = {gaps[k]:.2f} m",
+                fontsize="small", color="#A04000", ha="left" if side > 0 else "right", va="center")
+    return ax
+
+
+def plot_sweep(arm, qs, obstacles, ax=None):
+    """A motion as poses: its two ends in green, the poses between blue where free, red where not.
+
+    ``qs`` (k, n) are the configurations in order. Returns ``ax``.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> qs = np.linspace([0.0, 0.0], [np.pi, 0.0], 9)
+    >>> ax = plot_sweep(Arm([1.0, 1.0]), qs, [Circle((0.0, 1.5), 0.3)])
+    >>> sorted(t.get_text() for t in ax.get_legend().get_texts())
+    ['colliding poses', 'free poses', 'start and end (free)']
+    >>> plt.close(ax.figure)
+    """
+    from rapp.collision import collides
+
+    ax = _axes(ax)
+    qs = np.asarray(qs, dtype=float)
+    hit = collides(arm, qs, obstacles)
+    inner, inner_hit = qs[1:-1], hit[1:-1]
+    if (~inner_hit).any():
+        plot_arm(arm, inner[~inner_hit], ax, color=COLORS["blue"], label="free poses", frame=False,
+                 ghost_alpha=(0.45, 0.45))
+    if inner_hit.any():
+        plot_arm(arm, inner[inner_hit], ax, color=COLORS["vermillion"], label="colliding poses",
+                 frame=False, ghost_alpha=(0.8, 0.8))
+    ends = "free" if not (hit[0] or hit[-1]) else "colliding"
+    plot_arm(arm, qs[0], ax, color=COLORS["green"], label=f"start and end ({ends})")
+    plot_arm(arm, qs[-1], ax, color=COLORS["green"], frame=False)
+    ax.legend(loc="lower center", ncols=2, fontsize="small")
+    return style_axes(ax)
+
+
+def plot_certification(arm, q0, q1, obstacles, log, axes=None, *, title=None):
+    """A certified segment check at work: the clearance along the motion, and its intervals.
+
+    ``log`` lists the check's intervals in order, ``(lo, hi, outcome)`` with ``outcome`` one of
+    ``"certified"``, ``"bisected"`` or ``"collision"`` (as chapter 3's step-by-step version of
+    :func:`rapp.collision.segment_collision_free` records them). The top axes draw the arm's
+    clearance along ``q0 + t (q1 - q0)``, each interval's midpoint coloured by its outcome and,
+    over a certified interval, the lower bound the motion bounds prove there; the bottom axes draw
+    the intervals by bisection depth. ``axes`` is ``(top, bottom)``; returns it.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> top, bottom = plot_certification(Arm([1.0, 1.0]), [0.0, 0.0], [0.5, 0.0],
+    ...                                  [Circle((0.0, 1.5), 0.3)], [(0.0, 1.0, "certified")])
+    >>> len(bottom.patches), top.lines[0].get_label()
+    (1, 'clearance of the arm')
+    >>> plt.close(top.figure)
+    """
+    from rapp.collision import clearance, link_clearances, motion_bounds
+
+    if axes is None:
+        with plt.rc_context(_LIGHT):
+            fig, axes = plt.subplots(2, 1, figsize=(6, 7), sharex=True, height_ratios=(3, 2),
+                                     layout="constrained")
+    top, bottom = axes
+    q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
+    colours = {"certified": COLORS["green"], "bisected": "#999999", "collision": COLORS["vermillion"]}
+    bounds = motion_bounds(arm, q1 - q0)
+    ts = np.linspace(0.0, 1.0, 801)
+    top.plot(ts, clearance(arm, q0 + ts[:, None] * (q1 - q0), obstacles), color=COLORS["blue"], lw=2,
+             label="clearance of the arm")
+    labelled = False
+    for lo, hi, outcome in log:
+        t_m = (lo + hi) / 2
+        d = link_clearances(arm, q0 + t_m * (q1 - q0), obstacles)
+        top.plot(t_m, d.min(), "o", color=colours[outcome], ms=6, zorder=4)
+        if outcome == "certified":     # the proved lower bound min_j (d_j - B_j |t - t_m|)
+            tt = np.linspace(lo, hi, 41)
+            tent = (d[None, :] - bounds[None, :] * np.abs(tt - t_m)[:, None]).min(axis=1)
+            top.plot(tt, tent, "-", color=colours[outcome], lw=1.2,
+                     label=None if labelled else "proved lower bound")
+            labelled = True
+        bottom.barh(np.log2(1.0 / (hi - lo)), hi - lo, left=lo, height=0.7, color=colours[outcome],
+                    edgecolor="white", label=f"interval {outcome}")
+    top.axhline(0.0, color=TEXT, lw=0.8)
+    top.set_ylabel("clearance (m)")
+    if title:
+        top.set_title(title, fontsize="medium")
+    top.legend(loc="lower left", fontsize="small")
+    bottom.invert_yaxis()
+    bottom.set_xlabel("segment parameter t (dimensionless)")
+    bottom.set_ylabel("bisection depth")
+    bottom.set_xlim(0.0, 1.0)
+    for ax in (top, bottom):
+        style_axes(ax)
+    return top, bottom
+
+
+def plot_value_grid(values, half, xticks, yticks, ax=None, *, cmap="Oranges", clim=None):
+    """A table of means as a heat map: each cell its mean and, under it, ``± half``.
+
+    ``values`` and ``half`` are ``(len(xticks), len(yticks))``; a NaN mean prints "-", a NaN
+    half-width prints nothing. Text is white on the dark cells. Returns the image (for a colour bar).
+
+    Examples
+    --------
+    >>> im = plot_value_grid(np.array([[1.0, np.nan]]), np.array([[0.25, np.nan]]), ["a"], ["x", "y"])
+    >>> [t.get_text().split() for t in im.axes.texts]
+    [['1.00', '±', '0.25'], ['-']]
+    >>> plt.close(im.axes.figure)
+    """
+    ax = _axes(ax)
+    values, half = np.asarray(values, dtype=float), np.asarray(half, dtype=float)
+    im = ax.imshow(values.T, origin="lower", cmap=cmap, aspect="auto", clim=clim)
+    dark = im.norm(values) > 0.6   # white on the dark cells, dark text on the light ones
+    for (i, j), v in np.ndenumerate(values):
+        text = "-" if np.isnan(v) else f"{v:.2f}" + ("" if np.isnan(half[i, j]) else f"\n± {half[i, j]:.2f}")
+        ax.text(i, j, text, ha="center", va="center", fontsize="small",
+                color="white" if dark[i, j] else TEXT)
+    ax.set_xticks(range(len(xticks)), xticks)
+    ax.set_yticks(range(len(yticks)), yticks)
+    style_axes(ax)
+    return im
 
 
 def plot_obstacles(obstacles, ax=None, *, color=OBSTACLE, label="obstacle"):
@@ -684,6 +904,63 @@ def _stage_times(metrics):
 def _num(v):
     """Three significant digits without an exponent for everyday magnitudes."""
     return f"{v:.0f}" if abs(v) >= 100 else f"{v:.3g}"
+
+
+def plot_f_contours(occupied, start, goal, ax=None, *, closed=None, path=None):
+    """The value of :math:`f = g^* + h` on every free cell of a 2-joint torus grid, as A* sees it.
+
+    :math:`g^*` is the true step distance from ``start`` (breadth-first search) and :math:`h` the
+    toroidal Manhattan distance GD1 to ``goal``. Cells of one value of ``f`` share a colour (its
+    contour) and print it; blocked cells are grey, unreachable ones blank. ``closed`` (a boolean
+    grid, e.g. the closed set of :func:`rapp.search.astar_search`) outlines the expanded cells;
+    ``path`` (cells) is drawn in orange. Returns ``ax``.
+
+    Examples
+    --------
+    >>> occ = np.zeros((6, 6), bool); occ[3, :5] = True
+    >>> ax = plot_f_contours(occ, (1, 2), (5, 2))
+    >>> sorted({int(t.get_text()) for t in ax.texts})   # f = 2 on the shortest routes (the seam)
+    [2, 4, 6, 8, 10]
+    >>> plt.close(ax.figure)
+    """
+    from rapp.search import bfs_distances, toroidal_manhattan
+
+    occupied = np.asarray(occupied, dtype=bool)
+    if occupied.ndim != 2:
+        raise ValueError(f"plot_f_contours draws grids of two joints, got {occupied.ndim}")
+    ax = _axes(ax, figsize=(6.0, 5.0))
+    g = bfs_distances(occupied, tuple(start))
+    cells = np.argwhere(np.ones(occupied.shape, bool)).reshape(occupied.shape + (2,))
+    f = np.where(g >= 0, g + toroidal_manhattan(cells, tuple(goal), occupied.shape), -1)
+    levels = np.unique(f[f >= 0])
+    palette = [COLORS[c] for c in ("sky", "green", "yellow", "orange", "purple", "vermillion")]
+    index = np.searchsorted(levels, f)
+    rgba = np.ones(occupied.shape + (4,))
+    for k in range(len(levels)):
+        rgba[index == k] = to_rgba(palette[k % len(palette)], 0.55)
+    rgba[f < 0] = (1.0, 1.0, 1.0, 1.0)
+    rgba[occupied] = to_rgba(OCCUPIED)
+    ax.imshow(rgba.transpose(1, 0, 2), origin="lower", interpolation="nearest")
+    for (i, j), v in np.ndenumerate(f):
+        if v >= 0:
+            ax.text(i, j, str(int(v)), ha="center", va="center", fontsize="small", color=TEXT)
+    if closed is not None:
+        for i, j in np.argwhere(closed):
+            ax.add_patch(patches.Rectangle((i - 0.5, j - 0.5), 1, 1, fill=False, edgecolor=TEXT, lw=1.4))
+    if path is not None:
+        segments = split_at_seam(np.asarray(path, dtype=float), [-0.5, -0.5], list(occupied.shape),
+                                 [True, True])
+        ax.plot(segments[:, 0], segments[:, 1], "-", color=COLORS["orange"], lw=2.5)
+    ax.plot(*start, "o", color=START, ms=9)
+    ax.plot(*goal, "*", color=GOAL, ms=13)
+    handles = [patches.Patch(facecolor=to_rgba(palette[k % len(palette)], 0.55), label=f"f = {int(v)}")
+               for k, v in enumerate(levels)]
+    if closed is not None:
+        handles.append(patches.Patch(fill=False, edgecolor=TEXT, label="expanded"))
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
+    ax.set_xlabel("cell index, joint 1")
+    ax.set_ylabel("cell index, joint 2")
+    return style_axes(ax)
 
 
 def _check_astar_step(trace, k):
@@ -1096,6 +1373,37 @@ def plot_light_cspace(occupancy, grid, ax):
         ax.imshow(occ.T.astype(float), origin="lower", extent=cell_extent(grid),
                   cmap=ListedColormap(["white", _LIGHT_CSPACE]), vmin=0.0, vmax=1.0,
                   interpolation="nearest", aspect="equal", zorder=0, gid="light-cspace")
+    return ax
+
+
+def plot_tree(arm, nodes, parent, ax=None, *, color=COLORS["sky"]):
+    """A planner's tree (or roadmap's shortest-path tree) in the C-space of a 2-joint ``arm``.
+
+    ``nodes`` is ``(k, 2)`` and ``parent[i]`` the index of node ``i``'s parent (negative for a
+    root). Each edge is drawn from its parent by :meth:`rapp.Arm.joint_delta` (the short way
+    round), and an edge that crosses the seam of the torus is drawn a second time from its
+    child's side, so it shows on both sides of the square. Returns ``ax``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> nodes = np.array([[0.0, 0.0], [0.5, 0.0], [3.0, 0.0], [-3.0, 0.0]])
+    >>> ax = plot_tree(Arm([1.0, 1.0]), nodes, np.array([-1, 0, 1, 2]))
+    >>> len(ax.collections[0].get_segments())   # 3 edges, one across the seam drawn twice
+    4
+    >>> plt.close(ax.figure)
+    """
+    ax = _axes(ax)
+    nodes, parent = np.asarray(nodes, dtype=float), np.asarray(parent)
+    child = np.flatnonzero(parent >= 0)
+    if child.size:
+        a = nodes[parent[child]]
+        d = arm.joint_delta(a, nodes[child])
+        edges = np.stack((a, a + d), 1)                          # from the parent, unwrapped
+        seam = np.abs(a + d - nodes[child]).max(axis=1) > 1e-9   # ... and again from the child
+        edges = np.concatenate((edges, np.stack((nodes[child][seam] - d[seam], nodes[child][seam]), 1)))
+        ax.add_collection(LineCollection(edges, colors=color, linewidths=0.7))
+    ax.plot(*nodes.T, ".", color=color, ms=2)
     return ax
 
 

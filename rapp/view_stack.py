@@ -69,7 +69,13 @@ class Control:
     default : object, optional
         The value shown first (the nearest one when not in ``values``); the middle one when None.
     fmt : str
-        How the slider prints a value.
+        How the slider prints a value. A value that prints as zero prints without a minus sign
+        (``-1e-17`` and ``-0.0`` read ``0.00``, not ``-0.00``).
+
+    Examples
+    --------
+    >>> Control("x (m)", [-0.3, -0.0, -1e-17, 0.3]).labels()
+    ['-0.30', '0.00', '0.00 (1)', '0.30']
     """
 
     description: str
@@ -81,9 +87,13 @@ class Control:
         out = []
         for v in self.values:
             try:
-                out.append(self.fmt.format(v))
+                text = self.fmt.format(v)
             except (TypeError, ValueError):
-                out.append(str(v))
+                text = str(v)
+            # "-0.00" is a rounding artefact of a value that is zero to the digits shown
+            if text.startswith("-") and "0" in text and text.strip("-0.") == "":
+                text = text[1:]
+            out.append(text)
         # SelectionSlider needs distinct labels.
         seen: dict[str, int] = {}
         for i, text in enumerate(out):

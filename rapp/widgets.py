@@ -43,6 +43,8 @@ __all__ = [
     "trajectory_explorer",
     "astar_explorer",
     "rrt_explorer",
+    "planner_comparison",
+    "ik_explorer",
     "sliders_of",
     "selected",
     "values_of",
@@ -497,3 +499,159 @@ def rrt_explorer(arm, result, trace, *, occupancy=None, grid=None, goal=None, st
         return f"iteration {step} of {last}: extend toward {toward}; {what}"
 
     return view_stack(fig, controls, view, title="RRT, one iteration at a time")
+
+
+#: The names the comparison explorer shows for the planners of :data:`rapp.planners.PLANNERS`.
+PLANNER_LABELS = {"astar": "A*", "rrt": "RRT", "rrt_connect": "RRT-Connect", "rrt_star": "RRT*",
+                  "prm": "PRM"}
+
+
+def comparison_run(arm, start, goal, obstacles, planner, settings, seed):
+    """One planner of rapp's planner table on one problem: ``(its result, a status line)``.
+
+    ``settings`` are the planner's own (:func:`rapp.planners.run` hands it those it reads); the
+    status line says what a student needs: the path's cost, or that there is none, and the work.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> r, status = comparison_run(Arm([1.0, 1.0]), [0.0, 0.0], [1.0, 1.0], [], "rrt_connect",
+    ...                            {"step": 0.2}, 0)
+    >>> r.success, status.startswith("RRT-Connect, seed 0: a path of")
+    (True, True)
+    """
+    from rapp import planners
+
+    r = planners.run(planner, arm, start, goal, obstacles, seed=seed, raise_on_failure=False,
+                     **settings)
+    if planner == "astar":
+        cells = settings.get("cells", "?")
+        return r, (f"A* on {cells} × {cells} cells (every seed the same): "
+                   f"{r.metrics['path_cells']} steps, {r.cost:.2f} rad")
+    what = "searches" if planner == "prm" else "iterations"
+    outcome = f"a path of {r.cost:.2f} rad" if r.success else "no path"
+    return r, (f"{PLANNER_LABELS.get(planner, planner)}, seed {seed}: {outcome} after "
+               f"{r.iterations} {what}, {len(r.nodes)} nodes")
+
+
+@_book_style
+def planner_comparison(arm, start, goal, obstacles, settings, *, seeds=(0, 1, 2, 3),
+                       default="rrt_connect", cells=120):
+    """Several planners and seeds on one 2-joint problem, in C-space: a planner menu, a seed slider.
+
+    Each view draws the planner's tree (or PRM's roadmap and its last shortest-path tree) in
+    light blue on the light C-space of ``cells`` per joint, and the path it returned in orange,
+    before shortcutting; the status line is :func:`comparison_run`'s.
+
+    Parameters
+    ----------
+    arm : rapp.Arm
+        Two joints.
+    start, goal : array_like
+        The configurations joined.
+    obstacles : sequence of rapp.Circle or rapp.Polygon
+    settings : dict
+        Planner name (of :data:`rapp.planners.PLANNERS`) to its settings; the menu lists them in
+        this order.
+    seeds : sequence of int
+        The seed slider's values.
+    default : str
+        The planner shown first.
+    cells : int
+        Cells per joint of the drawn C-space (not the planners' grid).
+
+    Returns
+    -------
+    ipywidgets.VBox
+        Its ``results`` attribute maps ``(planner, seed)`` to the planner's result.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> w = planner_comparison(Arm([1.0, 1.0]), [0.0, 0.0], [1.0, 1.0], [Circle((1.5, 1.5), 0.2)],
+    ...                        {"rrt_connect": {"step": 0.3}, "prm": {"samples": 30}}, seeds=(0,),
+    ...                        cells=24)
+    >>> sorted(w.results), selected(w)[1].startswith("RRT-Connect, seed 0: a path of")
+    ([('prm', 0), ('rrt_connect', 0)], True)
+    """
+    start, goal = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
+    label = {key: PLANNER_LABELS.get(key, key) for key in settings}
+    key_of = {text: key for key, text in label.items()}
+    results = {}
+    fig = _figure(6.4, 5.4)
+    ax = subplots(fig)
+    grid = JointGrid(arm, cells)
+    plotting.plot_light_cspace(occupancy(arm, obstacles, grid), grid, ax)   # every view's background
+    ax.plot(*arm.wrap(start), "o", color=plotting.START, ms=8)
+    ax.plot(*arm.wrap(goal), "*", color=plotting.GOAL, ms=12)
+    ax.set_xlim(-np.pi, np.pi)
+    ax.set_ylim(-np.pi, np.pi)
+    ax.set_xlabel("θ1 (rad)")
+    ax.set_ylabel("θ2 (rad)")
+    plotting.style_axes(ax)
+
+    def view(planner, seed):
+        key = key_of[planner]
+        r, status = comparison_run(arm, start, goal, obstacles, key, settings[key], seed)
+        results[key, seed] = r
+        nodes, parent = r.details.get("nodes"), r.details.get("parent")
+        if nodes is not None and len(nodes) > 1:
+            plotting.plot_tree(arm, nodes, parent, ax)
+        if r.success:
+            s = plotting.split_at_seam(r.path, [-np.pi] * 2, [2 * np.pi] * 2, [True, True])
+            ax.plot(s[:, 0], s[:, 1], "-", color=plotting.COLORS["orange"], lw=2.5)
+        ax.set_title(f"{planner}, seed {seed}", fontsize="medium")
+        return status
+
+    w = view_stack(fig, {"planner": Control("planner", list(label.values()), default=label[default]
+                                            if default in label else None, fmt="{}"),
+                         "seed": Control("seed", list(seeds), default=seeds[0], fmt="{}")},
+                   view, title=f"{len(settings)} planners on one problem")
+    w.results = results
+    return w
+
+
+@_book_style
+def ik_explorer(arm, targets, *, default=(1.2, 0.9)):
+    """Drag a target over the workspace of a 2-link arm: both IK solutions, or why there is none.
+
+    Two sliders place the target (a cross) on the grid ``targets`` x ``targets`` (metres); each
+    view draws the workspace and the solutions :func:`rapp.ik` returns, elbow-down (blue) and
+    elbow-up (orange), or titles the reason there is none. The status line prints both
+    configurations.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> w = ik_explorer(Arm([1.0, 0.8]), [0.0, 1.2], default=(1.2, 0.0))
+    >>> selected(w)[1]
+    'target (1.2, 0.0) m: elbow-down q = (-0.723, 1.696) rad; elbow-up q = (0.723, -1.696) rad'
+    """
+    from rapp.ik import NoIKSolution, ik
+
+    fig = _figure(5.5, 5.5)
+    ax = subplots(fig)
+    plotting.plot_workspace(arm, ax)
+    plotting.style_axes(ax)
+    reach = float(sum(arm.link_lengths)) * 1.1
+    ax.set_xlim(-reach, reach)
+    ax.set_ylim(-reach, reach)
+    names = ("elbow-down", "elbow-up")
+
+    def view(tx, ty):
+        ax.plot(tx, ty, "x", color="k", ms=12, mew=2, zorder=6)
+        try:
+            solutions = ik(arm, [tx, ty])
+        except NoIKSolution as err:
+            ax.set_title(f"no solution: {err.reason}", fontsize="medium")
+            return f"target ({tx:.1f}, {ty:.1f}) m: no solution, {err.reason}"
+        for q, color, name in zip(solutions, (plotting.COLORS["blue"], plotting.COLORS["orange"]), names):
+            plotting.plot_arm(arm, q, ax, color=color, label=name, frame=False)
+        ax.legend(loc="lower left", fontsize="small")
+        ax.set_title(f"{len(solutions)} solution{'s' if len(solutions) > 1 else ''}", fontsize="medium")
+        shown = "; ".join(f"{name} q = ({q[0]:.3f}, {q[1]:.3f}) rad" for q, name in zip(solutions, names))
+        return f"target ({tx:.1f}, {ty:.1f}) m: {shown}"
+
+    return view_stack(fig, {"tx": Control("target x (m)", list(targets), default=default[0]),
+                            "ty": Control("target y (m)", list(targets), default=default[1])},
+                      view, title="IK explorer")

@@ -417,3 +417,136 @@ def test_book_style_is_the_one_figure_style():
         assert P.smallest_text_px(fig) == pytest.approx(10 * 100 / 72, abs=0.01)  # "small" of 12 pt
         assert fig.get_size_inches()[0] <= P.BOOK_WIDTH_IN and fig.get_facecolor() == WHITE
         plt.close(fig)
+
+
+def test_legend_outside_lists_drawn_and_extra_handles_beyond_the_axes():
+    from matplotlib.patches import Patch
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1], label="path")
+    P.legend_outside(ax, [Patch(color="0.3", label="obstacle")])
+    legend = ax.get_legend()
+    assert [t.get_text() for t in legend.get_texts()] == ["path", "obstacle"]
+    fig.canvas.draw()
+    box = legend.get_window_extent()
+    assert box.x0 >= ax.get_window_extent().x1   # to the right of the axes: it covers nothing
+    assert_readable(ax)
+
+
+@given(st.lists(st.tuples(st.floats(0.01, 1000.0), st.sampled_from([None, 0.5, 1.0, 3.0])),
+                min_size=1, max_size=8))
+@settings(max_examples=15, deadline=None)
+def test_plot_ratios_draws_each_ratio_coloured_by_its_verdict(rows):
+    ratios, goals = [r for r, _ in rows], [g for _, g in rows]
+    ax = P.plot_ratios([f"case {i}" for i in range(len(rows))], ratios, goals)
+    bars = [p for p in ax.patches]
+    assert len(bars) == len(rows)
+    colour = {True: to_rgba(P.COLORS["blue"]), False: to_rgba(P.COLORS["vermillion"]), None: to_rgba("#999999")}
+    for bar, k, goal in zip(bars, ratios, goals):
+        assert bar.get_x() == 1 and np.isclose(bar.get_x() + bar.get_width(), k)
+        assert bar.get_facecolor() == colour[None if goal is None else k >= goal]
+    ticks = [line for line in ax.lines if line.get_linewidth() == 2.5 and len(line.get_xdata()) == 2
+             and line.get_xdata()[0] == line.get_xdata()[1]]
+    assert sorted(t.get_xdata()[0] for t in ticks) == sorted(g for g in goals if g is not None)
+    assert [t.get_text() for t in ax.get_yticklabels()][0] == "case 0"  # the first row on top
+    assert_readable(ax)
+    plt.close(ax.figure)
+
+
+@given(st.lists(st.tuples(st.floats(-np.pi, np.pi), st.floats(-np.pi, np.pi)), min_size=2, max_size=12),
+       st.data())
+@settings(max_examples=10, deadline=None)
+def test_plot_tree_draws_every_edge_the_short_way_and_seam_edges_twice(points, data):
+    nodes = np.array(points)
+    parent = np.array([-1] + [data.draw(st.integers(0, i - 1)) for i in range(1, len(nodes))])
+    ax = P.plot_tree(ARM, nodes, parent)
+    segments = [np.asarray(s) for s in ax.collections[0].get_segments()]
+    d = ARM.joint_delta(nodes[parent[1:]], nodes[1:])
+    crossing = np.abs(nodes[parent[1:]] + d - nodes[1:]).max(axis=1) > 1e-9
+    assert len(segments) == len(nodes) - 1 + crossing.sum()
+    for seg in segments:   # each drawn segment is one edge, the short way round
+        step = seg[1] - seg[0]
+        assert np.abs(step).max() <= np.pi + 1e-9
+        assert any(np.allclose(step, di) for di in d)
+    assert_readable(ax)
+    plt.close(ax.figure)
+
+
+@given(st.integers(0, 2**32 - 1))
+@settings(max_examples=8, deadline=None)
+def test_plot_f_contours_prints_g_star_plus_h_on_every_reachable_cell(seed):
+    from rapp.search import astar_search, bfs_distances, toroidal_manhattan
+    rng = np.random.default_rng(seed)
+    occ = rng.random((7, 6)) < 0.25
+    free = np.argwhere(~occ)
+    start, goal = (tuple(int(v) for v in free[i]) for i in rng.choice(len(free), 2, replace=False))
+    r = astar_search(occ, start, goal)
+    ax = P.plot_f_contours(occ, start, goal, closed=r.closed if r.path is not None else None)
+    shown = {(round(t.get_position()[0]), round(t.get_position()[1])): int(t.get_text()) for t in ax.texts}
+    g = bfs_distances(occ, start)   # the oracle: BFS, one cell at a time
+    want = {(i, j): int(g[i, j] + toroidal_manhattan((i, j), goal, occ.shape))
+            for i, j in np.argwhere(g >= 0)}
+    assert shown == want
+    if r.path is not None:   # A* expands no cell of f above the optimum (consistent GD1)
+        assert max(want[tuple(c)] for c in np.argwhere(r.closed)) <= g[goal]
+    plt.close(ax.figure)
+
+
+@given(st.floats(-np.pi, np.pi), st.floats(-np.pi, np.pi))
+@settings(max_examples=10, deadline=None)
+def test_plot_link_clearances_labels_each_link_with_its_clearance(t1, t2):
+    from rapp.collision import link_clearances
+    discs = [Circle((1.2, 0.9), 0.2), Circle((-1.0, -1.1), 0.3)]
+    q = np.array([t1, t2])
+    if (link_clearances(ARM, q, discs) <= 0).any():
+        return   # a link inside a disc has no gap to draw
+    ax = P.plot_link_clearances(ARM, q, discs)
+    want = link_clearances(ARM, q, discs)   # the package's clearance, link by link
+    got = [float(t.get_text().split("= ")[1].split(" m")[0]) for t in ax.texts]
+    assert np.allclose(got, want, atol=0.006)
+    for line, d in zip(ax.lines, want):   # each dashed gap is as long as the clearance
+        xy = line.get_xydata()
+        assert np.isclose(np.linalg.norm(xy[1] - xy[0]), d)
+    plt.close(ax.figure)
+
+
+def test_plot_sweep_colours_each_inner_pose_by_its_collision():
+    from rapp.collision import collides
+    disc = [Circle((0.0, 1.5), 0.3)]
+    qs = np.linspace([0.0, 0.0], [np.pi, 0.0], 19)
+    hit = collides(ARM, qs, disc)
+    ax = P.plot_sweep(ARM, qs, disc)
+    by_colour = {}
+    for line in ax.lines:
+        by_colour.setdefault(to_rgba(line.get_color())[:3], []).append(line)
+    red = to_rgba(P.COLORS["vermillion"])[:3]
+    assert hit[1:-1].sum() == 3 and red in by_colour   # the three colliding poses are drawn red
+    assert_readable(ax)
+
+
+def test_plot_certification_draws_every_logged_interval_at_its_depth():
+    disc = [Circle((0.0, 1.5), 0.3)]
+    log = [(0.0, 1.0, "bisected"), (0.0, 0.5, "certified"), (0.5, 1.0, "bisected"),
+           (0.5, 0.75, "certified"), (0.75, 1.0, "collision")]
+    top, bottom = P.plot_certification(ARM, [0.0, 0.0], [np.pi, 0.0], disc, log)
+    bars = bottom.patches
+    assert [(round(b.get_x(), 9), round(b.get_width(), 9)) for b in bars] == [(lo, hi - lo) for lo, hi, _ in log]
+    assert [round(b.get_y() + b.get_height() / 2, 9) for b in bars] == [np.log2(1 / (hi - lo)) for lo, hi, _ in log]
+    assert sum(line.get_label() == "proved lower bound" for line in top.lines) == 1
+    assert_readable(top)
+    assert_readable(bottom)
+
+
+@given(st.integers(1, 4), st.integers(1, 4), st.integers(0, 2**32 - 1))
+@settings(max_examples=10, deadline=None)
+def test_plot_value_grid_prints_each_mean_and_half_width_in_its_cell(nx, ny, seed):
+    rng = np.random.default_rng(seed)
+    values = np.where(rng.random((nx, ny)) < 0.2, np.nan, rng.uniform(0, 10, (nx, ny)))
+    half = np.where(rng.random((nx, ny)) < 0.3, np.nan, rng.uniform(0, 1, (nx, ny)))
+    im = P.plot_value_grid(values, half, [str(i) for i in range(nx)], [str(j) for j in range(ny)])
+    texts = {(round(t.get_position()[0]), round(t.get_position()[1])): t.get_text() for t in im.axes.texts}
+    assert len(texts) == nx * ny
+    for (i, j), text in texts.items():
+        v, h = values[i, j], half[i, j]
+        want = "-" if np.isnan(v) else f"{v:.2f}" + ("" if np.isnan(h) else f"\n± {h:.2f}")
+        assert text == want
+    plt.close(im.axes.figure)

@@ -107,3 +107,9 @@ def test_a_view_that_moves_the_limits_does_not_shift_its_overlay():
     xy = [re.search(r'x="([\d.]+)" y="([\d.]+)"', svg).groups() for svg in (a, b)]
     assert xy[0] == xy[1]  # the marker sits at the same place over the same background axes
     assert ax.get_xlim() == pytest.approx((0, 10))
+
+
+def test_a_value_that_rounds_to_zero_has_no_minus_sign():
+    labels = Control("x (m)", [round(v, 1) for v in np.linspace(-1.8, 1.8, 13)]).labels()
+    assert "0.00" in labels and not any(t.startswith("-0.00") for t in labels)
+    assert Control("x", [-0.004, -0.006, -1.0]).labels() == ["0.00", "-0.01", "-1.00"]

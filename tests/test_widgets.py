@@ -183,3 +183,44 @@ def test_explorer_figures_record_their_smallest_text_at_book_size():
     image = next(c for c in w.children[-1].children if hasattr(c, "format"))
     info = Image.open(io.BytesIO(image.value)).info
     assert info["rapp:dpi"] == "72" and float(info["rapp:text-px"]) >= 10.0
+
+
+@pytest.mark.slow
+def test_comparison_run_reports_the_planners_own_result():
+    from rapp import Arm, Circle, planners
+    from rapp.widgets import comparison_run
+    arm, obstacles = Arm([1.0, 1.0]), [Circle((1.2, 0.9), 0.3)]
+    r, status = comparison_run(arm, [0.0, 0.0], [2.0, 1.0], obstacles, "rrt_connect", {"step": 0.3}, 3)
+    same = planners.run("rrt_connect", arm, [0.0, 0.0], [2.0, 1.0], obstacles, seed=3, step=0.3,
+                        raise_on_failure=False)
+    assert np.array_equal(r.path, same.path)
+    assert status == f"RRT-Connect, seed 3: a path of {r.cost:.2f} rad after {r.iterations} iterations, {len(r.nodes)} nodes"
+    r, status = comparison_run(arm, [0.0, 0.0], [2.0, 1.0], obstacles, "astar", {"cells": 24}, 0)
+    assert status.startswith("A* on 24 × 24 cells") and f"{r.metrics['path_cells']} steps" in status
+
+
+@pytest.mark.slow
+def test_planner_comparison_shows_each_planner_and_seed_with_its_status():
+    from rapp import Arm, Circle
+    from rapp.widgets import comparison_run, planner_comparison
+    arm, obstacles = Arm([1.0, 1.0]), [Circle((1.2, 0.9), 0.3)]
+    settings = {"astar": {"cells": 24}, "rrt_connect": {"step": 0.3}, "prm": {"samples": 40}}
+    w = planner_comparison(arm, [0.0, 0.0], [2.0, 1.0], obstacles, settings, seeds=(0, 1), cells=24,
+                           default="prm")
+    assert sorted(w.results) == sorted((p, s) for p in settings for s in (0, 1))
+    sliders = list(W.sliders_of(w).values())
+    assert [s.options for s in sliders] == [("A*", "RRT-Connect", "PRM"), ("0", "1")]
+    assert selected(w)[1] == comparison_run(arm, [0.0, 0.0], [2.0, 1.0], obstacles, "prm", settings["prm"], 0)[1]
+
+
+def test_ik_explorer_shows_rapp_ik_at_every_target():
+    from rapp import ik
+    arm, targets = Arm([1.0, 0.8]), [-0.0, 0.3, 1.8]
+    w = W.ik_explorer(arm, targets, default=(0.3, 0.3))
+    sliders = list(W.sliders_of(w).values())
+    assert [s.options for s in sliders] == [("0.00", "0.30", "1.80")] * 2   # no "-0.00"
+    want = ik(arm, [0.3, 0.3])
+    status = selected(w)[1]
+    assert status.startswith("target (0.3, 0.3) m:") and f"({want[0][0]:.3f}, {want[0][1]:.3f})" in status
+    sliders[0].index = sliders[1].index = 2                     # (1.8, 1.8): beyond the reach
+    assert selected(w)[1] == "target (1.8, 1.8) m: no solution, out of reach"

@@ -77,8 +77,15 @@ def _judge_second_configuration(answer) -> Judgement:
     if _looks_like_degrees(arm, other, target):
         return Judgement(False, "those look like degrees; rapp's angles are in radians.")
     if close(other[1], want[1], angles=True) and not close(other[0], want[0], CLOSE_FACTOR, angles=True):
-        return Judgement(False, "the elbow angle is right, but the shoulder must turn too: flipping "
-                                "the elbow alone moves the end effector.")
+        if close(other[0], q[0], angles=True):   # the elbow flipped, the shoulder left where it was
+            return Judgement(False, "the elbow angle is right, but the shoulder must turn too: flipping "
+                                    "the elbow alone moves the end effector.")
+        # The shoulder did turn, so "flipping the elbow alone" would name a mistake not made.
+        return Judgement(False, f"the elbow angle is right and the shoulder turned, but not by the right "
+                                f"angle: the end effector lands "
+                                f"{np.linalg.norm(arm.end_effector(other) - target):.3g} m away. By how "
+                                "much must the shoulder turn to put the elbow on the other side of the "
+                                "base-to-tip line?")
     return Judgement(False, f"that configuration puts the end effector "
                             f"{np.linalg.norm(arm.end_effector(other) - target):.3g} m away from where "
                             "(0.3, 1.0) puts it.")

@@ -17,9 +17,10 @@ Examples
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from importlib import resources
 
-__all__ = ["names", "load"]
+__all__ = ["names", "load", "machine", "Limit", "limits", "format_ratio"]
 
 
 def names() -> list[str]:
@@ -39,3 +40,115 @@ def load(name: str) -> dict:
     if name not in names():
         raise KeyError(f"no recorded result {name!r}; recorded: {', '.join(names())}")
     return json.loads(resources.files(__name__).joinpath(f"{name}.json").read_text("utf-8"))
+
+
+def machine(result: dict) -> dict:
+    """Where and when a recorded result was taken: ``date``, ``load``, ``cpus``, ``platform``.
+
+    The scripts store the machine in a few shapes (``machine.cpu_count`` or ``machine.cpus``, a
+    1-minute load or a tuple of three, the date at the top or in ``machine``); this reads them all.
+    ``date`` is ``"YYYY-MM-DD HH:MM"``; a field the file does not hold is ``None``.
+
+    Examples
+    --------
+    >>> m = machine(load("core"))
+    >>> sorted(m), m["cpus"] == load("core")["machine"]["cpu_count"]
+    (['cpus', 'date', 'load', 'platform'], True)
+    """
+    m = result.get("machine")
+    m = m if isinstance(m, dict) else {}   # a few files name the machine in a sentence
+    load_ = (m.get("load_1min") or m.get("load_average_1min") or m.get("load_average_1min_before")
+             or (m.get("load_before") or m.get("load_average") or result.get("load_average") or [None])[0])
+    date = result.get("date") or m.get("date")
+    return {"date": date[:16].replace("T", " ") if date else None, "load": load_,
+            "cpus": m.get("cpu_count") or m.get("cpus"), "platform": m.get("platform")}
+
+
+@dataclass(frozen=True)
+class Limit:
+    """One line of the performance chapter's "speed toward the limit": a peer's time over rapp's.
+
+    ``ratio`` > 1 means rapp is faster; ``goal`` is the project's bound on the ratio (``None``: no
+    goal set) and ``goal_text`` says it in words.
+    """
+
+    case: str
+    peer: str
+    goal_text: str
+    ratio: float
+    goal: float | None
+
+    @property
+    def met(self) -> bool | None:
+        """Whether the ratio reaches its goal; ``None`` where no goal is set."""
+        return None if self.goal is None else bool(self.ratio >= self.goal)
+
+
+def limits() -> list[Limit]:
+    """Every recorded ratio of rapp against a favourable baseline and its fairest peer, with goals.
+
+    Read from the recorded files ``core``, ``ik``, ``occupancy``, ``search``, ``astar_cpp``,
+    ``kernel``, ``planners_ompl``, ``planners_ompl_kernel``, ``time_scaling`` and ``cli``; each ratio
+    divides two times of the same file.
+
+    Examples
+    --------
+    >>> rows = limits()
+    >>> rows[0].case, rows[0].peer, rows[0].goal
+    ('C-space grid, 3 links, 128³', 'previous rapp grid', 4)
+    >>> rows[0].ratio == load("core")["results"]["3link_M128"]["grid_ratio_previous_over_rapp"]
+    True
+    """
+    core, ik, occ, search, cpp, kern, ompl, ompl_k, ts, cli = (load(n) for n in (
+        "core", "ik", "occupancy", "search", "astar_cpp", "kernel", "planners_ompl",
+        "planners_ompl_kernel", "time_scaling", "cli"))
+    m128, a2, rtb = core["results"]["3link_M128"], ik["analytic_2link"], ik["rtb_ik_GN"]
+    o128, sr, g = occ["results"]["3link_M128"], search["results"], cpp["grids"]
+    kp, pl = kern["planners"], ompl_k["planners"]
+    rows = [
+        ("C-space grid, 3 links, 128³", "previous rapp grid", "≥ 4×", m128["grid_ratio_previous_over_rapp"], 4),
+        ("C-space grid, 3 links, 128³", "its floor: painting given intervals", "≥ 0.5×",
+         1 / o128["ratio_rapp_new_scene_over_floor"], 0.5),
+        ("same grid, same obstacles again", "its floor: painting given intervals", "none",
+         1 / o128["ratio_rapp_over_floor"], None)]
+    for key, size in (("2link_M360", "360²"), ("2link_M720", "720²"), ("3link_M64", "64³")):
+        rows += [(f"A* on {size}", "scipy BFS + graph build", "≥ 1×", sr[key]["ratio_scipy_over_rapp"], 1),
+                 (f"A* on {size}", "scipy BFS, graph given", "none", sr[key]["ratio_scipy_given_graph_over_rapp"], None)]
+    for key, size in (("2link_M360", "360²"), ("2link_M720", "720²")):
+        rows += [(f"A* on {size}", "pyastar2d (C++), plain grid", "≥ 1×", g[key]["pyastar2d_no_wrap_over_rapp"], 1),
+                 (f"A* on {size}", "pyastar2d, unrolled torus", "none", g[key]["pyastar2d_over_rapp"], None)]
+    rows += [
+        ("IK, 2 links, 10 000 targets", "loop of rapp.ik", "≥ 100×", a2["speedup"], 100),
+        ("IK, 2 links, 10 000 targets", "loop of ik_2link", "none", a2["speedup_over_loop_ik_2link"], None),
+        ("IK, 2 links, 10 000 targets", "numpy one-liner", "none", 1 / a2["ratio_batch_over_numpy"], None),
+        ("IK, 3 links, 10 000 targets", "robotics-toolbox ik_GN, fastest call", "≥ 150×", rtb["ratio_cpu_rtb_over_rapp"], 150),
+        ("IK, 3 links, 10 000 targets", "robotics-toolbox Robot.ik_GN", "none", rtb["ratio_cpu_rtb_robot_over_rapp"], None),
+        ("IK, 3 links, random starts", "robotics-toolbox ik_GN, fastest call", "none",
+         rtb["ratio_cpu_rtb_over_rapp_random_starts"], None),
+        ("collides, one configuration", "numpy checker", "≥ 20×", kern["single"]["collides_one_us"]["ratio"], 20),
+        ("rrt_connect, 20 seeds", "numpy checker", "≥ 3×", kp["rrt_connect"]["ratio_total"], 3),
+        ("prm, 20 seeds", "numpy checker", "≥ 3×", kp["prm"]["ratio_total"], 3),
+        ("rrt_star, 20 seeds", "numpy checker", "none", kp["rrt_star"]["ratio_total"], None),
+        ("RRT-Connect, 3 links", "OMPL with rapp's numpy checker", "none", ompl["median_ratio_ompl_over_rapp"], None),
+        ("RRT-Connect, 3 links", "OMPL with the compiled checker", "≥ 1×", pl["rrt_connect"]["ratio_ompl_over_rapp"], 1),
+        ("PRM, 3 links", "OMPL with the compiled checker", "≥ 1×", pl["prm"]["ratio_ompl_over_rapp"], 1),
+        ("RRT*, 3 links", "OMPL with the compiled checker", "≥ 1×", pl["rrt_star"]["ratio_ompl_over_rapp"], 1),
+        ("one trapezoidal move", "ruckig (C++)", "≥ 0.1×", 1 / ts["ratios"]["rapp_moves_one_over_ruckig"], 0.1),
+        ("one move, previous trapezoidal", "ruckig (C++)", "none",
+         1 / ts["ratios"]["rapp_trapezoidal_over_ruckig"], None),
+        ("python -m rapp plan", "python -c 'import numpy'", "≥ 0.5×",
+         1 / kern["start_up"]["plan_over_import_numpy_median"], 0.5),
+        ("certified cells, 40³", "previous certified_free", "none", cli["stages"]["ratio"], None),
+    ]
+    return [Limit(case, peer, text, float(ratio), goal) for case, peer, text, ratio, goal in rows]
+
+
+def format_ratio(k: float) -> str:
+    """A ratio with the digits that matter at its size, as the performance chapter prints it.
+
+    Examples
+    --------
+    >>> [format_ratio(k) for k in (1234.5, 42.0, 3.14159, 0.25, 0.01234)]
+    ['1,234×', '42.0×', '3.14×', '0.25×', '0.012×']
+    """
+    return f"{k:,.0f}×" if k >= 100 else f"{k:.1f}×" if k >= 10 else f"{k:.2f}×" if k >= 0.1 else f"{k:.3f}×"

@@ -17,6 +17,9 @@ def test_1_1_straight_up(book_exercises):
 def test_1_2_second_configuration(solution):
     assert check("1.2", solution("1.2")["answer"])
     assert "shoulder must turn" in check("1.2", [0.3, -1.0]).message
+    for shoulder in (1.0, -0.5, 2.0):   # the shoulder turned, by a wrong angle: no "elbow alone"
+        wrong = check("1.2", [shoulder, -1.0])
+        assert not wrong and "elbow alone" not in wrong.message and "shoulder turned" in wrong.message
     assert "same configuration on the torus" in check("1.2", [0.3 + 2 * np.pi, 1.0]).message
     assert "degrees" in check("1.2", np.degrees(solution("1.2")["answer"])).message
 

@@ -82,6 +82,11 @@ def test_14_3_staircase(solution):
     assert not seam and "short way round" in seam.message
     assert "3 finite joint angles" in check("14.3", ([0, 0], [1, 1])).message
     assert "pair" in check("14.3", 5).message
+    # Snapping to the 24 cells can take the reported ratio above √3 (1.98 here): the message says
+    # why, and never that the ratio is at most √3.
+    above = check("14.3", ([-1.2] * 3, [1.2] * 3))
+    assert above and "1.98" in above.message and "above √3" in above.message
+    assert "above √3" not in verdict.message
 
 
 def _gap(half, radius=0.25):
