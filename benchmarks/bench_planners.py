@@ -15,8 +15,9 @@ What each side gets, so that the comparison is fair:
 * **A comparable step.** OMPL measures SO(2)^3 by the sum of the joint distances (L1), rapp by
   the Euclidean norm of the wrapped difference. A random direction's L1 norm is on average 1.5
   times its Euclidean norm in three dimensions, so OMPL's range is 1.5 x rapp's step: the same
-  mean Euclidean step. The run with OMPL's range equal to the step is recorded beside it
-  (``ompl_same_range``): it only makes OMPL's steps shorter.
+  mean Euclidean step. (The earlier wall-time recording, ``planners_ompl_kernel.json``, also
+  ran OMPL with its range equal to the step, ``ompl_same_range``: it only made OMPL's steps
+  shorter.)
 * **The same budget rules.** RRT-Connect and PRM stop at their first path (OMPL's PRM does by
   itself: its path-length objective is met by any path), within 30 s. RRT* is anytime: both
   run the same number of iterations (OMPL's stopped by a condition on its iteration counter),
@@ -24,15 +25,14 @@ What each side gets, so that the comparison is fair:
   OMPL joins no edge longer than its range either way).
 * **RRT*'s rewiring radius.** OMPL caps its radius ``gamma (log m / m)^(1/d)`` at its range, the
   steering step; rapp caps it at ``radius``, here twice the step (``RRT_STAR_RADIUS``): parents
-  and rewired edges up to two steps long, for straighter paths from the same samples. Two more
-  rows keep that honest: rapp with the radius capped at the step like OMPL
-  (``rapp_step_radius``), and OMPL with its range 1.5 x rapp's radius (``ompl_long_range``: its
-  edges as long as rapp's longest, its steps longer too).
+  and rewired edges up to two steps long, for straighter paths from the same samples. The
+  earlier wall-time recording (``planners_ompl_kernel.json``) keeps that honest with two more
+  rows: rapp with the radius capped at the step like OMPL (``rapp_step_radius``), and OMPL with
+  its range 1.5 x rapp's radius (``ompl_long_range``).
 * **The same lengths.** Every path's length is measured in rapp's metric (Euclidean joint-space
   length of the unwrapped path), OMPL's raw path (no simplification) like rapp's; median and
   mean (lengths cluster by the way round the obstacles a path goes, so the median of one set of
   seeds can land in either cluster).
-
 * **CPU time, not wall time.** Every run is timed with ``time.process_time`` (the CPU time of
   every thread of the process): on a shared machine a descheduled run is not slower, and OMPL's
   PRM, which grows its roadmap in one thread while another checks for a solution every
