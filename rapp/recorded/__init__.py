@@ -8,7 +8,7 @@ load, platform) and the date beside the timings; the scripts rewrite them
 Examples
 --------
 >>> names()
-['astar_cpp', 'cli', 'core', 'ik', 'kernel', 'live', 'memory', 'motion', 'occupancy', 'planners', 'planners_ompl', 'planners_ompl_kernel', 'search', 'time_scaling']
+['astar_cpp', 'cli', 'core', 'ik', 'kernel', 'live', 'memory', 'motion', 'occupancy', 'planners', 'planners_cpu', 'planners_ompl', 'planners_ompl_kernel', 'search', 'time_scaling']
 >>> core = load("core")
 >>> core["machine"]["cpu_count"], sorted(core["results"])[:2]
 (2, ['2link_M100', '2link_M360'])
@@ -88,8 +88,10 @@ def limits() -> list[Limit]:
     """Every recorded ratio of rapp against a favourable baseline and its fairest peer, with goals.
 
     Read from the recorded files ``core``, ``ik``, ``occupancy``, ``search``, ``astar_cpp``,
-    ``kernel``, ``planners_ompl``, ``planners_ompl_kernel``, ``time_scaling`` and ``cli``; each ratio
-    divides two times of the same file.
+    ``kernel``, ``planners_ompl``, ``planners_cpu``, ``time_scaling`` and ``cli``; each ratio
+    divides two times of the same file. The OMPL rows are CPU times (``planners_cpu``): OMPL
+    calling rapp's compiled checker through its Python callback as measured, and with each of
+    its checker calls costed as a compiled check instead.
 
     Examples
     --------
@@ -99,12 +101,12 @@ def limits() -> list[Limit]:
     >>> rows[0].ratio == load("core")["results"]["3link_M128"]["grid_ratio_previous_over_rapp"]
     True
     """
-    core, ik, occ, search, cpp, kern, ompl, ompl_k, ts, cli = (load(n) for n in (
+    core, ik, occ, search, cpp, kern, ompl, ompl_cpu, ts, cli = (load(n) for n in (
         "core", "ik", "occupancy", "search", "astar_cpp", "kernel", "planners_ompl",
-        "planners_ompl_kernel", "time_scaling", "cli"))
+        "planners_cpu", "time_scaling", "cli"))
     m128, a2, rtb = core["results"]["3link_M128"], ik["analytic_2link"], ik["rtb_ik_GN"]
     o128, sr, g = occ["results"]["3link_M128"], search["results"], cpp["grids"]
-    kp, pl = kern["planners"], ompl_k["planners"]
+    kp, pc = kern["planners"], ompl_cpu["planners"]
     rows = [
         ("C-space grid, 3 links, 128³", "previous rapp grid", "≥ 4×", m128["grid_ratio_previous_over_rapp"], 4),
         ("C-space grid, 3 links, 128³", "its floor: painting given intervals", "≥ 0.5×",
@@ -130,9 +132,12 @@ def limits() -> list[Limit]:
         ("prm, 20 seeds", "numpy checker", "≥ 3×", kp["prm"]["ratio_total"], 3),
         ("rrt_star, 20 seeds", "numpy checker", "none", kp["rrt_star"]["ratio_total"], None),
         ("RRT-Connect, 3 links", "OMPL with rapp's numpy checker", "none", ompl["median_ratio_ompl_over_rapp"], None),
-        ("RRT-Connect, 3 links", "OMPL with the compiled checker", "≥ 1×", pl["rrt_connect"]["ratio_ompl_over_rapp"], 1),
-        ("PRM, 3 links", "OMPL with the compiled checker", "≥ 1×", pl["prm"]["ratio_ompl_over_rapp"], 1),
-        ("RRT*, 3 links", "OMPL with the compiled checker", "≥ 1×", pl["rrt_star"]["ratio_ompl_over_rapp"], 1),
+        ("RRT-Connect, 3 links", "OMPL, Python callback, CPU time", "none", pc["rrt_connect"]["ratio_ompl_over_rapp_cpu"], None),
+        ("RRT-Connect, 3 links", "OMPL, callback costed as compiled", "≥ 1×", pc["rrt_connect"]["ratio_ompl_corrected_over_rapp_cpu"], 1),
+        ("PRM, 3 links", "OMPL, Python callback, CPU time", "none", pc["prm"]["ratio_ompl_over_rapp_cpu"], None),
+        ("PRM, 3 links", "OMPL, callback costed as compiled", "≥ 1×", pc["prm"]["ratio_ompl_corrected_over_rapp_cpu"], 1),
+        ("RRT*, 3 links", "OMPL, Python callback, CPU time", "none", pc["rrt_star"]["ratio_ompl_over_rapp_cpu"], None),
+        ("RRT*, 3 links", "OMPL, callback costed as compiled", "≥ 1×", pc["rrt_star"]["ratio_ompl_corrected_over_rapp_cpu"], 1),
         ("one trapezoidal move", "ruckig (C++)", "≥ 0.1×", 1 / ts["ratios"]["rapp_moves_one_over_ruckig"], 0.1),
         ("one move, previous trapezoidal", "ruckig (C++)", "none",
          1 / ts["ratios"]["rapp_trapezoidal_over_ruckig"], None),
