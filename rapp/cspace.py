@@ -365,7 +365,10 @@ def occupancy_numpy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     True
     """
     check_grid(arm, grid)
-    return _numpy.hits(*_per_link(arm, obstacles, margin), grid)
+    # The prefix geometry is looked up here at call time: one call per link with an obstacle,
+    # which chapter 10 counts by watching rapp.cspace.prefix_grid.
+    return _numpy.hits(*_per_link(arm, obstacles, margin), grid,
+                       prefix=lambda g, i: prefix_grid(g, i))
 
 
 def grid_q(grid) -> np.ndarray:

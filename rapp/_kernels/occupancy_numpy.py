@@ -25,16 +25,17 @@ from rapp.obstacles import Circle
 __all__ = ["hits", "prefix_grid", "prefix_step"]
 
 
-def hits(arm, per_link, grid) -> np.ndarray:
+def hits(arm, per_link, grid, *, prefix=None) -> np.ndarray:
     """Where link ``i`` touches one of the obstacles ``per_link[i]``, for any ``i``: bool ``grid.shape``.
 
     The obstacles are checked (:func:`rapp.collision.check_obstacle`) and ``grid`` is the arm's
-    (:func:`rapp.cspace.check_grid`).
+    (:func:`rapp.cspace.check_grid`). ``prefix`` computes each link's prefix geometry
+    (default :func:`prefix_grid`), once per link with an obstacle.
     """
     occ = np.zeros(grid.shape, dtype=bool)
     for i in range(arm.n):
         if len(per_link[i]):
-            occ |= _link_hits(arm, per_link[i], grid, i)
+            occ |= _link_hits(arm, per_link[i], grid, i, prefix or prefix_grid)
     return occ
 
 
@@ -295,10 +296,10 @@ def _paint(intervals, ax, wraps, step, chunk=2048):
     return out
 
 
-def _link_hits(arm, obstacles, grid, i) -> np.ndarray:
+def _link_hits(arm, obstacles, grid, i, prefix) -> np.ndarray:
     """Where link ``i`` touches an obstacle, on the grid of joints ``0..i``, shaped to broadcast
     over ``grid.shape`` (trailing axes of length 1)."""
-    P, phi_prev = prefix_grid(grid, i)
+    P, phi_prev = prefix(grid, i)
     P = P.reshape(-1, 2)
     phi_prev = phi_prev.reshape(-1)
     L = arm.link_lengths[i]
