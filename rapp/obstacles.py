@@ -174,7 +174,7 @@ def grown(ob, distance: float, links=None) -> tuple:
         # points at rounding distance (a test stays conservative: it never misses a hit).
         depth = max(d, 4e-12 * float(np.abs(e[k]).max()), 16 * np.finfo(float).eps * float(np.abs(v).max()))
         try:
-            pieces.append(Polygon([a, b, b + depth * nrm[k], a + depth * nrm[k]], links=links))
+            pieces.append(Polygon((a, b, b + depth * nrm[k], a + depth * nrm[k]), links=links))
         except ValueError:
             raise ValueError(
                 f"distance {d:g} is too small beside an edge of length {np.hypot(*e[k]):g} at "

@@ -267,7 +267,7 @@ def all_settings() -> dict:
     any a planner brings of its own. A key's range is the same in every planner that reads it;
     its default here is that of the first planner reading it (``max_iterations`` differs by
     planner: :meth:`Planner.default`)."""
-    read = {}
+    read: dict = {}
     for p in PLANNERS.values():
         for s in p.settings:
             read.setdefault(s.key, s)
