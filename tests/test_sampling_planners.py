@@ -99,8 +99,9 @@ def test_rrt_star_improves_with_more_iterations():
     goal = rapp.ik(s.arm, s.goal_xy, q0=s.start_array)[0]
     # 1000 iterations, not 2000: half the time, and with this seed the cost already drops
     # (6.039 after 300, 5.954 after 1000), so the comparison is not a tie of equal paths.
-    short = rrt_star(s.arm, s.start_array, goal, s.obstacles, seed=2, max_iterations=300)
-    long = rrt_star(s.arm, s.start_array, goal, s.obstacles, seed=2, max_iterations=1000)
+    kw = dict(step=0.2, goal_bias=0.05, goal_threshold=0.05, seed=2)   # as when it was written
+    short = rrt_star(s.arm, s.start_array, goal, s.obstacles, max_iterations=300, **kw)
+    long = rrt_star(s.arm, s.start_array, goal, s.obstacles, max_iterations=1000, **kw)
     assert long.cost <= short.cost + 1e-12
 
 
