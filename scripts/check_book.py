@@ -329,7 +329,14 @@ _AXE = """async (tags) => {
 
 
 def run_axe(page, axe_source: str) -> list[dict]:
-    """axe-core's violations on ``page`` (WCAG 2.1 A and AA rules), all impacts."""
+    """axe-core's violations on ``page`` (WCAG 2.1 A and AA rules), all impacts, once the book's
+    script (rapp.js) has named what the theme leaves unnamed (its first pass, 150 ms after
+    the page is read; a slow page, as the search page with its index, may take longer)."""
+    try:
+        page.wait_for_function("() => document.documentElement.dataset.rappNamed === '1'",
+                               timeout=10_000)
+    except Exception:  # playwright's TimeoutError: axe then reports what is unnamed
+        pass
     page.add_script_tag(content=axe_source)
     return page.evaluate(_AXE, AXE_TAGS)
 
