@@ -450,9 +450,11 @@ def _bwrap_argv(bwrap: str, submission: Path | None, inner_name: str) -> list[st
         drop = []
     argv = [bwrap, *user, "--unshare-ipc", "--unshare-net", "--unshare-uts", "--unshare-cgroup-try",
             "--hostname", "sandbox", "--die-with-parent", "--new-session",
-            *_binds(), "--proc", "/proc", "--dev", "/dev",
+            # The private /tmp and home first: a Python environment that lives under /tmp (a
+            # checkout there) is then bound on top of the empty tmpfs, not hidden by it.
             "--perms", "1777", "--size", str(256 * 2**20), "--tmpfs", "/tmp",
-            "--perms", "0777", "--size", str(256 * 2**20), "--tmpfs", "/home/student", "--dir", "/submission"]
+            "--perms", "0777", "--size", str(256 * 2**20), "--tmpfs", "/home/student",
+            *_binds(), "--proc", "/proc", "--dev", "/dev", "--dir", "/submission"]
     if submission is not None:
         argv += ["--ro-bind", str(submission), f"/submission/{inner_name}"]
     argv += ["--chdir", "/home/student", "--clearenv"]

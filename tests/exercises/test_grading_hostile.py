@@ -412,3 +412,15 @@ def test_an_answer_that_is_rapps_own_function_scores_nothing(tmp_path):
     r = grade_submission(path, {"1.5": 1.0, "5.2": 1.0}, GradeLimits(run=20))
     assert [row[3] for row in r.rows] == ["wrong", "wrong"]
     assert all("delegates to rapp" in row[4] for row in r.rows), r.rows
+
+
+def test_a_python_environment_under_tmp_is_not_hidden_by_the_private_tmp():
+    """bwrap mounts in order: the private /tmp comes before the environment's read-only views,
+    so a checkout under /tmp (as a CI clone may be) is still seen inside the sandbox."""
+    from rapp.grading import _bwrap_argv
+    argv = _bwrap_argv("bwrap", None, "submission.py")
+    tmp = argv.index("/tmp", argv.index("--tmpfs"))
+    binds = [i for i, a in enumerate(argv) if a == "--ro-bind"]
+    assert binds and tmp < min(binds)
+    prefix = os.path.realpath(sys.prefix)
+    assert any(argv[i + 1] == prefix or argv[i + 1] == sys.prefix for i in binds)
