@@ -200,8 +200,8 @@ function statusText(S, G, crossings) {
       (n ? `; it crosses the seam ${n === 1 ? "once" : n === 2 ? "twice" : n + " times"}.` : "; it does not cross the seam."));
     // Said once the arm arrives (not at every step: a screen reader would say each one).
     if (S.motion >= X.path.length - 1) parts.push("The arm has moved along it to the goal.");
-  } else if (X.status === "blocked") parts.push(`The ${X.blockedEnd} cell is blocked, so A* cannot start.`);
-  else if (X.status === "unreachable") parts.push(`No path: A* expanded all ${X.expansions} cells reachable from the start.`);
+  } else if (X.status === "blocked") parts.push(`The ${X.blockedEnd} cell is blocked, so A*${w} cannot start.`);
+  else if (X.status === "unreachable") parts.push(`No path: A*${w} expanded all ${X.expansions} cells reachable from the start.`);
   else parts.push(`A* is searching: ${X.expansions} cells expanded, ${X.openCount()} on the open list.`);
   return parts.join(" ");
 }
