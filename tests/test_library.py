@@ -258,6 +258,8 @@ def test_offsets_names_and_base_come_from_the_scenario_and_go_back_to_it():
 
 
 def test_ci_runs_the_smoke_test_of_the_library_on_other_pythons():
+    if not (ROOT / ".ci" / "run").is_file():
+        pytest.skip("a copy of the library's tests (the smoke test itself), not the repository")
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     assert "scripts/smoke_pythons.py" in ci
     script = (ROOT / "scripts" / "smoke_pythons.py").read_text(encoding="utf-8")
