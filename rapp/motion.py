@@ -30,7 +30,7 @@ minimum) and a proven lower bound within ``rtol`` of it.
 Examples
 --------
 >>> from rapp import Arm, Circle
->>> from rapp.trajectory import time_path
+>>> from rapp.time_scaling import time_path
 >>> arm = Arm([1.0, 1.0])
 >>> motion = time_path([[0.0, 0.0], [1.0, 0.5], [1.5, 0.0]], 2.0, "spline")
 >>> c = certify_motion(arm, motion, [Circle((-1.0, 1.0), 0.3)], rtol=1e-3)
@@ -147,7 +147,7 @@ def certify_motion(arm, motion, obstacles=(), *, margin: float = 0.0, limit_tol:
     Examples
     --------
     >>> from rapp import Arm, Circle
-    >>> from rapp.trajectory import time_path
+    >>> from rapp.time_scaling import time_path
     >>> arm, obs = Arm([1.0, 1.0]), [Circle((1.0, 1.0), 0.25)]
     >>> # The chord from (0, 0) to (pi/2, 0) passes through the disc: so does the motion.
     >>> certify_motion(arm, time_path([[0.0, 0.0], [np.pi / 2, 0.0]], 1.0), obs).free

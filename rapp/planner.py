@@ -15,7 +15,7 @@
 5. **smoothing** — greedy shortcutting: from each waypoint jump to the farthest
    later waypoint whose straight joint-space segment is certified free;
 6. **trajectory** — the shortcut polyline is timed into ``q(t)``, ``q'(t)``,
-   ``q''(t)`` (:func:`rapp.trajectory.time_path`); if the smooth curve leaves
+   ``q''(t)`` (:func:`rapp.time_scaling.time_path`); if the smooth curve leaves
    the certified polyline and collides (or breaks a limit), each segment is
    timed rest-to-rest instead, which follows the polyline exactly;
 7. **verification** — :func:`rapp.verify.verify` fills ``plan.report``.

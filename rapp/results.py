@@ -47,7 +47,7 @@ def motion_to_dict(motion: PiecewisePolynomial) -> dict:
 
     Examples
     --------
-    >>> from rapp.trajectory import time_path
+    >>> from rapp.time_scaling import time_path
     >>> d = motion_to_dict(time_path([[0.0, 0.0], [1.0, 2.0]], 2.0, "cubic"))
     >>> d["breaks"], d["coefficients"][0][1]
     ([0.0, 2.0], [0.0, 0.0, 1.5, -0.5])
@@ -62,7 +62,7 @@ def motion_from_dict(d, n: int) -> PiecewisePolynomial:
 
     Examples
     --------
-    >>> from rapp.trajectory import time_path
+    >>> from rapp.time_scaling import time_path
     >>> m = time_path([[0.0, 0.0], [1.0, 2.0]], 2.0, "quintic")
     >>> bool(np.array_equal(motion_from_dict(motion_to_dict(m), 2).local, m.local))
     True

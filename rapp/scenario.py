@@ -157,7 +157,7 @@ def max_cells(n: int) -> int:
     return int(MEMORY_BUDGET // bytes_per_cell(n))
 
 
-#: The time profiles of ``trajectory.profile``: the three of :func:`rapp.trajectory.time_path`
+#: The time profiles of ``trajectory.profile``: the three of :func:`rapp.time_scaling.time_path`
 #: and the trapezoid (LSPB) of :func:`rapp.time_scaling.trapezoidal_path`.
 PROFILES = ("cubic", "quintic", "spline", "trapezoidal")
 #: The values of ``goal.path``: ``"line"`` moves the end effector along the straight segment

@@ -7,7 +7,7 @@ turn so fast (``|qd_i| <= vmax_i``) and accelerate so hard
 * what is the fastest motion that stops at every waypoint?
   :func:`trapezoidal` (one move) and :func:`trapezoidal_path` (a path) build
   the time-optimal LSPB profile, a *linear segment with parabolic blends*;
-* how short may the duration of :func:`rapp.trajectory.time_path` be?
+* how short may the duration of :func:`time_path` be?
   :func:`minimum_duration` scales its cubic, quintic or spline timing
   uniformly until the first joint touches a limit.
 
@@ -41,13 +41,14 @@ from numpy.typing import ArrayLike  # noqa: F401
 
 # rapp.trajectory's argument checks, so that a bad or overflowing input is refused with the
 # same messages in both modules.
-from rapp.trajectory import PiecewisePolynomial, finite_array, overflow_checked, step_lengths, time_path
+from rapp.trajectory import (PiecewisePolynomial, checked_duration, duration_shares, finite_array,
+                             overflow_checked, step_lengths, via_points)
 
-__all__ = ["trapezoidal", "trapezoidal_moves", "TrapezoidMoves", "trapezoidal_path",
+__all__ = ["time_path", "trapezoidal", "trapezoidal_moves", "TrapezoidMoves", "trapezoidal_path",
            "minimum_duration", "peak_rates", "PROFILES", "clock_after", "clean_waypoints"]
 
 #: The profiles :func:`minimum_duration` knows: the three of
-#: :func:`rapp.trajectory.time_path` and the trapezoid of :func:`trapezoidal_path`.
+#: :func:`time_path` and the trapezoid of :func:`trapezoidal_path`.
 PROFILES = ("cubic", "quintic", "spline", "trapezoidal")
 
 
@@ -427,7 +428,7 @@ def trapezoidal_path(waypoints: ArrayLike, vmax: ArrayLike, amax: ArrayLike, *,
     vmax, amax : float or (n,), > 0
     wraps : sequence of bool, optional
         Joints that turn freely, unwrapped first as in
-        :func:`rapp.trajectory.time_path`.
+        :func:`time_path`.
 
     Returns
     -------
@@ -494,7 +495,6 @@ def peak_rates(pp: PiecewisePolynomial) -> tuple[np.ndarray, np.ndarray]:
 
     Examples
     --------
-    >>> from rapp.trajectory import time_path
     >>> v, a = peak_rates(time_path([0.0, 1.0], 1.0, "quintic"))   # smoothstep
     >>> v.tolist(), a.round(12).tolist(), round(10 / 3**0.5, 12)
     ([1.875], [5.773502691896], 5.773502691896)
@@ -520,11 +520,11 @@ def minimum_duration(waypoints: ArrayLike, profile: str, vmax: ArrayLike, amax: 
     waypoints : (k, n) or (k,), k >= 2
     profile : "cubic", "quintic", "spline" or "trapezoidal"
         The first three: the timing of
-        :func:`rapp.trajectory.time_path` with that profile. ``"trapezoidal"``:
+        :func:`time_path` with that profile. ``"trapezoidal"``:
         :func:`trapezoidal_path`, which stops at every waypoint.
     vmax, amax : float or (n,), > 0
     wraps : sequence of bool, optional
-        As in :func:`rapp.trajectory.time_path`.
+        As in :func:`time_path`.
 
     Returns
     -------
@@ -574,3 +574,128 @@ def minimum_duration(waypoints: ArrayLike, profile: str, vmax: ArrayLike, amax: 
         raise ValueError("the waypoints move too far for vmax and amax: the duration "
                          "overflows float64")
     return T
+
+
+# --------------------------------------------------------------------------- a path in time
+
+
+def time_path(waypoints: ArrayLike, duration: float | None = None, profile: str = "cubic", *,
+              vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
+              wraps: ArrayLike | None = None, t0: float = 0.0) -> PiecewisePolynomial:
+    """Turn a joint-space path into ``q(t)``, starting and ending at rest.
+
+    The time of each waypoint is proportional to the joint-space (Euclidean)
+    distance travelled so far, so the arm keeps a roughly even speed along a
+    grid path; repeated waypoints are dropped. Give the ``duration``, or joint
+    limits ``vmax`` and/or ``amax``: without a duration the motion is the
+    shortest one of that profile within the limits
+    (:func:`minimum_duration`); with both, a duration too
+    short for the limits is refused.
+
+    Parameters
+    ----------
+    waypoints : (k, n)
+    duration : float, > 0, optional
+        Required unless ``vmax`` or ``amax`` is given.
+    profile : "cubic", "quintic", "spline" or "trapezoidal"
+        See :func:`rapp.trajectory.via_points`; all of them have zero velocity at both ends.
+        ``"trapezoidal"`` (:func:`rapp.trapezoidal_path`: the
+        fastest motion that stops at every waypoint) needs both limits.
+    vmax, amax : float or (n,), > 0, optional
+        Joint velocity (rad/s) and acceleration (rad/s²) limits; one alone
+        leaves the other unbounded.
+    wraps : sequence of bool, optional
+        Joints that turn freely: their angles are unwrapped along the path
+        first (``np.unwrap``) so that a step across ``+-pi`` moves the short
+        way instead of swinging all the way round.
+    t0 : float
+        Start time.
+
+    Examples
+    --------
+    >>> pp = time_path([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], 4.0)
+    >>> pp.breakpoints.tolist()
+    [0.0, 2.0, 4.0]
+    >>> pp.evaluate([0.0, 4.0], 1).tolist()
+    [[0.0, 0.0], [0.0, 0.0]]
+
+    Under limits instead of a duration (one joint, one radian: a cubic needs
+    ``max(1.5 D / v, sqrt(6 D / a))``):
+
+    >>> round(time_path([0.0, 1.0], vmax=1.0, amax=6.0).duration, 9)
+    1.5
+    >>> round(time_path([0.0, 1.0], vmax=1.0, amax=1.0, profile="trapezoidal").duration, 9)
+    2.0
+    """
+    if vmax is not None or amax is not None or profile == "trapezoidal":
+        return _time_path_within(waypoints, duration, profile, vmax, amax, wraps, t0)
+    if duration is None:
+        raise ValueError("give a duration, or joint limits vmax and/or amax")
+    w = finite_array(waypoints, "waypoints")
+    if w.ndim == 1:
+        w = w[:, None]
+    if w.ndim != 2 or w.shape[0] < 1:
+        raise ValueError(f"waypoints must have shape (k, n), got {w.shape}")
+    T, t0 = checked_duration(duration), float(finite_array(t0, "t0"))
+    if wraps is not None:
+        wraps = np.asarray(wraps, dtype=bool)
+        if wraps.ndim > 1 or wraps.size not in (1, w.shape[1]):
+            raise ValueError(f"wraps must have one bool per joint ({w.shape[1]}), got {wraps.tolist()}")
+        w = np.where(wraps, np.unwrap(w, axis=0), w)
+    w = w[np.concatenate([[True], step_lengths(w) > 0])]
+    with np.errstate(over="ignore"):
+        end = np.float64(t0) + T
+        s = np.concatenate([[0.0], np.cumsum(step_lengths(w))])
+        times = t0 + duration_shares(T, s, s[-1]) if w.shape[0] > 1 else np.array([t0, end])
+    overflow_checked(times, f"t0 + duration overflows float64, got t0={t0:g}, duration={T:g}")
+    if np.any(np.diff(times) <= 0):
+        raise ValueError(
+            f"duration {T:g} is too short beside t0 = {t0:g} (or a waypoint step too short "
+            "beside the whole path): waypoint times round together in float64"
+        )
+    if w.shape[0] == 1:
+        # Nowhere to go: rest at the single configuration.
+        return PiecewisePolynomial.from_local(times, np.stack(
+            [w[0], np.zeros_like(w[0]), np.zeros_like(w[0]), np.zeros_like(w[0])])[None])
+    return via_points(times, w, profile=profile)
+
+
+def _time_path_within(waypoints, duration, profile, vmax, amax, wraps, t0):
+    """:func:`time_path` under joint limits: the shortest duration, or the one given if it is
+    long enough. A motion ``q_T(t) = q_1(t / T)`` has peak speeds ``V / T`` and accelerations
+    ``A / T**2`` (see :func:`minimum_duration`)."""
+    w = clean_waypoints(waypoints, wraps)
+    n = w.shape[1]
+    if profile == "trapezoidal":
+        if vmax is None or amax is None:
+            raise ValueError("the trapezoidal profile needs both vmax and amax")
+        if w.shape[0] < 2:
+            raise ValueError("waypoints must move: all of them are the same configuration")
+        pp = trapezoidal_path(w, vmax, amax)
+        T_min, stretch = pp.duration, pp
+    else:
+        if w.shape[0] < 2:
+            raise ValueError("waypoints must move under limits: all of them are the same "
+                             "configuration (give a duration to rest there)")
+        V, A = peak_rates(time_path(w, 1.0, profile))
+        with np.errstate(all="ignore"):
+            tv = V / _limit(vmax, "vmax", n) if vmax is not None else np.zeros(n)
+            ta = np.sqrt(A / _limit(amax, "amax", n)) if amax is not None else np.zeros(n)
+        # One ulp-scale margin: the peaks of time_path(w, T) are V / T up to rounding.
+        T_min, stretch = float(np.max(np.maximum(tv, ta))) * (1.0 + 1e-12), None
+        if not np.isfinite(T_min):
+            raise ValueError("the waypoints move too far for vmax and amax: the duration "
+                             "overflows float64")
+    T = T_min
+    if duration is not None:
+        T = checked_duration(duration)
+        if T < T_min:
+            raise ValueError(f"duration {T:g} s is too short for vmax and amax: the shortest "
+                             f"is {T_min:.6g} s")
+    t0 = float(finite_array(t0, "t0"))
+    if stretch is None:
+        return time_path(w, T, profile, t0=t0)
+    k = np.arange(stretch.local.shape[1])
+    c = T / stretch.duration
+    return PiecewisePolynomial.from_local(t0 + stretch.breakpoints * c,
+                                          stretch.local / c ** k[None, :, None])

@@ -4,7 +4,7 @@
 straight joint-space edge certified free) and the scenario's
 :class:`~rapp.scenario.TrajectorySettings`, and returns the sampled motion:
 
-* without joint limits: :func:`rapp.trajectory.time_path` of the profile asked, over the
+* without joint limits: :func:`rapp.time_scaling.time_path` of the profile asked, over the
   duration asked; unless that smooth curve is certified free and within the joint limits over
   its whole time span, between samples too (:func:`rapp.motion.certify_motion`), each segment
   is timed rest-to-rest instead (the quintic smoothstep of
@@ -55,9 +55,8 @@ from rapp.checks import sorted_unique
 from rapp.errors import InvalidValue
 from rapp.scenario import MAX_DURATION, MIN_DURATION
 from rapp.motion import certify_motion
-from rapp.time_scaling import clean_waypoints, clock_after, peak_rates, trapezoidal_path
-from rapp.trajectory import (PiecewisePolynomial, cubic_local, quintic_local, step_lengths,
-                             time_path)
+from rapp.time_scaling import clean_waypoints, clock_after, peak_rates, time_path, trapezoidal_path
+from rapp.trajectory import PiecewisePolynomial, cubic_local, quintic_local, step_lengths
 
 __all__ = ["time_route", "TimedPath", "sample_times", "round_up", "DURATION_MARGIN"]
 

@@ -1,4 +1,7 @@
-"""Polynomial trajectories: cubic and quintic segments, via points, timed paths (seed 002, R3).
+"""Polynomial trajectories: cubic and quintic segments, via points (seed 002, R3).
+
+How a path is put in time (:func:`rapp.time_scaling.time_path`) builds on these and lives in
+:mod:`rapp.time_scaling`.
 
 Coefficients are in ascending powers of ABSOLUTE time ``t``, the matrix form
 of seed 002 (its eq. 5 writes them descending; we store ``a0, a1, ...``).
@@ -45,7 +48,6 @@ __all__ = [
     "via_points",
     "heuristic_velocities",
     "spline_velocities",
-    "time_path",
     "time_polyline",
     "cubic_local",
     "quintic_local",
@@ -53,6 +55,8 @@ __all__ = [
     "finite_array",
     "overflow_checked",
     "step_lengths",
+    "duration_shares",
+    "checked_duration",
 ]
 
 
@@ -603,140 +607,7 @@ def via_points(times: ArrayLike, positions: ArrayLike, velocities: ArrayLike | N
     return PiecewisePolynomial.from_local(times, np.moveaxis(c, 0, 1))
 
 
-def time_path(waypoints: ArrayLike, duration: float | None = None, profile: str = "cubic", *,
-              vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
-              wraps: ArrayLike | None = None, t0: float = 0.0) -> PiecewisePolynomial:
-    """Turn a joint-space path into ``q(t)``, starting and ending at rest.
-
-    The time of each waypoint is proportional to the joint-space (Euclidean)
-    distance travelled so far, so the arm keeps a roughly even speed along a
-    grid path; repeated waypoints are dropped. Give the ``duration``, or joint
-    limits ``vmax`` and/or ``amax``: without a duration the motion is the
-    shortest one of that profile within the limits
-    (:func:`rapp.time_scaling.minimum_duration`); with both, a duration too
-    short for the limits is refused.
-
-    Parameters
-    ----------
-    waypoints : (k, n)
-    duration : float, > 0, optional
-        Required unless ``vmax`` or ``amax`` is given.
-    profile : "cubic", "quintic", "spline" or "trapezoidal"
-        See :func:`via_points`; all of them have zero velocity at both ends.
-        ``"trapezoidal"`` (:func:`rapp.time_scaling.trapezoidal_path`: the
-        fastest motion that stops at every waypoint) needs both limits.
-    vmax, amax : float or (n,), > 0, optional
-        Joint velocity (rad/s) and acceleration (rad/s²) limits; one alone
-        leaves the other unbounded.
-    wraps : sequence of bool, optional
-        Joints that turn freely: their angles are unwrapped along the path
-        first (``np.unwrap``) so that a step across ``+-pi`` moves the short
-        way instead of swinging all the way round.
-    t0 : float
-        Start time.
-
-    Examples
-    --------
-    >>> pp = time_path([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], 4.0)
-    >>> pp.breakpoints.tolist()
-    [0.0, 2.0, 4.0]
-    >>> pp.evaluate([0.0, 4.0], 1).tolist()
-    [[0.0, 0.0], [0.0, 0.0]]
-
-    Under limits instead of a duration (one joint, one radian: a cubic needs
-    ``max(1.5 D / v, sqrt(6 D / a))``):
-
-    >>> round(time_path([0.0, 1.0], vmax=1.0, amax=6.0).duration, 9)
-    1.5
-    >>> round(time_path([0.0, 1.0], vmax=1.0, amax=1.0, profile="trapezoidal").duration, 9)
-    2.0
-    """
-    if vmax is not None or amax is not None or profile == "trapezoidal":
-        return _time_path_within(waypoints, duration, profile, vmax, amax, wraps, t0)
-    if duration is None:
-        raise ValueError("give a duration, or joint limits vmax and/or amax")
-    w = finite_array(waypoints, "waypoints")
-    if w.ndim == 1:
-        w = w[:, None]
-    if w.ndim != 2 or w.shape[0] < 1:
-        raise ValueError(f"waypoints must have shape (k, n), got {w.shape}")
-    T, t0 = _duration(duration), float(finite_array(t0, "t0"))
-    if wraps is not None:
-        wraps = np.asarray(wraps, dtype=bool)
-        if wraps.ndim > 1 or wraps.size not in (1, w.shape[1]):
-            raise ValueError(f"wraps must have one bool per joint ({w.shape[1]}), got {wraps.tolist()}")
-        w = np.where(wraps, np.unwrap(w, axis=0), w)
-    w = w[np.concatenate([[True], step_lengths(w) > 0])]
-    with np.errstate(over="ignore"):
-        end = np.float64(t0) + T
-        s = np.concatenate([[0.0], np.cumsum(step_lengths(w))])
-        times = t0 + _share(T, s, s[-1]) if w.shape[0] > 1 else np.array([t0, end])
-    overflow_checked(times, f"t0 + duration overflows float64, got t0={t0:g}, duration={T:g}")
-    if np.any(np.diff(times) <= 0):
-        raise ValueError(
-            f"duration {T:g} is too short beside t0 = {t0:g} (or a waypoint step too short "
-            "beside the whole path): waypoint times round together in float64"
-        )
-    if w.shape[0] == 1:
-        # Nowhere to go: rest at the single configuration.
-        return PiecewisePolynomial.from_local(times, np.stack(
-            [w[0], np.zeros_like(w[0]), np.zeros_like(w[0]), np.zeros_like(w[0])])[None])
-    return via_points(times, w, profile=profile)
-
-
-def _time_path_within(waypoints, duration, profile, vmax, amax, wraps, t0):
-    """:func:`time_path` under joint limits: the shortest duration, or the one given if it is
-    long enough. A motion ``q_T(t) = q_1(t / T)`` has peak speeds ``V / T`` and accelerations
-    ``A / T**2`` (see :func:`rapp.time_scaling.minimum_duration`)."""
-    from rapp import time_scaling  # it builds on this module: imported when first needed
-
-    w = time_scaling.clean_waypoints(waypoints, wraps)
-    n = w.shape[1]
-    if profile == "trapezoidal":
-        if vmax is None or amax is None:
-            raise ValueError("the trapezoidal profile needs both vmax and amax")
-        if w.shape[0] < 2:
-            raise ValueError("waypoints must move: all of them are the same configuration")
-        pp = time_scaling.trapezoidal_path(w, vmax, amax)
-        T_min, stretch = pp.duration, pp
-    else:
-        if w.shape[0] < 2:
-            raise ValueError("waypoints must move under limits: all of them are the same "
-                             "configuration (give a duration to rest there)")
-        V, A = time_scaling.peak_rates(time_path(w, 1.0, profile))
-        with np.errstate(all="ignore"):
-            tv = V / _joint_limit(vmax, "vmax", n) if vmax is not None else np.zeros(n)
-            ta = np.sqrt(A / _joint_limit(amax, "amax", n)) if amax is not None else np.zeros(n)
-        # One ulp-scale margin: the peaks of time_path(w, T) are V / T up to rounding.
-        T_min, stretch = float(np.max(np.maximum(tv, ta))) * (1.0 + 1e-12), None
-        if not np.isfinite(T_min):
-            raise ValueError("the waypoints move too far for vmax and amax: the duration "
-                             "overflows float64")
-    T = T_min
-    if duration is not None:
-        T = _duration(duration)
-        if T < T_min:
-            raise ValueError(f"duration {T:g} s is too short for vmax and amax: the shortest "
-                             f"is {T_min:.6g} s")
-    t0 = float(finite_array(t0, "t0"))
-    if stretch is None:
-        return time_path(w, T, profile, t0=t0)
-    k = np.arange(stretch.local.shape[1])
-    c = T / stretch.duration
-    return PiecewisePolynomial.from_local(t0 + stretch.breakpoints * c,
-                                          stretch.local / c ** k[None, :, None])
-
-
-def _joint_limit(value, name: str, n: int) -> np.ndarray:
-    """``value`` as ``(n,)`` positive finite limits (a scalar applies to every joint)."""
-    a = finite_array(value, name)
-    if not (a.ndim == 0 or (a.ndim == 1 and a.size in (1, n))) or np.any(a <= 0):
-        raise ValueError(f"{name} must be > 0: a number or one number per joint ({n}), "
-                         f"got {a.tolist()}")
-    return np.broadcast_to(a, (n,)).astype(float)
-
-
-def _share(T, lengths, total):
+def duration_shares(T, lengths, total):
     """``T * lengths / total``: each length's share of the duration ``T``."""
     with np.errstate(over="ignore"):
         out = T * lengths / total
@@ -744,7 +615,7 @@ def _share(T, lengths, total):
     return out if np.all(np.isfinite(out)) else T * (lengths / total)
 
 
-def _duration(duration) -> float:
+def checked_duration(duration) -> float:
     """``duration`` as a float, or a ValueError naming it unless it is finite and > 0."""
     T = float(finite_array(duration, "duration"))
     if not T > 0:
@@ -795,7 +666,7 @@ def time_polyline(waypoints, duration: float, samples: int):
     w = finite_array(waypoints, "waypoints")
     if w.ndim != 2 or len(w) < 1:
         raise ValueError(f"waypoints must have shape (m, n), got {w.shape}")
-    T = _duration(duration)
+    T = checked_duration(duration)
     t = np.linspace(0.0, T, positive_integer(samples, "samples", lo=2))
     n = w.shape[1]
     seg = step_lengths(w)
@@ -811,7 +682,7 @@ def time_polyline(waypoints, duration: float, samples: int):
 
 
 def _smoothstep_polyline(w, T, t, seg, total):
-    dur = _share(T, seg, total)
+    dur = duration_shares(T, seg, total)
     bp = np.concatenate(([0.0], np.cumsum(dur)))
     bp[-1] = T
     inner = (bp[:-1, None] + dur[:, None] * np.array([0.25, 0.5, 0.75])).ravel()

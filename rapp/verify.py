@@ -51,12 +51,11 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
+from typing import TYPE_CHECKING, Iterable, Protocol, Sequence  # noqa: F401  (annotations)
 
 from numpy.typing import ArrayLike  # noqa: F401
 
 if TYPE_CHECKING:
-    from rapp.results import Plan
     from rapp.scenario import Scenario
 
 from rapp.collision import (clearance, collides, scene, segment_collision_free, segment_point_distance,
@@ -64,6 +63,7 @@ from rapp.collision import (clearance, collides, scene, segment_collision_free, 
 from rapp.motion import certify_motion
 from rapp.time_scaling import peak_rates
 from rapp.trajectory import PiecewisePolynomial
+
 
 __all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL", "RATE_TOL",
            "MOTION_TOL", "CLEARANCE_RTOL"]
@@ -387,12 +387,23 @@ def _check_line(arm, q, xy, scenario) -> Check:
                  f"between samples along each joint-space chord ({sampled:.3g} m at the samples)")
 
 
-def verify(plan: Plan, scenario: Scenario) -> Report:
+class SampledTrajectory(Protocol):
+    """What :func:`verify` reads of a plan: a :class:`rapp.results.Plan`, or any object with
+    these arrays (and, optionally, the ``motion`` it certified)."""
+
+    t: np.ndarray  #: (k,) times
+    q: np.ndarray  #: (k, n) joint angles
+    qd: np.ndarray  #: (k, n) joint velocities
+    qdd: np.ndarray  #: (k, n) joint accelerations
+    xy: np.ndarray  #: (k, 2) end-effector positions
+
+
+def verify(plan: SampledTrajectory, scenario: Scenario) -> Report:
     """Check a plan's timed trajectory against the scenario.
 
     Parameters
     ----------
-    plan : Plan or any object with ``t`` (k,), ``q``, ``qd``, ``qdd`` (k, n) and ``xy`` (k, 2)
+    plan : rapp.results.Plan, or any object with ``t`` (k,), ``q``, ``qd``, ``qdd`` (k, n) and ``xy`` (k, 2)
     scenario : Scenario
 
     Returns

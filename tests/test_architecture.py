@@ -204,20 +204,10 @@ def all_modules() -> dict:
     return {module_name(p): p for p in sorted(PACKAGE.rglob("*.py"))}
 
 
-def _type_checking_only(tree) -> set:
-    """The import nodes inside ``if TYPE_CHECKING:`` blocks: read by type checkers, never run."""
-    out = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.If) and (
-                (isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING")
-                or (isinstance(node.test, ast.Attribute) and node.test.attr == "TYPE_CHECKING")):
-            out |= {id(n) for b in node.body for n in ast.walk(b)}
-    return out
-
-
 def import_edges(path: Path, modules: dict) -> set:
-    """``(module, line)`` for each rapp module ``path`` imports, anywhere in it (functions too;
-    not those under ``if TYPE_CHECKING:``, which only type checkers read).
+    """``(module, line)`` for each rapp module ``path`` imports, anywhere in it (functions too,
+    and those under ``if TYPE_CHECKING:``: an annotation that names a module above is an arrow
+    running back up as much as a call is).
 
     ``from rapp import x`` is the module ``rapp.x`` where that is a module, else ``rapp`` (the
     package's front door); ``from rapp.a import b`` likewise; relative imports are resolved.
@@ -226,10 +216,7 @@ def import_edges(path: Path, modules: dict) -> set:
     package = me if path.name == "__init__.py" else me.rpartition(".")[0]
     out = set()
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    typing_only = _type_checking_only(tree)
     for node in ast.walk(tree):
-        if id(node) in typing_only:
-            continue
         if isinstance(node, ast.ImportFrom):
             base = node.module or ""
             if node.level:
@@ -308,12 +295,9 @@ def test_the_edges_include_imports_inside_functions(tmp_path, monkeypatch):
 
 
 #: Imports allowed to close a cycle, ``(importer, imported)``: with the reason. Short.
-ALLOWED_CYCLE = {
-    # time_path under velocity and acceleration limits (rapp.time_path(vmax=, amax=)) times
-    # the path with time_scaling's trapezoid and peak rates, which build on trajectory's
-    # polynomials: imported inside that one function, when first called.
-    ("rapp.trajectory", "rapp.time_scaling"),
-}
+#: None today: time_path, which needs the trapezoid and the peak rates, lives in
+#: rapp.time_scaling above the polynomials of rapp.trajectory.
+ALLOWED_CYCLE: set = set()
 
 
 def test_no_import_cycle():
@@ -321,7 +305,7 @@ def test_no_import_cycle():
     assert cycles(edges) == []
 
 
-def test_imports_for_type_checkers_only_are_not_edges(tmp_path, monkeypatch):
+def test_imports_for_type_checkers_are_edges_too(tmp_path, monkeypatch):
     pkg = tmp_path / "rapp"
     pkg.mkdir()
     (pkg / "__init__.py").write_text("")
@@ -329,7 +313,7 @@ def test_imports_for_type_checkers_only_are_not_edges(tmp_path, monkeypatch):
     (pkg / "b.py").write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n"
                               "    from rapp.a import x\nimport rapp.a\n")
     monkeypatch.setattr(sys.modules[__name__], "PACKAGE", pkg)
-    assert import_edges(pkg / "b.py", all_modules()) == {("rapp.a", 4)}
+    assert import_edges(pkg / "b.py", all_modules()) == {("rapp.a", 3), ("rapp.a", 4)}
 
 
 def test_every_import_follows_the_layer_order():

@@ -35,10 +35,10 @@ from rapp.trajectory import (
     heuristic_velocities,
     quintic,
     spline_velocities,
-    time_path,
     time_polyline,
     via_points,
 )
+from rapp.time_scaling import time_path
 
 NAN, INF = float("nan"), float("inf")
 ARM = Arm([1.0, 1.0])

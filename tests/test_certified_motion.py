@@ -25,7 +25,8 @@ from rapp.motion import certify_motion
 from rapp.planners import PLANNERS
 from rapp.results import save_result
 from rapp.timing import sample_times
-from rapp.trajectory import PiecewisePolynomial, time_path
+from rapp.time_scaling import time_path
+from rapp.trajectory import PiecewisePolynomial
 
 PER_SECOND = 10_000
 

@@ -220,7 +220,7 @@ def test_a_plan_keeps_links_apart_and_its_report_says_so():
 @pytest.mark.parametrize("profile", ["cubic", "quintic", "spline"])
 def test_a_motion_is_certified_only_when_its_links_stay_apart(profile):
     from rapp.motion import certify_motion
-    from rapp.trajectory import time_path
+    from rapp.time_scaling import time_path
     arm = rapp.Arm([1.0, 1.0, 1.0], link_radius=0.05, self_collision=True)
     layered = rapp.Arm([1.0, 1.0, 1.0], link_radius=0.05)
     # Ends folded back across link 0: the motion passes through a self-collision.

@@ -16,7 +16,8 @@ from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from rapp.time_scaling import minimum_duration, peak_rates, trapezoidal, trapezoidal_path
-from rapp.trajectory import PiecewisePolynomial, time_path, via_points
+from rapp.time_scaling import time_path
+from rapp.trajectory import PiecewisePolynomial, via_points
 
 REL = 1e-9          # "reached" and "respected": relative to the limit
 # Rounding allowance of a respected limit. A cubic spline's accelerations come from a linear

@@ -22,9 +22,9 @@ from rapp.trajectory import (
     polyval,
     quintic,
     spline_velocities,
-    time_path,
     via_points,
 )
+from rapp.time_scaling import time_path
 
 CUBIC_REF = cubic_function()
 QUINTIC_REF = quintic_function()

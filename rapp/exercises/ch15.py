@@ -19,7 +19,7 @@ from rapp.arm import Arm
 from rapp.collision import segment_point_distance
 from rapp.manipulability import condition_number, manipulability
 from rapp.time_scaling import minimum_duration, peak_rates, trapezoidal
-from rapp.trajectory import time_path
+from rapp.time_scaling import time_path
 
 __all__ = ["EXERCISES"]
 
