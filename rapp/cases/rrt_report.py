@@ -19,7 +19,12 @@ and the start and goal (:data:`START_THETA`, :data:`GOAL_THETA`, report angles).
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 import sympy as sp
@@ -29,6 +34,7 @@ from rapp.collision import path_collision_free
 from rapp.cspace import JointGrid, occupancy
 from rapp.obstacles import Polygon
 from rapp.paths import path_length
+from rapp.results import load_result
 from rapp.rrt import rrt
 from rapp.search import astar
 
@@ -46,6 +52,7 @@ __all__ = [
     "printed_jacobian",
     "seed_arm",
     "seed_square",
+    "seed_problem",
     "compare_with_astar",
     "alpha_beta_experiment",
     "wilson_interval",
@@ -54,6 +61,7 @@ __all__ = [
     "walk_to_root",
     "printed_walk",
     "seed_scenario",
+    "plan_on_the_command_line",
 ]
 
 THETA_LIMIT = 1.5
@@ -182,6 +190,22 @@ def seed_square(corner=SQUARE_CORNER, angle: float = 0.0) -> Polygon:
     (0.1, 1.3)
     """
     return Polygon.rectangle(corner, SQUARE_SIDE, SQUARE_SIDE, angle)
+
+
+def seed_problem():
+    """The report's planning problem in rapp's convention: ``(arm, obstacles, start, goal)``.
+
+    :func:`seed_arm`, ``[seed_square()]``, and :data:`START_THETA` and :data:`GOAL_THETA`
+    converted (:func:`report_to_rapp`). Start and goal are free; the straight joint-space
+    edge between them is not.
+
+    Examples
+    --------
+    >>> arm, obstacles, start, goal = seed_problem()
+    >>> arm.n, len(obstacles), start.round(4).tolist()
+    (3, 1, [2.5708, 0.5, 0.5])
+    """
+    return seed_arm(), [seed_square()], report_to_rapp(START_THETA), report_to_rapp(GOAL_THETA)
 
 
 def compare_with_astar(arm, start, goal, obstacles, *, cells=32, rrt_settings=None) -> dict:
@@ -435,3 +459,25 @@ def seed_scenario(arm, start, goal, planner) -> dict:
         "goal": {"joints": np.asarray(goal, dtype=float).tolist()},
         "planner": dict(planner),
     }
+
+
+def plan_on_the_command_line(scenario):
+    """Run ``python -m rapp plan FILE --quiet --out result.json`` on ``scenario``, in a new process.
+
+    The scenario is written to a temporary directory first (the command reads a file, as a
+    reader would run it). Returns the finished process (``returncode``, ``stdout``) and the
+    result file read back (:func:`rapp.load_result`), or ``None`` when the command wrote none.
+
+    Examples
+    --------
+    >>> arm, obstacles, start, goal = seed_problem()
+    >>> run, saved = plan_on_the_command_line(seed_scenario(arm, start, goal, {"algorithm": "rrt", "seed": 0}))
+    >>> run.returncode, "verified" in run.stdout, saved.q.shape[1]
+    (0, True, 3)
+    """
+    with tempfile.TemporaryDirectory() as tmp:
+        path, out = Path(tmp) / f"{scenario.get('name', 'scenario')}.json", Path(tmp) / "result.json"
+        path.write_text(json.dumps(scenario), encoding="utf-8")
+        run = subprocess.run([sys.executable, "-m", "rapp", "plan", str(path), "--quiet", "--out", str(out)],
+                             capture_output=True, text=True)
+        return run, (load_result(out) if out.exists() else None)

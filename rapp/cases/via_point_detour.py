@@ -52,6 +52,8 @@ __all__ = [
     "velocity_rows",
     "check_printed",
     "printed_ik",
+    "coefficient_names",
+    "velocity_names",
 ]
 
 SEED002_TIMES = (3.0, 5.5, 8.0)
@@ -530,3 +532,25 @@ def printed_ik(P, sign_q2, sign_q1=-1.0, lengths=(9.0, 9.0), strict=True) -> np.
     if strict and (np.any(x <= 0) or np.any(l1 + l2 * np.cos(q2) < 0)):
         raise ValueError("outside the domain of eqs. 34-37 (x > 0 and L1 + L2 cos Q2 >= 0): use atan2")
     return np.stack([q1, q2], axis=-1)
+
+
+def coefficient_names(letter: str, segments) -> list:
+    """The seed's names of the coefficients of each segment, highest power first (HTML subscripts).
+
+    Examples
+    --------
+    >>> coefficient_names("a", ["AB"])
+    ['a<sub>AB,3</sub>', 'a<sub>AB,2</sub>', 'a<sub>AB,1</sub>', 'a<sub>AB,0</sub>']
+    """
+    return [f"{letter}<sub>{s},{k}</sub>" for s in segments for k in (3, 2, 1, 0)]
+
+
+def velocity_names(axis: str, segments) -> list:
+    """Names of the terms of each segment's velocity polynomial (:func:`velocity_rows`'s order).
+
+    Examples
+    --------
+    >>> velocity_names("y", ["BD"])
+    ['dy<sub>BD</sub>/dt: t²', 'dy<sub>BD</sub>/dt: t', 'dy<sub>BD</sub>/dt: t⁰']
+    """
+    return [f"d{axis}<sub>{s}</sub>/dt: t{p}" for s in segments for p in ("²", "", "⁰")]
