@@ -19,7 +19,12 @@ and the start and goal (:data:`START_THETA`, :data:`GOAL_THETA`, report angles).
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 import sympy as sp
@@ -29,6 +34,7 @@ from rapp.collision import path_collision_free
 from rapp.cspace import JointGrid, occupancy
 from rapp.obstacles import Polygon
 from rapp.paths import path_length
+from rapp.results import load_result
 from rapp.rrt import rrt
 from rapp.search import astar
 
@@ -46,8 +52,16 @@ __all__ = [
     "printed_jacobian",
     "seed_arm",
     "seed_square",
+    "seed_problem",
     "compare_with_astar",
     "alpha_beta_experiment",
+    "wilson_interval",
+    "mean_interval",
+    "success_table",
+    "walk_to_root",
+    "printed_walk",
+    "seed_scenario",
+    "plan_on_the_command_line",
 ]
 
 THETA_LIMIT = 1.5
@@ -178,6 +192,22 @@ def seed_square(corner=SQUARE_CORNER, angle: float = 0.0) -> Polygon:
     return Polygon.rectangle(corner, SQUARE_SIDE, SQUARE_SIDE, angle)
 
 
+def seed_problem():
+    """The report's planning problem in rapp's convention: ``(arm, obstacles, start, goal)``.
+
+    :func:`seed_arm`, ``[seed_square()]``, and :data:`START_THETA` and :data:`GOAL_THETA`
+    converted (:func:`report_to_rapp`). Start and goal are free; the straight joint-space
+    edge between them is not.
+
+    Examples
+    --------
+    >>> arm, obstacles, start, goal = seed_problem()
+    >>> arm.n, len(obstacles), start.round(4).tolist()
+    (3, 1, [2.5708, 0.5, 0.5])
+    """
+    return seed_arm(), [seed_square()], report_to_rapp(START_THETA), report_to_rapp(GOAL_THETA)
+
+
 def compare_with_astar(arm, start, goal, obstacles, *, cells=32, rrt_settings=None) -> dict:
     """RRT and grid A* on the same problem: joint-space path cost and wall time.
 
@@ -303,3 +333,151 @@ def alpha_beta_experiment(
         "trial_cost": cost,
         "trial_iterations": iters,
     }
+
+
+def wilson_interval(k, n, z: float = 1.96):
+    """Wilson score interval of a success rate: ``k`` successes in ``n`` trials (95 % for z = 1.96).
+
+    The interval of the rates ``p`` that the score test does not reject:
+    ``|k/n - p| <= z sqrt(p (1 - p) / n)`` (eq. (ch12-wilson)). Unlike ``k/n +- z sqrt(...)`` it
+    stays in ``[0, 1]`` and is not empty at ``k = 0`` or ``k = n``.
+
+    Returns
+    -------
+    (lo, hi) : ndarrays of the shape of ``k``
+
+    Examples
+    --------
+    >>> lo, hi = wilson_interval([2, 3], 4)
+    >>> lo.round(2).tolist(), hi.round(2).tolist()
+    ([0.15, 0.3], [0.85, 0.95])
+    """
+    k = np.asarray(k, dtype=float)
+    centre = (k + z**2 / 2) / (n + z**2)
+    half = z / (n + z**2) * np.sqrt(k * (n - k) / n + z**2 / 4)
+    return centre - half, centre + half
+
+
+def mean_interval(x, z: float = 1.96):
+    """Mean over the last axis, ``nan`` entries (failed trials) skipped, and its half-width.
+
+    The half-width is ``z`` standard errors (sample standard deviation over ``sqrt(n)``);
+    ``nan`` where fewer than two values remain.
+
+    Examples
+    --------
+    >>> m, h = mean_interval([[1.0, 3.0, np.nan], [2.0, np.nan, np.nan]])
+    >>> m.tolist(), h.round(4).tolist()
+    ([2.0, 2.0], [1.96, nan])
+    """
+    x = np.asarray(x, dtype=float)
+    ok = ~np.isnan(x)
+    n = ok.sum(-1)
+    with np.errstate(invalid="ignore", divide="ignore"):  # no or one value: nan
+        m = np.where(ok, x, 0.0).sum(-1) / n
+        var = np.where(ok, (x - m[..., None]) ** 2, 0.0).sum(-1) / (n - 1)
+        return m, z * np.sqrt(var / n)
+
+
+def success_table(successes, trials: int, alphas, betas) -> str:
+    """The experiment's successes as text: one row per alpha, ``k  [lo, hi]`` per beta (Wilson).
+
+    Examples
+    --------
+    >>> print(success_table(np.array([[2, 3]]), 4, [0.5], [0.1, 1.0]))
+    alpha \\ beta                 0.1                   1
+             0.5     2  [0.15, 0.85]     3  [0.30, 0.95]
+    """
+    lo, hi = wilson_interval(successes, trials)
+    lines = ["alpha \\ beta" + "".join(f"{b:>20g}" for b in betas)]
+    for i, a in enumerate(alphas):
+        lines.append(f"{a:12g}" + "".join(f"{successes[i, j]:6d}  [{lo[i, j]:.2f}, {hi[i, j]:.2f}]"
+                                          for j in range(len(betas))))
+    return "\n".join(lines)
+
+
+def walk_to_root(nodes, parent, leaf: int = -1) -> np.ndarray:
+    """The path of a tree from its root to node ``leaf``: follow the parents, reverse once.
+
+    ``parent[i]`` is the index of node ``i``'s parent, ``-1`` at the root (:class:`rapp.rrt`'s
+    result).
+
+    Examples
+    --------
+    >>> walk_to_root(np.array([[0.0], [1.0], [2.0], [5.0]]), np.array([-1, 0, 1, 0]), 2).ravel().tolist()
+    [0.0, 1.0, 2.0]
+    """
+    nodes = np.asarray(nodes)
+    i, walk = int(np.arange(len(nodes))[leaf]), []
+    while i >= 0:
+        walk.append(i)
+        i = int(parent[i])
+    return nodes[walk[::-1]]
+
+
+def printed_walk(nodes, parent, start) -> np.ndarray:
+    """The report's Algorithm 2 as printed: it stops before the start and reverses at every step.
+
+    From the last node it appends each parent until the parent is ``start`` (so neither the
+    start nor the last node is in the result), reversing the list inside the loop. Kept to show
+    the error; :func:`walk_to_root` is the correct walk.
+
+    Examples
+    --------
+    >>> nodes = np.array([[0.0], [1.0], [2.0], [3.0], [4.0]])
+    >>> printed_walk(nodes, np.array([-1, 0, 1, 2, 3]), [0.0]).ravel().tolist()
+    [1.0, 3.0, 2.0]
+    """
+    tree = {tuple(nodes[i]): tuple(nodes[p]) for i, p in enumerate(parent) if p >= 0}
+    node, out = tuple(nodes[-1]), []
+    while tree[node] != tuple(start):
+        node = tree[node]
+        out.append(node)
+        out.reverse()
+    return np.array(out)
+
+
+def seed_scenario(arm, start, goal, planner) -> dict:
+    """The report's problem as a rapp scenario (:func:`rapp.plan`'s input), with ``planner``.
+
+    The arm's links and joint limits, the square (:data:`SQUARE_CORNER`, :data:`SQUARE_SIDE`),
+    ``start`` and the ``goal`` configuration.
+
+    Examples
+    --------
+    >>> sc = seed_scenario(seed_arm(), [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], {"algorithm": "astar"})
+    >>> sc["obstacles"][0]["type"], sc["goal"], sc["planner"]["algorithm"]
+    ('rectangle', {'joints': [2.0, 0.0, 0.0]}, 'astar')
+    """
+    return {
+        "name": "seed003",
+        "arm": {"link_lengths": list(arm.lengths.tolist() if hasattr(arm.lengths, "tolist") else arm.lengths),
+                "joint_limits": [list(lim) for lim in np.asarray(arm.joint_limits).tolist()]},
+        "obstacles": [{"type": "rectangle", "corner": list(SQUARE_CORNER),
+                       "width": SQUARE_SIDE, "height": SQUARE_SIDE, "angle": 0.0}],
+        "start": np.asarray(start, dtype=float).tolist(),
+        "goal": {"joints": np.asarray(goal, dtype=float).tolist()},
+        "planner": dict(planner),
+    }
+
+
+def plan_on_the_command_line(scenario):
+    """Run ``python -m rapp plan FILE --quiet --out result.json`` on ``scenario``, in a new process.
+
+    The scenario is written to a temporary directory first (the command reads a file, as a
+    reader would run it). Returns the finished process (``returncode``, ``stdout``) and the
+    result file read back (:func:`rapp.load_result`), or ``None`` when the command wrote none.
+
+    Examples
+    --------
+    >>> arm, obstacles, start, goal = seed_problem()
+    >>> run, saved = plan_on_the_command_line(seed_scenario(arm, start, goal, {"algorithm": "rrt", "seed": 0}))
+    >>> run.returncode, "verified" in run.stdout, saved.q.shape[1]
+    (0, True, 3)
+    """
+    with tempfile.TemporaryDirectory() as tmp:
+        path, out = Path(tmp) / f"{scenario.get('name', 'scenario')}.json", Path(tmp) / "result.json"
+        path.write_text(json.dumps(scenario), encoding="utf-8")
+        run = subprocess.run([sys.executable, "-m", "rapp", "plan", str(path), "--quiet", "--out", str(out)],
+                             capture_output=True, text=True)
+        return run, (load_result(out) if out.exists() else None)

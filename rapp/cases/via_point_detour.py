@@ -51,6 +51,9 @@ __all__ = [
     "coefficient_tables",
     "velocity_rows",
     "check_printed",
+    "printed_ik",
+    "coefficient_names",
+    "velocity_names",
 ]
 
 SEED002_TIMES = (3.0, 5.5, 8.0)
@@ -484,3 +487,70 @@ def check_printed(names, computed, printed):
         rows.append((name, text, f"{value:.4f}", "✓" if ok else "<b>wrong</b>"))
         wrong += [] if ok else [name]
     return rows, wrong
+
+
+def printed_ik(P, sign_q2, sign_q1=-1.0, lengths=(9.0, 9.0), strict=True) -> np.ndarray:
+    """Seed 002's inverse kinematics (its eqs. 34-37) as printed, with arctan(y/x) and arcsin.
+
+    ``q2 = sign_q2 * arccos((x^2 + y^2 - L1^2 - L2^2) / (2 L1 L2))`` and
+    ``q1 = arctan(y / x) + sign_q1 * arcsin(L2 sin(q2) / r)``.
+
+    Parameters
+    ----------
+    P : array_like, shape (..., 2)
+        Tip positions.
+    sign_q2 : float
+        ``+1``: elbow down (eqs. 36-37); ``-1``: elbow up (eqs. 34-35).
+    sign_q1 : float
+        ``-1``: the sign of eq. 36 and eq. 34 corrected; ``+1``: eq. 34 as printed.
+    lengths : pair of float or of arrays
+        ``(L1, L2)``; seed 002's Task 3 arm has ``L1 = L2 = 9`` m.
+    strict : bool
+        The formulas hold only for ``x > 0`` and ``L1 + L2 cos(q2) >= 0``; outside they return
+        wrong angles without a warning. ``strict=True`` refuses such points (ValueError);
+        :func:`rapp.ik_2link` (atan2) has no such limit.
+
+    Returns
+    -------
+    ndarray, shape (..., 2)
+        ``(q1, q2)`` in rad.
+
+    Examples
+    --------
+    >>> printed_ik([14.0, 7.0], +1).round(4).tolist()
+    [-0.0528, 1.0329]
+    >>> printed_ik([-1.0, 0.5], +1, lengths=(1.0, 1.0))
+    Traceback (most recent call last):
+    ...
+    ValueError: outside the domain of eqs. 34-37 (x > 0 and L1 + L2 cos Q2 >= 0): use atan2
+    """
+    P = np.asarray(P, dtype=float)
+    l1, l2 = lengths
+    x, y = P[..., 0], P[..., 1]
+    q2 = sign_q2 * np.arccos((x**2 + y**2 - l1**2 - l2**2) / (2 * l1 * l2))
+    q1 = np.arctan(y / x) + sign_q1 * np.arcsin(l2 * np.sin(q2) / np.hypot(x, y))
+    if strict and (np.any(x <= 0) or np.any(l1 + l2 * np.cos(q2) < 0)):
+        raise ValueError("outside the domain of eqs. 34-37 (x > 0 and L1 + L2 cos Q2 >= 0): use atan2")
+    return np.stack([q1, q2], axis=-1)
+
+
+def coefficient_names(letter: str, segments) -> list:
+    """The seed's names of the coefficients of each segment, highest power first (HTML subscripts).
+
+    Examples
+    --------
+    >>> coefficient_names("a", ["AB"])
+    ['a<sub>AB,3</sub>', 'a<sub>AB,2</sub>', 'a<sub>AB,1</sub>', 'a<sub>AB,0</sub>']
+    """
+    return [f"{letter}<sub>{s},{k}</sub>" for s in segments for k in (3, 2, 1, 0)]
+
+
+def velocity_names(axis: str, segments) -> list:
+    """Names of the terms of each segment's velocity polynomial (:func:`velocity_rows`'s order).
+
+    Examples
+    --------
+    >>> velocity_names("y", ["BD"])
+    ['dy<sub>BD</sub>/dt: t²', 'dy<sub>BD</sub>/dt: t', 'dy<sub>BD</sub>/dt: t⁰']
+    """
+    return [f"d{axis}<sub>{s}</sub>/dt: t{p}" for s in segments for p in ("²", "", "⁰")]

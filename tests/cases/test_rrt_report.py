@@ -264,3 +264,81 @@ def test_compare_with_astar():
     # Both go round the square, so both are strictly longer than the blocked straight line.
     assert out["rrt_cost"] > straight and out["astar_cost"] > straight
     assert out["astar_seconds"] >= 0 and out["rrt_seconds"] >= 0
+
+
+def test_seed_problem_is_the_report_problem():
+    from rapp.cases.rrt_report import seed_problem
+
+    arm, obs, s, g = seed_problem()
+    ref_arm, ref_s, ref_g, ref_obs = _problem()
+    assert arm.joint_limits == ref_arm.joint_limits and np.allclose(obs[0].array, ref_obs[0].array)
+    assert np.allclose(s, ref_s) and np.allclose(g, ref_g)
+
+
+def test_the_angle_box_is_the_joint_limits_and_the_reach_box_is_vacuous():
+    # Error 6: "-1.5 to 1.5" read once, as bounds on the report's angles in radians.
+    arm = seed_arm()
+    corners = np.array(np.meshgrid(*[[-1.5, 1.5]] * 3)).reshape(3, -1).T  # the report's angle box
+    assert arm.within_limits(report_to_rapp(corners)).all()
+    assert not arm.within_limits(report_to_rapp(1.01 * corners)).any()
+    np.testing.assert_allclose(arm.joint_limits, [(np.pi / 2 - 1.5, np.pi / 2 + 1.5), (-1.5, 1.5), (-1.5, 1.5)])
+    whole_circle = np.random.default_rng(6).uniform(-np.pi, np.pi, (20000, 3))  # the IK range
+    assert np.abs(Arm([0.5, 0.5, 0.5]).joint_positions(whole_circle)).max() <= 1.5 + 1e-12  # a 1.5 m box
+    assert (~arm.within_limits(whole_circle)).mean() > 0.85  # the angle box excludes most of it
+    assert THETA_LIMIT < np.pi  # two different ranges in the report
+
+
+def test_wilson_interval_inverts_the_score_test():
+    from rapp.cases.rrt_report import wilson_interval
+
+    p = np.linspace(0.0, 1.0, 200_001)
+    for n in (4, 30):
+        for k in range(n + 1):
+            accepted = p[np.abs(k / n - p) <= 1.96 * np.sqrt(p * (1 - p) / n)]
+            lo, hi = wilson_interval(k, n)
+            assert abs(accepted.min() - lo) < 1e-4 and abs(accepted.max() - hi) < 1e-4
+
+
+def test_mean_interval_skips_failed_trials_like_a_loop():
+    from rapp.cases.rrt_report import mean_interval
+
+    x = np.random.default_rng(3).normal(size=(4, 5, 7))
+    x[x > 1.0] = np.nan
+    m, h = mean_interval(x)
+    for i in np.ndindex(x.shape[:-1]):
+        v = x[i][~np.isnan(x[i])]
+        if len(v) >= 2:
+            assert np.isclose(m[i], v.mean()) and np.isclose(h[i], 1.96 * v.std(ddof=1) / np.sqrt(len(v)))
+        else:
+            assert np.isnan(h[i])
+
+
+def test_success_table_rows_hold_the_counts_and_wilson_bounds():
+    from rapp.cases.rrt_report import success_table, wilson_interval
+
+    k = np.array([[0, 30], [15, 28]])
+    lines = success_table(k, 30, [0.25, 1.0], [0.05, 1.0]).splitlines()
+    lo, hi = wilson_interval(k, 30)
+    assert len(lines) == 3 and lines[0].split()[-2:] == ["0.05", "1"]
+    assert f"28  [{lo[1, 1]:.2f}, {hi[1, 1]:.2f}]" in lines[2] and lines[1].split()[0] == "0.25"
+
+
+def test_the_walks_of_a_tree():
+    from rapp.cases.rrt_report import printed_walk, walk_to_root
+
+    s = np.array([0.0, 0.0])
+    res = rrt(Arm([1.0, 1.0]), s, [2.5, 2.5], [], step=0.2, goal_bias=0.1, seed=0)
+    np.testing.assert_allclose(walk_to_root(res.nodes, res.parent), res.path, atol=1e-12)
+    printed = printed_walk(res.nodes, res.parent, s)
+    assert len(res.path) > 5 and len(printed) == len(res.path) - 2  # start and final node missing
+    assert not np.allclose(printed, res.path[1:-1])  # and the order is scrambled
+
+
+def test_seed_scenario_plans_the_report_problem():
+    from rapp.cases.rrt_report import seed_problem, seed_scenario
+    from rapp.scenario import load_scenario
+
+    arm, obs, s, g = seed_problem()
+    sc = load_scenario(seed_scenario(arm, s, g, {"algorithm": "rrt", "step": 0.2, "seed": 0}))
+    assert np.allclose(sc.arm.lengths, arm.lengths) and np.allclose(sc.start, s)
+    assert np.allclose(sc.obstacles[0].array, obs[0].array)

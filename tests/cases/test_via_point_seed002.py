@@ -208,3 +208,40 @@ def test_spline_lowers_peaks():
     assert spline_vs_cubic([0, 3, 5.5, 8], [A, B, D2_SEED, C],
                            [(0, 0), VB, (0, 0), (0, 0)])["cubic"][1] == pytest.approx(
         np.abs(np.linalg.norm(pp.evaluate(np.array([5.5 - 1e-12, 5.5]), 2), axis=-1)).max(), rel=1e-6)
+
+
+# --------------------------------------------------------------------------- eqs. 34-37 as printed
+
+def _reach(lens, q):
+    """The tip of a 2-link arm, written out (the oracle of the domain test)."""
+    return np.stack([lens[:, 0] * np.cos(q[:, 0]) + lens[:, 1] * np.cos(q.sum(1)),
+                     lens[:, 0] * np.sin(q[:, 0]) + lens[:, 1] * np.sin(q.sum(1))], -1)
+
+
+@pytest.mark.parametrize("sign", [+1, -1])
+def test_printed_ik_is_right_exactly_on_its_domain(sign):
+    # Inside x > 0 and L1 + L2 cos Q2 >= 0 the printed formulas reach the target; outside they miss.
+    from rapp.cases.via_point_detour import printed_ik
+
+    rng = np.random.default_rng(11)
+    lens = rng.uniform(0.3, 2.0, (4000, 2))
+    P = _reach(lens, rng.uniform(-np.pi, np.pi, (4000, 2)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        Q = printed_ik(P, sign, lengths=(lens[:, 0], lens[:, 1]), strict=False)
+    miss = np.linalg.norm(_reach(lens, Q) - P, axis=1)
+    margin = np.minimum(P[:, 0], lens[:, 0] + lens[:, 1] * np.cos(Q[:, 1]))
+    ok = (np.linalg.norm(P, axis=1) > 0.05) & (np.abs(np.sin(Q[:, 1])) > 1e-2)  # off the boundaries
+    assert (miss[ok & (margin > 1e-3)] < 1e-6).all()
+    assert (miss[ok & (margin < -1e-2)] > 1e-3).all()
+    assert (ok & (margin < -1e-2)).sum() > 500 and (ok & (margin > 1e-3)).sum() > 500
+
+
+def test_printed_ik_refuses_points_outside_its_domain_when_strict():
+    from rapp.cases.via_point_detour import printed_ik
+
+    for links, target in (((1.0, 1.0), [-1.0, 0.5]), ((0.5, 1.0), [0.6, 0.0])):
+        with pytest.raises(ValueError, match="outside the domain"):
+            printed_ik(target, +1, lengths=links)
+        assert printed_ik(target, +1, lengths=links, strict=False).shape == (2,)
+    q = printed_ik([[14.0, 7.0], [9.0, 5.0]], -1, sign_q1=-1.0)  # elbow up, corrected: reaches C
+    assert np.allclose(_reach(np.full((2, 2), 9.0), q), [[14.0, 7.0], [9.0, 5.0]])
