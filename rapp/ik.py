@@ -44,7 +44,7 @@ from rapp.arm import Arm, wrap_angle
 from rapp.collision import clearance, collides
 from rapp.errors import NoIKSolution, NoPathFound
 
-__all__ = ["ik", "ik_2link", "ik_numeric", "jacobian", "free_ik_solutions", "fk_and_jacobian",
+__all__ = ["ik", "ik_2link", "ik_numeric", "jacobian", "free_ik_solutions", "fk_and_jacobian", "iterate_ik",
            "dls_step", "closed_form_start"]
 
 TWO_PI = 2.0 * np.pi
@@ -1155,3 +1155,41 @@ def free_ik_solutions(arm: Arm, target, obstacles, *, q0=None, samples: int = 10
     pick = _spread(arm, free, int(np.argmin(dist)), max_solutions, 1e-6)
     pick = pick[np.argsort(dist[pick], kind="stable")]
     return free[pick], count
+
+
+def iterate_ik(arm: Arm, target, q0, lam: float = 0.0, iterations: int = 30):
+    """Plain Newton-Raphson (``lam = 0``) or damped least squares with a fixed ``lam``, from each start.
+
+    The textbook iterations of chapter 6 (eqs. ch06-nr and ch06-dls) without the safeguards of
+    :func:`ik_numeric` (no step cap, no adaptive damping, no restarts), to show what those are for.
+    Newton's step solves with the square Jacobian, so ``lam = 0`` needs a 2-link arm.
+
+    Returns
+    -------
+    errors, travel : ndarray, shape (iterations, k)
+        Before each iteration: each start's tip error (m) and its distance ``|q - q0|`` (rad)
+        travelled in joint space.
+    q : ndarray, shape (k, n)
+        Where the iterations ended.
+
+    Examples
+    --------
+    >>> arm = Arm([1.0, 1.0])
+    >>> errors, travel, q = iterate_ik(arm, [1.0, 1.0], [[0.2, 1.2]], lam=0.05, iterations=20)
+    >>> bool(errors[-1, 0] < 1e-12), bool(np.allclose(arm.end_effector(q), [1.0, 1.0]))
+    (True, True)
+    """
+    target, q0 = np.asarray(target, float), np.atleast_2d(np.asarray(q0, float))
+    q, errors, travel = q0.copy(), [], []
+    for _ in range(iterations):
+        e = target - arm.end_effector(q)
+        J = jacobian(arm, q)
+        if lam == 0.0:
+            dq = np.linalg.solve(J, e[..., None])[..., 0]
+        else:
+            JJt = J @ np.swapaxes(J, -1, -2) + lam**2 * np.eye(2)
+            dq = (np.swapaxes(J, -1, -2) @ np.linalg.solve(JJt, e[..., None]))[..., 0]
+        errors.append(np.linalg.norm(e, axis=-1))
+        travel.append(np.linalg.norm(q - q0, axis=-1))
+        q = q + dq
+    return np.array(errors), np.array(travel), q
