@@ -29,7 +29,7 @@ from rapp.trajectory import time_path
 
 __all__ = ["PROFILE_STYLE", "plot_duration_scaling", "plot_limited_moves", "plot_synchronization",
            "plot_joint_velocities", "plot_line_following", "plot_velocity_ellipse",
-           "plot_manipulability_along"]
+           "plot_manipulability_along", "plot_timed_path", "plot_conditioning", "plot_derivatives"]
 
 #: Colour and line style of each time-scaling profile in chapter 15's figures.
 PROFILE_STYLE = {"trapezoidal": (COLORS["blue"], "-"), "cubic": (COLORS["orange"], "--"),
@@ -263,3 +263,87 @@ def plot_manipulability_along(arm, a, b, q_line, ellipses=7):
     for ax in (*axs, ax_k):
         style_axes(ax)
     return fig, s_way, w_line, kappa_line
+
+
+def plot_timed_path(waypoints, timed, ts):
+    """A planner's waypoints and their timing: the joint-space curve, and each joint against time.
+
+    Examples
+    --------
+    >>> w = np.array([[0.0, 0.0], [1.0, 0.5]])
+    >>> fig = plot_timed_path(w, time_path(w, 2.0, "cubic"), np.linspace(0, 2, 21))
+    >>> [ax.get_title() for ax in fig.axes]
+    ['joint space', 'the same motion in time']
+    >>> plt.close(fig)
+    """
+    waypoints = np.asarray(waypoints, float)
+    fig, axs = plt.subplots(1, 2, figsize=(10, 4.2), layout="constrained")
+    axs[0].plot(*waypoints.T, "o--", color=COLORS["grey"], label="planner's path (waypoints)")
+    axs[0].plot(*timed.evaluate(ts).T, "-", color=COLORS["blue"], lw=2, label="timed trajectory")
+    axs[0].set(xlabel=r"$\theta_1$ (rad)", ylabel=r"$\theta_2$ (rad)", title="joint space")
+    for j, c in enumerate((COLORS["blue"], COLORS["orange"])):
+        axs[1].plot(ts, timed.evaluate(ts)[:, j], color=c, lw=2, label=fr"$\theta_{j + 1}(t)$")
+        axs[1].plot(timed.breakpoints, waypoints[:, j], "o", color=c)
+    axs[1].set(xlabel="t (s)", ylabel="joint angle (rad)", title="the same motion in time")
+    for ax in axs:
+        ax.legend(fontsize="small", loc="upper left")
+        ax.grid(True, alpha=0.3)
+        style_axes(ax)
+    return fig
+
+
+def plot_conditioning(x, kappa, rel_naive, rel_shifted):
+    """Relative coefficient errors of a cubic solved in absolute and in shifted time, against ``x``.
+
+    ``kappa`` is the absolute-time system's condition number; the dotted bound is kappa times eps.
+
+    Examples
+    --------
+    >>> fig = plot_conditioning(np.array([1.0, 10.0]), np.array([10.0, 1e4]), np.array([1e-15, 1e-12]),
+    ...                         np.array([0.0, 1e-16]))
+    >>> fig.axes[0].get_xscale(), len(fig.axes[0].lines)
+    ('log', 3)
+    >>> plt.close(fig)
+    """
+    fig, ax = plt.subplots(figsize=(7, 4), layout="constrained")
+    ax.loglog(x, kappa * np.finfo(float).eps, ":", color=COLORS["grey"], label=r"$\kappa(M)\,\varepsilon$")
+    ax.loglog(x, np.maximum(rel_naive, 1e-17), "-o", color=COLORS["vermillion"], label="solve eq. 5 in absolute time")
+    ax.loglog(x, np.maximum(rel_shifted, 1e-17), "-s", color=COLORS["blue"], label="rapp.cubic (shifted time)")
+    ax.set(xlabel="$t_0 + 1$ (s), segment of 1 s", ylabel="relative coefficient error",
+           title="conditioning of the absolute-time system")
+    ax.legend(fontsize="small")
+    ax.grid(True, alpha=0.3)
+    style_axes(ax)
+    return fig
+
+
+def plot_derivatives(trajectories, ts, styles, marks, ylabels, vlines=()):
+    """Joint 1's position, velocity and acceleration under each trajectory, stacked.
+
+    ``styles`` gives a ``(colour, line style)`` per trajectory, ``marks`` is ``(t, q, label)``
+    drawn as black dots on the position, ``vlines`` times marked by thin grey lines.
+
+    Examples
+    --------
+    >>> from rapp.trajectory import via_points
+    >>> pp = via_points([0.0, 1.0, 2.0], [0.0, 1.0, 0.0])
+    >>> fig = plot_derivatives({"via": pp}, np.linspace(0, 2, 21), [("k", "-")], ([0, 1, 2], [0, 1, 0], "points"),
+    ...                        ("q", "q'", "q''"), vlines=[1.0])
+    >>> [ax.get_ylabel() for ax in fig.axes], fig.axes[-1].get_xlabel()
+    (['q', "q'", "q''"], 't (s)')
+    >>> plt.close(fig)
+    """
+    fig, axs = plt.subplots(3, 1, figsize=(7, 6.5), sharex=True, layout="constrained")
+    for (name, pp), (c, ls) in zip(trajectories.items(), styles):
+        for d, ax in enumerate(axs):
+            ax.plot(ts, pp.evaluate(ts, d)[:, 0], ls, color=c, lw=2, label=name)
+    axs[0].plot(marks[0], marks[1], "ko", ms=5, label=marks[2])
+    for ax, lab in zip(axs, ylabels):
+        ax.set_ylabel(lab)
+        for tv in vlines:
+            ax.axvline(tv, color="#cccccc", lw=0.8, zorder=0)
+        ax.grid(True, alpha=0.3)
+        style_axes(ax)
+    axs[0].legend(fontsize="small", ncol=4, loc="lower right")
+    axs[-1].set_xlabel("t (s)")
+    return fig
