@@ -19,7 +19,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 from matplotlib.patches import Ellipse
 
-from rapp.cartesian import line_fraction
+from rapp.cartesian import line_fraction, tip_along_edges
 from rapp.collision import segment_point_distance
 from rapp.manipulability import condition_number, manipulability, manipulability_ellipse
 from rapp.palette import COLORS
@@ -164,26 +164,29 @@ def plot_joint_velocities(timed, stops, v_lim):
     return fig
 
 
-def plot_line_following(arm, a, b, q_line, tip_line, tip_edge):
+def plot_line_following(arm, a, b, q_line, q_edge):
     """The arm along ``q_line`` (waypoints following the line ``a``-``b``) and the tip's distance to it.
 
-    ``tip_line`` is the tip along ``q_line``'s joint-space edges, ``tip_edge`` along one straight
-    joint-space edge (dashed, for comparison): :func:`rapp.cartesian.tip_along_edges`.
+    The tip is followed densely along ``q_line``'s joint-space edges (64 points each) and along
+    the single joint-space edge ``q_edge`` (4000 points, dashed, for comparison):
+    :func:`rapp.cartesian.tip_along_edges`. Returns ``(fig, dist_line, dist_edge, s_line)``: both
+    tips' distances to the line (m) and where ``q_line``'s tip projects onto it (a fraction).
 
     Examples
     --------
     >>> import rapp
-    >>> from rapp.cartesian import line_path, tip_along_edges
+    >>> from rapp.cartesian import line_path
     >>> from rapp.ik import ik_2link
     >>> arm = rapp.Arm([1.0, 1.0])
     >>> q = line_path(arm, ik_2link(arm, [1.0, 0.5])[0], [1.5, 0.5])
-    >>> fig = plot_line_following(arm, [1.0, 0.5], [1.5, 0.5], q, tip_along_edges(arm, q),
-    ...                           tip_along_edges(arm, q[[0, -1]]))
-    >>> float(fig.axes[1].lines[0].get_ydata().max()) <= 1.0      # within the 1 mm tolerance
-    True
+    >>> fig, dist_line, dist_edge, s = plot_line_following(arm, [1.0, 0.5], [1.5, 0.5], q, q[[0, -1]])
+    >>> bool(dist_line.max() <= 1e-3 < dist_edge.max()), float(s[0]), round(float(s[-1]), 9)
+    (True, 0.0, 1.0)
     >>> plt.close(fig)
     """
     a, b = np.asarray(a, float), np.asarray(b, float)
+    tip_line, tip_edge = tip_along_edges(arm, q_line), tip_along_edges(arm, q_edge, 4000)
+    dist_line, s_line = segment_point_distance(a, b, tip_line), line_fraction(tip_line, a, b)
     fig, axs = plt.subplots(1, 2, figsize=(10, 4.4), layout="constrained")
     plot_workspace(arm, axs[0])
     plot_arm(arm, q_line[:: max(1, len(q_line) // 9)], axs[0], frame=False)
@@ -191,8 +194,7 @@ def plot_line_following(arm, a, b, q_line, tip_line, tip_edge):
     axs[0].plot(*tip_edge.T, "--", color=COLORS["orange"], lw=2, label="tip, one joint-space edge")
     axs[0].legend(fontsize="small", loc="lower left")
     axs[0].set_title("the arm along line_path", fontsize="medium")
-    axs[1].plot(line_fraction(tip_line, a, b), 1e3 * segment_point_distance(a, b, tip_line),
-                color=COLORS["blue"], lw=1, label="line_path")
+    axs[1].plot(s_line, 1e3 * dist_line, color=COLORS["blue"], lw=1, label="line_path")
     axs[1].axhline(1.0, color=COLORS["vermillion"], ls=":", lw=1.5, label="tolerance 1 mm")
     axs[1].set(xlabel="s, fraction of the line (projection of the tip)", ylabel="tip's distance to the line (mm)",
                title="line_path: the tip's distance to the line", ylim=(0, 1.25))
@@ -200,7 +202,7 @@ def plot_line_following(arm, a, b, q_line, tip_line, tip_edge):
     axs[1].legend(fontsize="small", loc="upper right")
     for ax in axs:
         style_axes(ax)
-    return fig
+    return fig, dist_line, segment_point_distance(a, b, tip_edge), s_line
 
 
 def plot_velocity_ellipse(ax, arm, q, scale, **kw):

@@ -32,6 +32,7 @@ __all__ = [
     "ik_2link_function",
     "cubic_function",
     "quintic_function",
+    "check_fk",
     "check_ik_2link",
     "check_jacobian",
 ]
@@ -405,4 +406,35 @@ def check_jacobian(rng, links: int = 5, samples: int = 200, h: float = 1e-6) -> 
         out["shapes"].append(J_pkg.shape == (samples, 2, n))
         out["sympy"].append(float(np.abs(J_pkg - jacobian_function(n)(qs, lengths)).max()))
         out["central"].append(float(np.abs(J_pkg - J_fd).max()))
+    return out
+
+
+def check_fk(rng, links: int = 6, samples: int = 2000, joints_checked: int = 20) -> dict:
+    """:meth:`rapp.Arm.end_effector` and :meth:`~rapp.Arm.joint_positions` against the derivation.
+
+    For 1 to ``links`` links (lengths uniform in [0.1, 2] m) at ``samples`` random configurations:
+    ``fk[n]``, the largest difference of the tip from :func:`fk_function`; ``joints[n]``, that of
+    every joint from :func:`joint_positions_symbolic` (on the first ``joints_checked``
+    configurations, one sympy call each); ``shapes``, whether sympy's batch had shape ``(samples, 2)``.
+
+    Examples
+    --------
+    >>> c = check_fk(np.random.default_rng(0), links=3, samples=50, joints_checked=5)
+    >>> all(c["shapes"]), max(c["fk"].values()) < 1e-12, max(c["joints"].values()) < 1e-12
+    (True, True, True)
+    """
+    from rapp.arm import Arm
+
+    out: dict = {"fk": {}, "joints": {}, "shapes": []}
+    for n in range(1, links + 1):
+        lengths = rng.uniform(0.1, 2.0, size=n)
+        arm = Arm(lengths)
+        qs = rng.uniform(-np.pi, np.pi, size=(samples, n))
+        by_sympy = fk_function(n)(qs, lengths)
+        out["shapes"].append(by_sympy.shape == (samples, 2))
+        out["fk"][n] = float(np.abs(arm.end_effector(qs) - by_sympy).max())
+        P_n, qsym, Lsym = joint_positions_symbolic(n)
+        joints = sp.lambdify(qsym + Lsym, P_n[1:, :], "numpy")
+        expected = np.stack([np.array(joints(*qk, *lengths), dtype=float) for qk in qs[:joints_checked]])
+        out["joints"][n] = float(np.abs(arm.joint_positions(qs[:joints_checked])[:, 1:] - expected).max())
     return out
