@@ -1,4 +1,4 @@
-"""Figures of one arm: a first look, its joint angles, its elbow sweeping, its sampled workspace.
+"""Figures of one arm: a first look, its plan, its joint angles, its elbow sweeping, its sampled workspace.
 
 Chapters 1 and 2's figures. Each function takes an arm and configurations and returns the
 :class:`matplotlib.figure.Figure` it drew (an animation for the sweep); nothing calls
@@ -19,9 +19,9 @@ import numpy as np
 import matplotlib.pyplot as plt
 from matplotlib.animation import FuncAnimation
 
-from rapp.plotting import plot_arm, plot_workspace, style_axes
+from rapp.plotting import plot_arm, plot_plan, plot_workspace, style_axes
 
-__all__ = ["plot_first_arm", "animate_elbow_sweep", "plot_joint_angles", "plot_sampled_workspaces"]
+__all__ = ["plot_first_arm", "animate_elbow_sweep", "plot_joint_angles", "plot_sampled_workspaces", "plot_plan_wide"]
 
 _BLUE, _ORANGE, _GREEN = "#0072B2", "#E69F00", "#009E73"
 
@@ -152,4 +152,24 @@ def plot_sampled_workspaces(samples, shown=3000):
         ax.set_title(f"links {name} m: reach {arm.reach[0]:.1f} to {arm.reach[1]:.1f} m")
         ax.legend(loc="lower left", fontsize="small")
         style_axes(ax)
+    return fig
+
+
+def plot_plan_wide(plan, scenario):
+    """:func:`rapp.plotting.plot_plan` across the page (12.5 x 5 in), the workspace's legend outside it.
+
+    Examples
+    --------
+    >>> import rapp
+    >>> scenario = rapp.load_scenario("default")
+    >>> fig = plot_plan_wide(rapp.plan(scenario), scenario)
+    >>> [round(float(v), 1) for v in fig.get_size_inches()], fig.axes[1].get_legend().get_bbox_to_anchor() is not None
+    ([12.5, 5.0], True)
+    >>> plt.close(fig)
+    """
+    fig = plot_plan(plan, scenario)
+    fig.set_size_inches(12.5, 5.0)
+    workspace_ax = fig.axes[1]
+    workspace_ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
+    style_axes(workspace_ax)
     return fig

@@ -23,7 +23,7 @@ from rapp.palette import COLORS
 from rapp.plotting import plot_arm, plot_workspace, style_axes
 
 __all__ = ["ELBOW_COLORS", "plot_target", "plot_arm_choices", "plot_solution_family",
-           "plot_singular_arms", "plot_convergence", "plot_tip_errors"]
+           "plot_singular_arms", "plot_convergence", "plot_tip_errors", "plot_redundancy"]
 
 #: Colours of the elbow-down and the elbow-up solution.
 ELBOW_COLORS = (COLORS["blue"], COLORS["orange"])
@@ -159,4 +159,28 @@ def plot_tip_errors(tip_error, tolerance, title):
     ax.set(xlabel="$\\log_{10}$ tip error (m)  (exact zeros at $-18$)", ylabel="targets", title=title)
     ax.legend(fontsize="small")
     style_axes(ax)
+    return fig
+
+
+def plot_redundancy(arm2, q2, target2, arm3, q3, target3):
+    """Two links reach a target two ways (``q2``), three links in a family (every 4th of ``q3``).
+
+    ``q2`` holds the elbow-down and elbow-up solutions for ``target2``; ``q3`` solutions of the
+    3-link arm for ``target3``, drawn as ghosts in the order of their first joint.
+
+    Examples
+    --------
+    >>> from rapp import Arm, ik, ik_2link
+    >>> arm2, arm3 = Arm([1.0, 0.8]), Arm([1.0, 0.8, 0.5])
+    >>> q3 = ik(arm3, [1.0, 0.9], q0=[0.3, 0.5, 0.5])
+    >>> fig = plot_redundancy(arm2, ik_2link(arm2, [1.0, 0.6]), [1.0, 0.6], arm3, q3, [1.0, 0.9])
+    >>> [ax.get_title() for ax in fig.axes] == ["2 links: two solutions", f"3 links: {len(q3)} of infinitely many"]
+    True
+    >>> plt.close(fig)
+    """
+    fig, axs = plt.subplots(1, 2, figsize=(10, 4.8), layout="constrained")
+    plot_arm_choices(arm2, [(q2[0], "elbow-down"), (q2[1], "elbow-up")], "2 links: two solutions", axs[0],
+                     targets=[(target2, "k", "target")], target_size=12)
+    plot_solution_family(arm3, q3[np.argsort(q3[:, 0])][::4], target3,
+                         f"3 links: {len(q3)} of infinitely many", axs[1], shown=None)
     return fig
