@@ -77,6 +77,8 @@ radians.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from rapp.arm import Arm, wrap_angle
@@ -84,10 +86,11 @@ from rapp.checks import finite_number
 from rapp.collision import (check_obstacle, collides, link_clearances, segment_collision_free,
                             segment_point_distance)
 from rapp.errors import PathNotFollowable
-from rapp.ik import dls_step, fk_and_jacobian, ik_2link
+from rapp.ik import dls_step, fk_and_jacobian, ik_2link, jacobian
+from rapp.time_scaling import trapezoidal
 
 __all__ = ["line_path", "edge_deviation_bound", "SINGULAR_MARGIN", "REDUNDANCY_GAINS",
-           "RESTART_ANGLES"]
+           "RESTART_ANGLES", "tip_along_edges", "line_fraction", "LineRide", "ride_line"]
 
 #: A line that comes within ``SINGULAR_MARGIN * sum(L)`` of a boundary circle of the
 #: workspace annulus (without crossing it) passes a singularity: there the arm is
@@ -512,3 +515,86 @@ def _raise_limit(arm: Arm, j: int, s: float, p0, d):
     raise PathNotFollowable(
         f"θ{j + 1} (joint_limits[{j}]) leaves its limits [{lo:.4g}, {hi:.4g}] rad at s={s:.3f}, "
         f"tip (x, y)={_fmt_point(p0 + s * d)}", reason="joint limits", s=s)
+
+
+# --- following the line in time (chapter 15) ---------------------------------------------------
+
+def tip_along_edges(arm: Arm, qs, per_edge: int = 64) -> np.ndarray:
+    """The tip along every straight joint-space edge of the waypoints ``qs`` (m, n), densely.
+
+    Each edge is sampled at ``per_edge`` evenly spaced points (its end excluded), then the last
+    waypoint: ``(m - 1) * per_edge + 1`` tip positions, in order.
+
+    Examples
+    --------
+    >>> arm = Arm([1.0, 1.0])
+    >>> tips = tip_along_edges(arm, [[0.0, 0.0], [np.pi / 2, 0.0]], per_edge=2)
+    >>> np.round(tips, 6).tolist()
+    [[2.0, 0.0], [1.414214, 1.414214], [0.0, 2.0]]
+    """
+    qs = np.asarray(qs, float)
+    tau = np.linspace(0.0, 1.0, per_edge + 1)[:-1, None, None]
+    dense = (qs[:-1] + tau * (qs[1:] - qs[:-1])).transpose(1, 0, 2).reshape(-1, qs.shape[1])
+    return arm.end_effector(np.vstack([dense, qs[-1:]]))
+
+
+def line_fraction(points, a, b) -> np.ndarray:
+    """Where each point projects onto the line from ``a`` (0) to ``b`` (1), as a fraction.
+
+    >>> line_fraction([[0.5, 3.0], [2.0, 0.0]], [0.0, 0.0], [1.0, 0.0]).tolist()
+    [0.5, 2.0]
+    """
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return (np.asarray(points, float) - a) @ (b - a) / np.sum((b - a) ** 2)
+
+
+@dataclass(frozen=True)
+class LineRide:
+    """The tip moving along the line ``a`` to ``b`` in time, the joints on ``q_line`` (see :func:`ride_line`).
+
+    ``timing`` moves the distance along the line (m) rest to rest; ``s_way`` is each waypoint's
+    fraction of the line.
+    """
+
+    arm: Arm
+    a: np.ndarray
+    b: np.ndarray
+    q_line: np.ndarray
+    s_way: np.ndarray
+    timing: object
+
+    @property
+    def length(self) -> float:
+        """The line's length (m)."""
+        return float(np.linalg.norm(self.b - self.a))
+
+    def state(self, t: float) -> tuple:
+        """Configuration, tip velocity (m/s) and joint velocity (rad/s) at time ``t`` (s)."""
+        d, dd, _ = (x[0, 0] for x in self.timing.sample([t]))
+        q = np.array([np.interp(d / self.length, self.s_way, self.q_line[:, j])
+                      for j in range(self.q_line.shape[1])])
+        xdot = dd * (self.b - self.a) / self.length
+        return q, xdot, np.linalg.solve(jacobian(self.arm, q), xdot)
+
+
+def ride_line(arm: Arm, a, b, q_line, vmax: float, amax: float) -> LineRide:
+    """The tip along the line ``a`` to ``b`` at a trapezoidal speed: at most ``vmax``, ``amax``.
+
+    ``q_line`` are the waypoints :func:`line_path` returned for the line (a 2-link arm: the
+    Jacobian is square); between them the joints are interpolated by the tip's fraction of the line.
+
+    Examples
+    --------
+    >>> arm = Arm([1.0, 1.0])
+    >>> q_line = line_path(arm, ik_2link(arm, [1.0, 0.5])[0], [1.5, 0.5])
+    >>> ride = ride_line(arm, [1.0, 0.5], [1.5, 0.5], q_line, vmax=0.5, amax=0.5)
+    >>> round(ride.timing.duration, 6)                # 0.5 m at 0.5 m/s, plus 1 s of ramps
+    2.0
+    >>> q, xdot, qdot = ride.state(1.0)
+    >>> np.allclose(jacobian(arm, q) @ qdot, xdot), np.round(xdot, 6).tolist()
+    (True, [0.5, 0.0])
+    """
+    a, b, q_line = np.asarray(a, float), np.asarray(b, float), np.asarray(q_line, float)
+    length = float(np.linalg.norm(b - a))
+    s_way = line_fraction(arm.end_effector(q_line), a, b)
+    return LineRide(arm, a, b, q_line, s_way, trapezoidal(0.0, length, vmax=vmax, amax=amax))

@@ -49,7 +49,8 @@ from rapp.scenario import load_scenario
 
 __all__ = ["make_scenarios", "scenario_class", "Task", "Record", "planners_for", "settings_for", "run_task",
            "wilson", "mean_interval", "summarize", "tasks", "run", "recorded_results",
-           "RESULTS_FILE", "ASTAR_CELLS", "SAMPLING", "TIME_BUDGET", "RRT_STAR_BUDGET", "STEP"]
+           "RESULTS_FILE", "ASTAR_CELLS", "SAMPLING", "TIME_BUDGET", "RRT_STAR_BUDGET", "STEP",
+           "FAMILY_NAMES", "RunGroups", "family_of", "group_runs"]
 
 #: The recorded comparison: package data, ``rapp/recorded/planners.json`` (:func:`rapp.recorded.load`).
 RESULTS_FILE = "recorded/planners.json"
@@ -348,3 +349,82 @@ def recorded_results() -> dict:
     from rapp.recorded import load
 
     return load("planners")
+
+
+# --- the recorded runs, grouped as chapter 14 reads them ----------------------------------------
+
+#: The planners' names in the figures (A* is named by its level of resolution, see RunGroups).
+FAMILY_NAMES = {"rrt": "RRT", "rrt_connect": "RRT-Connect", "rrt_star": "RRT*", "prm": "PRM",
+                "ompl_rrt_connect": "OMPL RRT-Connect", "ompl_rrt_star": "OMPL RRT*"}
+
+
+@dataclass(frozen=True)
+class RunGroups:
+    """The recorded runs grouped by planner family and scenario class (see :func:`group_runs`).
+
+    ``runs[family, cls]`` lists the records, ``stats[family, cls]`` holds ``runs``,
+    ``successes``, the Wilson ``interval`` and a :func:`mean_interval` of ``time_s``,
+    ``length_rad`` and ``shortcut_length_rad`` over the successful runs; class ``"all"`` holds
+    every run of a family. ``size[cls]`` counts the scenarios of a class.
+    """
+
+    families: list
+    classes: list
+    runs: dict
+    stats: dict
+    size: dict
+    settings: dict
+
+    def summary(self) -> str:
+        """One line for the whole run, then one line per family: its success rate and interval."""
+        cfg = self.settings
+        lines = [f"{cfg['scenarios']} scenarios, {cfg['seeds']} seeds per sampling planner; "
+                 f"step {cfg['step']} rad"]
+        for f in self.families:
+            a = self.stats[f, "all"]
+            lo, hi = a["interval"]
+            lines.append(f"{f:17s} {a['successes']:4d} of {a['runs']:4d} runs succeeded "
+                         f"(rate {a['successes'] / a['runs']:.2f}, Wilson 95 % [{lo:.2f}, {hi:.2f}])")
+        return "\n".join(lines)
+
+
+def family_of(planner: str, scenario: dict, astar_cells: dict) -> str:
+    """The planner's name in the figures; A* by its level of resolution for this arm.
+
+    >>> family_of("rrt_connect", {}, {})
+    'RRT-Connect'
+    >>> family_of("astar_48", {"arm": {"link_lengths": [1, 1]}}, {"2": [24, 48, 96]})
+    'A* medium'
+    """
+    if not planner.startswith("astar_"):
+        return FAMILY_NAMES[planner]
+    levels = astar_cells[str(len(scenario["arm"]["link_lengths"]))]
+    return "A* " + ("coarse", "medium", "fine")[levels.index(int(planner.split("_")[1]))]
+
+
+def group_runs(results: dict) -> RunGroups:
+    """Group the records of :func:`recorded_results` (or of a run saved alike) by family and class.
+
+    Examples
+    --------
+    >>> g = group_runs(recorded_results())
+    >>> g.families[:3], g.stats["RRT", "all"]["runs"], sum(g.size.values())
+    (['A* coarse', 'A* medium', 'A* fine'], 600, 30)
+    """
+    cfg, scenarios = results["settings"], results["scenarios"]
+    runs: dict = {}
+    for r in results["records"]:
+        s = scenarios[r["scenario_index"]]
+        for cls in ("all", scenario_class(s)):
+            runs.setdefault((family_of(r["planner"], s, cfg["astar_cells"]), cls), []).append(r)
+    families = [f for f in ("A* coarse", "A* medium", "A* fine", *FAMILY_NAMES.values())
+                if (f, "all") in runs]
+    classes = sorted({c for _, c in runs if c != "all"}, key=lambda c: (c.split()[0], "narrow" in c))
+    stats = {}
+    for key, rs in runs.items():
+        ok = [r for r in rs if r["success"]]
+        stats[key] = {"runs": len(rs), "successes": len(ok), "interval": wilson(len(ok), len(rs)),
+                      **{q: mean_interval([r[q] for r in ok])
+                         for q in ("time_s", "length_rad", "shortcut_length_rad")}}
+    size = {c: sum(scenario_class(s) == c for s in scenarios) for c in classes}
+    return RunGroups(families, classes, runs, stats, size, cfg)

@@ -44,8 +44,8 @@ from rapp.arm import Arm, wrap_angle
 from rapp.collision import clearance, collides
 from rapp.errors import NoIKSolution, NoPathFound
 
-__all__ = ["ik", "ik_2link", "ik_numeric", "jacobian", "free_ik_solutions", "fk_and_jacobian",
-           "dls_step", "closed_form_start"]
+__all__ = ["ik", "ik_2link", "ik_numeric", "jacobian", "free_ik_solutions", "fk_and_jacobian", "iterate_ik",
+           "dls_step", "damped_step", "ik_failure", "closed_form_start"]
 
 TWO_PI = 2.0 * np.pi
 
@@ -271,7 +271,26 @@ def dls_step(jx, jy, ex, ey, sigma_floor, lambda_max):
     return w_big * f_big + w_small * f_small
 
 
-#: The old name, still imported by chapter 6 and its exercise test.
+def damped_step(J, e, sigma_floor: float, lambda_max: float) -> np.ndarray:
+    """:func:`dls_step` for Jacobians ``J`` of shape ``(..., 2, n)`` and tip errors ``e`` of shape ``(..., 2)``.
+
+    The step :func:`ik_numeric` takes, in the usual batch layout (``dls_step`` takes columns).
+
+    Examples
+    --------
+    >>> J = jacobian(Arm([0.5, 0.5]), [0.3, 1.2])
+    >>> e = np.array([1e-3, -2e-3])
+    >>> bool(np.allclose(damped_step(J, e, 1e-3, 1e-2), np.linalg.solve(J, e)))   # regular J: Newton's step
+    True
+    """
+    J, e = np.asarray(J, float), np.asarray(e, float)
+    n = J.shape[-1]
+    jx, jy = J[..., 0, :].reshape(-1, n).T, J[..., 1, :].reshape(-1, n).T
+    step = dls_step(jx, jy, e[..., 0].ravel(), e[..., 1].ravel(), sigma_floor, lambda_max)
+    return step.T.reshape(J.shape[:-2] + (n,))
+
+
+#: The old name, still imported by the exercise test of chapter 6.
 _dls_step = dls_step
 
 
@@ -1155,3 +1174,59 @@ def free_ik_solutions(arm: Arm, target, obstacles, *, q0=None, samples: int = 10
     pick = _spread(arm, free, int(np.argmin(dist)), max_solutions, 1e-6)
     pick = pick[np.argsort(dist[pick], kind="stable")]
     return free[pick], count
+
+
+def iterate_ik(arm: Arm, target, q0, lam: float = 0.0, iterations: int = 30):
+    """Plain Newton-Raphson (``lam = 0``) or damped least squares with a fixed ``lam``, from each start.
+
+    The textbook iterations of chapter 6 (eqs. ch06-nr and ch06-dls) without the safeguards of
+    :func:`ik_numeric` (no step cap, no adaptive damping, no restarts), to show what those are for.
+    Newton's step solves with the square Jacobian, so ``lam = 0`` needs a 2-link arm.
+
+    Returns
+    -------
+    errors, travel : ndarray, shape (iterations, k)
+        Before each iteration: each start's tip error (m) and its distance ``|q - q0|`` (rad)
+        travelled in joint space.
+    q : ndarray, shape (k, n)
+        Where the iterations ended.
+
+    Examples
+    --------
+    >>> arm = Arm([1.0, 1.0])
+    >>> errors, travel, q = iterate_ik(arm, [1.0, 1.0], [[0.2, 1.2]], lam=0.05, iterations=20)
+    >>> bool(errors[-1, 0] < 1e-12), bool(np.allclose(arm.end_effector(q), [1.0, 1.0]))
+    (True, True)
+    """
+    target, q0 = np.asarray(target, float), np.atleast_2d(np.asarray(q0, float))
+    q, errors, travel = q0.copy(), [], []
+    for _ in range(iterations):
+        e = target - arm.end_effector(q)
+        J = jacobian(arm, q)
+        if lam == 0.0:
+            dq = np.linalg.solve(J, e[..., None])[..., 0]
+        else:
+            JJt = J @ np.swapaxes(J, -1, -2) + lam**2 * np.eye(2)
+            dq = (np.swapaxes(J, -1, -2) @ np.linalg.solve(JJt, e[..., None]))[..., 0]
+        errors.append(np.linalg.norm(e, axis=-1))
+        travel.append(np.linalg.norm(q - q0, axis=-1))
+        q = q + dq
+    return np.array(errors), np.array(travel), q
+
+
+def ik_failure(arm: Arm, target) -> str | None:
+    """Why :func:`ik` finds no configuration reaching ``target``: the reason of its
+    :class:`~rapp.errors.NoIKSolution` (``"out of reach"``, ``"joint limits"``, ...), or ``None``
+    when it finds one.
+
+    Examples
+    --------
+    >>> arm = Arm([1.0, 0.8])
+    >>> ik_failure(arm, [2.0, 0.5]), ik_failure(arm, [1.0, 0.6])
+    ('out of reach', None)
+    """
+    try:
+        ik(arm, target)
+    except NoIKSolution as err:
+        return err.reason
+    return None

@@ -32,6 +32,9 @@ __all__ = [
     "ik_2link_function",
     "cubic_function",
     "quintic_function",
+    "check_fk",
+    "check_ik_2link",
+    "check_jacobian",
 ]
 
 
@@ -338,3 +341,100 @@ def quintic_function():
     [0.0, 0.0, 0.0, 10.0, -15.0, 6.0]
     """
     return _coefficient_function(*quintic_coefficients_symbolic())
+
+
+# --- the package against the derivations (chapter 6's checks) ----------------------------------
+
+def check_ik_2link(rng, arms: int = 400) -> dict:
+    """:func:`rapp.ik.ik_2link` against :func:`ik_2link_function` on ``arms`` random arms and targets.
+
+    Each arm's link lengths are uniform in [0.3, 2] m; its target is uniform over the area of
+    its workspace annulus (1 mm inside both circles). Returns the largest angle difference
+    (rad, wrapped) ``worst_angle``, the largest tip error of FK(IK) ``worst_tip`` (m) and, per
+    arm, whether row 0 is the ``+arccos`` elbow and row 1 the ``-arccos`` one (``elbow_order``).
+
+    Examples
+    --------
+    >>> c = check_ik_2link(np.random.default_rng(0), arms=20)
+    >>> all(c["elbow_order"]), c["worst_angle"] < 1e-12, c["worst_tip"] < 1e-12
+    (True, True, True)
+    """
+    from rapp.arm import Arm, wrap_angle
+    from rapp.ik import ik_2link
+
+    ik_sym = ik_2link_function()
+    worst_angle = worst_tip = 0.0
+    elbow_order = []
+    for lengths in rng.uniform(0.3, 2.0, size=(arms, 2)):
+        arm = Arm(lengths)
+        r_in, r_out = arm.reach
+        r = np.sqrt(rng.uniform((r_in + 1e-3) ** 2, (r_out - 1e-3) ** 2))
+        th = rng.uniform(-np.pi, np.pi)
+        target = r * np.array([np.cos(th), np.sin(th)])
+        q_pkg, q_ref = ik_2link(arm, target), ik_sym(target, lengths)
+        elbow_order.append(q_pkg.shape == (2, 2) and q_pkg[0, 1] > 0 > q_pkg[1, 1])
+        worst_angle = max(worst_angle, np.abs(wrap_angle(q_pkg - q_ref)).max())
+        worst_tip = max(worst_tip, np.abs(arm.end_effector(q_pkg) - target).max())
+    return {"worst_angle": float(worst_angle), "worst_tip": float(worst_tip), "elbow_order": elbow_order}
+
+
+def check_jacobian(rng, links: int = 5, samples: int = 200, h: float = 1e-6) -> dict:
+    """:func:`rapp.ik.jacobian` against :func:`jacobian_function` and central differences.
+
+    For 1 to ``links`` links (lengths uniform in [0.3, 1.5] m) at ``samples`` random
+    configurations each, returns per arm whether the batch shape is ``(samples, 2, n)``
+    (``shapes``), the largest difference from sympy (``sympy``) and from central differences
+    of step ``h`` (``central``).
+
+    Examples
+    --------
+    >>> c = check_jacobian(np.random.default_rng(0), links=3, samples=20)
+    >>> all(c["shapes"]), max(c["sympy"]) < 1e-12, max(c["central"]) < 1e-8
+    (True, True, True)
+    """
+    from rapp.arm import Arm
+    from rapp.ik import jacobian
+
+    out: dict = {"shapes": [], "sympy": [], "central": []}
+    for n in range(1, links + 1):
+        lengths = rng.uniform(0.3, 1.5, size=n)
+        arm = Arm(lengths)
+        qs = rng.uniform(-np.pi, np.pi, size=(samples, n))
+        J_pkg = jacobian(arm, qs)
+        J_fd = np.stack([(arm.end_effector(qs + s) - arm.end_effector(qs - s)) / (2 * h)
+                         for s in h * np.eye(n)], axis=-1)
+        out["shapes"].append(J_pkg.shape == (samples, 2, n))
+        out["sympy"].append(float(np.abs(J_pkg - jacobian_function(n)(qs, lengths)).max()))
+        out["central"].append(float(np.abs(J_pkg - J_fd).max()))
+    return out
+
+
+def check_fk(rng, links: int = 6, samples: int = 2000, joints_checked: int = 20) -> dict:
+    """:meth:`rapp.Arm.end_effector` and :meth:`~rapp.Arm.joint_positions` against the derivation.
+
+    For 1 to ``links`` links (lengths uniform in [0.1, 2] m) at ``samples`` random configurations:
+    ``fk[n]``, the largest difference of the tip from :func:`fk_function`; ``joints[n]``, that of
+    every joint from :func:`joint_positions_symbolic` (on the first ``joints_checked``
+    configurations, one sympy call each); ``shapes``, whether sympy's batch had shape ``(samples, 2)``.
+
+    Examples
+    --------
+    >>> c = check_fk(np.random.default_rng(0), links=3, samples=50, joints_checked=5)
+    >>> all(c["shapes"]), max(c["fk"].values()) < 1e-12, max(c["joints"].values()) < 1e-12
+    (True, True, True)
+    """
+    from rapp.arm import Arm
+
+    out: dict = {"fk": {}, "joints": {}, "shapes": []}
+    for n in range(1, links + 1):
+        lengths = rng.uniform(0.1, 2.0, size=n)
+        arm = Arm(lengths)
+        qs = rng.uniform(-np.pi, np.pi, size=(samples, n))
+        by_sympy = fk_function(n)(qs, lengths)
+        out["shapes"].append(by_sympy.shape == (samples, 2))
+        out["fk"][n] = float(np.abs(arm.end_effector(qs) - by_sympy).max())
+        P_n, qsym, Lsym = joint_positions_symbolic(n)
+        joints = sp.lambdify(qsym + Lsym, P_n[1:, :], "numpy")
+        expected = np.stack([np.array(joints(*qk, *lengths), dtype=float) for qk in qs[:joints_checked]])
+        out["joints"][n] = float(np.abs(arm.joint_positions(qs[:joints_checked])[:, 1:] - expected).max())
+    return out

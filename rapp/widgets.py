@@ -45,6 +45,7 @@ __all__ = [
     "rrt_explorer",
     "planner_comparison",
     "ik_explorer",
+    "line_ride_explorer",
     "sliders_of",
     "selected",
     "values_of",
@@ -655,3 +656,63 @@ def ik_explorer(arm, targets, *, default=(1.2, 0.9)):
     return view_stack(fig, {"tx": Control("target x (m)", list(targets), default=default[0]),
                             "ty": Control("target y (m)", list(targets), default=default[1])},
                       view, title="IK explorer")
+
+
+@_book_style
+def line_ride_explorer(ride, *, frames=27, default=9):
+    """Ride along a line in time: the arm, its velocity ellipse and tip velocity, the joint speeds.
+
+    ``ride`` is a :class:`rapp.cartesian.LineRide`. A slider steps through ``frames`` instants
+    from rest to rest (opening at the ``default``-th); each view draws the arm, the velocity
+    ellipse at 0.3 s of travel and the tip's velocity arrow, and marks the instant on the joint
+    speeds' plot. The status line prints the tip speed, manipulability, condition number and
+    joint speeds.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> from rapp.cartesian import line_path, ride_line
+    >>> from rapp.ik import ik_2link
+    >>> arm = Arm([1.0, 1.0])
+    >>> ride = ride_line(arm, [1.0, 0.5], [1.5, 0.5], line_path(arm, ik_2link(arm, [1.0, 0.5])[0], [1.5, 0.5]),
+    ...                  vmax=0.5, amax=0.5)
+    >>> w = line_ride_explorer(ride, frames=3, default=1)
+    >>> selected(w)[1].split(":")[0]
+    't = 1.00 s'
+    """
+    from rapp.manipulability import condition_number, manipulability
+    from rapp.plot_motion import plot_velocity_ellipse
+
+    arm, duration, colors = ride.arm, ride.timing.duration, plotting.COLORS
+    t_dense = np.linspace(0.0, duration, 401)
+    qdot_dense = np.array([ride.state(t)[2] for t in t_dense])
+    fig = Figure(figsize=(10, 4.2), layout="constrained")
+    ax_arm, ax_speed = fig.subplots(1, 2)
+    plotting.plot_workspace(arm, ax_arm)
+    ax_arm.plot(*np.array([ride.a, ride.b]).T, "-", color=colors["black"], lw=1)
+    for j, color in enumerate((colors["blue"], colors["green"])):
+        ax_speed.plot(t_dense, np.abs(qdot_dense[:, j]), color=color, lw=2, label=fr"$|\dot\theta_{j + 1}|$")
+    ax_speed.set(xlabel="t (s)", ylabel="joint speed (rad/s)", xlim=(0, duration),
+                 ylim=(0, 1.1 * np.abs(qdot_dense).max()))
+    ax_speed.grid(True, alpha=0.3)
+    ax_speed.legend(fontsize="small", loc="upper right")
+    for ax in (ax_arm, ax_speed):
+        plotting.style_axes(ax)
+
+    def view(t):
+        qq, xdot, qdot = ride.state(t)
+        plotting.plot_arm(arm, qq, ax_arm, frame=False)
+        plot_velocity_ellipse(ax_arm, arm, qq, 0.3, facecolor=colors["orange"], alpha=0.5,
+                              edgecolor=colors["vermillion"], zorder=6)
+        tip = arm.end_effector(qq)
+        ax_arm.annotate("", tip + xdot, tip, arrowprops=dict(arrowstyle="->", color=colors["black"], lw=2),
+                        zorder=7)
+        ax_speed.axvline(t, color=colors["vermillion"], lw=1.5)
+        ax_arm.set_title(f"t = {t:.2f} s", fontsize="medium")
+        w_t, k_t = float(manipulability(arm, qq)), float(condition_number(arm, qq))
+        return (f"t = {t:.2f} s: tip speed {np.linalg.norm(xdot):.2f} m/s, w = {w_t:.3f} m²/rad², "
+                f"κ = {k_t:.1f}, joint speeds ({qdot[0]:+.2f}, {qdot[1]:+.2f}) rad/s")
+
+    times = [round(float(x), 3) for x in np.linspace(0.0, duration, frames)]
+    return view_stack(fig, {"t": Control("time (s)", times, default=times[default])}, view,
+                      title="Ride along the line")

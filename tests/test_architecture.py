@@ -112,7 +112,8 @@ LAYERS = {
     "planners": {"sampling", "sampling_kernel", "planners", "progress"},
     "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts",
                  "recorded", "baseline", "traceability", "schema"},
-    "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live"},
+    "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live", "plot_arms", "plot_benchmark",
+                "plot_cspace_views", "plot_ik", "plot_motion", "plot_search"},
     "interface": {"cli", "__main__", "__init__"},
     "teaching": {"exercises", "cases", "grading"},
 }
