@@ -8,7 +8,7 @@ load, platform) and the date beside the timings; the scripts rewrite them
 Examples
 --------
 >>> names()
-['astar_cpp', 'cli', 'core', 'ik', 'kernel', 'live', 'memory', 'motion', 'occupancy', 'planners', 'planners_cpu', 'planners_ompl', 'planners_ompl_kernel', 'search', 'time_scaling']
+['astar_cpp', 'cli', 'collides', 'core', 'ik', 'kernel', 'live', 'memory', 'motion', 'occupancy', 'planners', 'planners_cpu', 'planners_ompl', 'planners_ompl_kernel', 'search', 'time_scaling']
 >>> core = load("core")
 >>> core["machine"]["cpu_count"], sorted(core["results"])[:2]
 (2, ['2link_M100', '2link_M360'])
@@ -88,7 +88,7 @@ def limits() -> list[Limit]:
     """Every recorded ratio of rapp against a favourable baseline and its fairest peer, with goals.
 
     Read from the recorded files ``core``, ``ik``, ``occupancy``, ``search``, ``astar_cpp``,
-    ``kernel``, ``planners_ompl``, ``planners_cpu``, ``time_scaling`` and ``cli``; each ratio
+    ``kernel``, ``collides``, ``planners_ompl``, ``planners_cpu``, ``time_scaling`` and ``cli``; each ratio
     divides two times of the same file. The OMPL rows are CPU times (``planners_cpu``): OMPL
     calling rapp's compiled checker through its Python callback as measured, and with each of
     its checker calls costed as a compiled check instead.
@@ -128,6 +128,8 @@ def limits() -> list[Limit]:
         ("IK, 3 links, random starts", "robotics-toolbox ik_GN, fastest call", "none",
          rtb["ratio_cpu_rtb_over_rapp_random_starts"], None),
         ("collides, one configuration", "numpy checker", "≥ 20×", kern["single"]["collides_one_us"]["ratio"], 20),
+        ("collides, one configuration", "minimal numba test", "≥ 0.5×",
+         1 / load("collides")["ratio_rapp_over_minimal"], 0.5),
         ("rrt_connect, 20 seeds", "numpy checker", "≥ 3×", kp["rrt_connect"]["ratio_total"], 3),
         ("prm, 20 seeds", "numpy checker", "≥ 3×", kp["prm"]["ratio_total"], 3),
         ("rrt_star, 20 seeds", "numpy checker", "none", kp["rrt_star"]["ratio_total"], None),
@@ -138,9 +140,9 @@ def limits() -> list[Limit]:
         ("PRM, 3 links", "OMPL, callback costed as compiled", "≥ 1×", pc["prm"]["ratio_ompl_corrected_over_rapp_cpu"], 1),
         ("RRT*, 3 links", "OMPL, Python callback, CPU time", "none", pc["rrt_star"]["ratio_ompl_over_rapp_cpu"], None),
         ("RRT*, 3 links", "OMPL, callback costed as compiled", "≥ 1×", pc["rrt_star"]["ratio_ompl_corrected_over_rapp_cpu"], 1),
-        ("one trapezoidal move", "ruckig (C++)", "≥ 0.1×", 1 / ts["ratios"]["rapp_moves_one_over_ruckig"], 0.1),
-        ("one move, previous trapezoidal", "ruckig (C++)", "none",
-         1 / ts["ratios"]["rapp_trapezoidal_over_ruckig"], None),
+        ("one trapezoidal move", "ruckig (C++)", "≥ 0.33×", 1 / ts["ratios"]["rapp_trapezoidal_over_ruckig"], 1 / 3),
+        ("one move, trapezoidal_moves", "ruckig (C++)", "none",
+         1 / ts["ratios"]["rapp_moves_one_over_ruckig"], None),
         ("python -m rapp plan", "python -c 'import numpy'", "≥ 0.5×",
          1 / kern["start_up"]["plan_over_import_numpy_median"], 0.5),
         ("certified cells, 40³", "previous certified_free", "none", cli["stages"]["ratio"], None),
