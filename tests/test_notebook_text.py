@@ -23,7 +23,7 @@ AUDIT_BUDGET = 15
 #: Hidden code that is not an assert, book-wide: 2,520 lines before this ceiling, 2,321 at it,
 #: 2,335 with the checks of chapter 15's certified motion and chapter 10's cost of it; it may
 #: only shrink toward the goal of 1,200 (lower it as helpers move into the package).
-HIDDEN_CEILING = 2335
+HIDDEN_CEILING = 2217
 
 
 @pytest.fixture(scope="module")
