@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike  # noqa: F401
 if TYPE_CHECKING:
     from rapp.arm import Arm
 
+from rapp.arm import MAX_ANGLE
 from rapp.checks import finite_number
 from rapp.errors import CertificationLimit
 from rapp._kernels import collision as _backend
@@ -391,11 +392,46 @@ def collides(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon], *, m
     >>> collides(arm, [[np.pi / 2, 0.0]], [Circle((0.5, 2.0), 0.3)], margin=0.2).tolist()
     [True]
     """
+    # One configuration, as a planner's loop asks: the scene packed before, one compiled call,
+    # which takes a 1-D float array only (anything else raises TypeError, and goes on below).
+    try:
+        entry = _ONE.get((id(arm), id(obstacles), margin))
+        if entry is not None and (entry[2] is obstacles or entry[2] == obstacles):
+            hit = entry[0](entry[1], q)
+            if hit >= 0:  # else an angle out of range or a wrong length: check_q says which
+                return _ANSWER[hit]
+    except (TypeError, ValueError):  # an unhashable margin, q not a 1-D float array, ...:
+        pass                         # the general path checks everything and says what is wrong
     thin, pieces = scene(arm, obstacles, margin)
     hit = _backend.collides(thin, q, pieces)
     if arm.self_collision and arm.n >= 3:
         hit = hit | (self_clearance(arm, q, margin=margin) <= 0)
+    elif type(q) is np.ndarray and q.ndim == 1 and q.dtype is _FLOAT:
+        _remember(arm, obstacles, margin, thin, pieces)
     return hit
+
+
+#: ``collides``' answers of the one-configuration check, numpy's own booleans.
+_ANSWER = (np.False_, np.True_)
+_FLOAT = np.dtype(np.float64)
+#: Scenes of :func:`collides` for one configuration, packed into one array
+#: (:func:`rapp._kernels.collision.pack_scene`), by the identity of the arm and of the
+#: obstacles, and the margin. Each entry holds the arm and the obstacles (a tuple as given, a
+#: list as a copy, compared on every use: a list may change), so that no other object takes
+#: their ids while it lives. Bounded: cleared at 64 entries.
+_ONE: dict = {}
+
+
+def _remember(arm, obstacles, margin, thin, pieces) -> None:
+    """Keep the packed scene of a one-configuration call, once the compiled kernel is loaded."""
+    k = _backend.loaded()
+    if k is None or type(obstacles) not in (tuple, list):
+        return
+    if len(_ONE) >= 64:
+        _ONE.clear()
+    held = obstacles if type(obstacles) is tuple else list(obstacles)
+    _ONE[(id(arm), id(obstacles), margin)] = (k.collides_scene,
+                                              _backend.pack_scene(thin.lengths, pieces, MAX_ANGLE), held, arm)
 
 
 def clearance(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon], *, margin: float = 0.0) -> np.ndarray:

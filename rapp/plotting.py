@@ -48,6 +48,9 @@ __all__ = [
     "smallest_text_px",
     "book_png",
     "html_table",
+    "plot_speedups",
+    "plot_call_counts",
+    "plot_parts",
     "style_axes",
     "plot_arm",
     "plot_obstacles",
@@ -327,6 +330,82 @@ def legend_outside(ax, extra=()):
     handles, labels = ax.get_legend_handles_labels()
     ax.legend(handles + list(extra), labels + [p.get_label() for p in extra],
               loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
+    return style_axes(ax)
+
+
+def plot_speedups(cases, naive, fast, ax=None):
+    """Pairs of bars, the naive code's time (grey) and rapp's (blue), on a log axis, with the
+    speed-up ``naive / fast`` written above each pair. Returns ``ax``.
+
+    Examples
+    --------
+    >>> ax = plot_speedups(["grid", "search"], [10.0, 2.0], [0.01, 0.5])
+    >>> [t.get_text() for t in ax.texts], len(ax.patches)
+    (['1,000×', '4×'], 4)
+    >>> plt.close(ax.figure)
+    """
+    naive, fast = np.asarray(naive, dtype=float), np.asarray(fast, dtype=float)
+    ax = _axes(ax, figsize=(8, 4))
+    x = np.arange(len(cases))
+    ax.bar(x - 0.2, naive, 0.4, label="naive", color="tab:gray")
+    ax.bar(x + 0.2, fast, 0.4, label="rapp", color="tab:blue")
+    for xi, top, k in zip(x, naive, naive / fast):
+        ax.annotate(f"{k:,.0f}×", (xi, top), xytext=(0, 4), textcoords="offset points", ha="center")
+    ax.set_yscale("log")
+    ax.set_ylim(fast.min() / 3, naive.max() * 8)
+    ax.set_xticks(x, cases)
+    ax.set_xlabel("case")
+    ax.set_ylabel("best time (s)")
+    ax.legend(loc="upper left")
+    return style_axes(ax)
+
+
+def plot_call_counts(n, k, sizes, naive_calls, rapp_calls, ax=None):
+    """Calls of the disc test against the cells per joint ``M`` (log-log): the naive loop's
+    ``n k M**n`` (grey) and rapp's ``n k`` array calls (blue), with the counts measured on
+    the grids ``sizes`` as crosses. Returns ``ax``.
+
+    Examples
+    --------
+    >>> ax = plot_call_counts(2, 3, [8, 16], [384, 1536], [6, 6])
+    >>> [line.get_label() for line in ax.lines][:3]
+    ['naive: $nKM^n$ Python calls', 'rapp: $nK$ array calls', 'counted']
+    >>> plt.close(ax.figure)
+    """
+    ms = np.array([8, 16, 32, 64, 128, 360])
+    ax = _axes(ax, figsize=(6, 3.5))
+    ax.loglog(ms, n * k * ms.astype(float) ** n, "o-", color="tab:gray", label="naive: $nKM^n$ Python calls")
+    ax.loglog(ms, np.full(ms.shape, n * k), "s-", color="tab:blue", label="rapp: $nK$ array calls")
+    ax.loglog(sizes, naive_calls, "kx", ms=9, label="counted")
+    ax.loglog(sizes, rapp_calls, "kx", ms=9)
+    ax.set_xlabel("cells per joint $M$")
+    ax.set_ylabel("calls of the disc test (count)")
+    ax.legend(loc="center right")
+    return style_axes(ax)
+
+
+def plot_parts(parts, label, ax=None):
+    """One horizontal bar of consecutive parts (``name -> seconds``, in order), each its colour,
+    named in a legend above. Returns ``ax``.
+
+    Examples
+    --------
+    >>> ax = plot_parts({"import": 0.1, "plan": 0.3}, "plan")
+    >>> [round(float(b.get_x()), 6) for b in ax.patches], ax.get_legend().get_texts()[1].get_text()
+    ([0.0, 0.1], 'plan')
+    >>> plt.close(ax.figure)
+    """
+    ax = _axes(ax, figsize=(8, 2.4))
+    left = 0.0
+    colours = ["tab:gray", "tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:red", "tab:brown"]
+    for (name, seconds), colour in zip(parts.items(), colours):
+        ax.barh(0, seconds, left=left, height=0.5, color=colour, label=name)
+        left += seconds
+    ax.set_yticks([0], [label])
+    ax.set_ylim(-0.5, 1.2)
+    ax.set_xlim(0, left * 1.05)
+    ax.set_xlabel("time in one process (s)")
+    ax.legend(loc="upper center", ncol=3, fontsize=8)
     return style_axes(ax)
 
 

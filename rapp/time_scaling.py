@@ -33,6 +33,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from itertools import chain
+from operator import truediv
 
 import numpy as np
 from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations)
@@ -230,6 +232,9 @@ def trapezoidal(p0, pf, vmax, amax) -> PiecewisePolynomial:
     >>> trapezoidal(0.0, 1.0, vmax=10.0, amax=1.0).breakpoints.tolist()
     [0.0, 1.0, 2.0]
     """
+    one = _one_trapezoid(p0, pf, vmax, amax)
+    if one is not None:
+        return one
     a, b = finite_array(p0, "p0"), finite_array(pf, "pf")
     if a.ndim > 1 or b.ndim > 1 or a.shape != b.shape:
         raise ValueError(f"p0 and pf must be numbers or (n,) configurations of the same shape, "
@@ -299,48 +304,59 @@ def _one_move(a, b, vmax, amax):
     """``(ends, velocity)`` of one move in Python floats, the operations of :func:`_timing`
     and :func:`_pieces` one by one (so the same floats); None where a value is not finite
     (the numpy path then raises its message)."""
-    tv = ta2 = 0.0
-    for x0, x1, v, acc in zip(a, b, vmax, amax):
-        d = abs(x1 - x0)
-        tv = max(tv, d / v)
-        ta2 = max(ta2, d / acc)
-    if not (math.isfinite(tv) and math.isfinite(ta2)):
+    d = [abs(x1 - x0) for x0, x1 in zip(a, b)]
+    tv = max(map(truediv, d, vmax))   # every d / v >= 0: the max from 0.0 of _timing
+    ta2 = max(map(truediv, d, amax))
+    if not math.isfinite(tv + ta2):
         return None
     if tv * tv > ta2:
         tb = ta2 / tv
         tc = max(tv - tb, 0.0)
     else:
         tb, tc = math.sqrt(ta2), 0.0
-    e1 = clock_after(0.0, tb)
-    e2 = clock_after(e1, tc) if tc > 0 else e1
-    e3 = clock_after(e2, tb)
+    e1 = tb  # clock_after(0.0, tb), exact
+    e2 = e1 + tc if tc > 0 else e1
+    if e2 - e1 < tc:
+        e2 = clock_after(e1, tc)
+    e3 = e2 + tb
+    if e3 - e2 < tb:
+        e3 = clock_after(e2, tb)
     den = 0.5 * e1 + (e2 - e1) + 0.5 * (e3 - e2)
     vel = [(x1 - x0) / den for x0, x1 in zip(a, b)]
-    if not (math.isfinite(e3) and all(map(math.isfinite, vel))):
+    if not math.isfinite(e3 + sum(map(abs, vel))):  # a sum that overflows: numpy decides
         return None
     return (e1, e2, e3), vel
 
 
+_FLOAT64 = np.dtype(np.float64)
+
+
 def _floats(x):
-    """A vector (list, tuple or 1-D array) or a number as a list of Python floats, else None."""
-    if isinstance(x, np.ndarray):
-        if x.ndim > 1:
+    """A vector (list, tuple or 1-D array) or a number as a list of Python floats, else None
+    (also where the values' sum is not finite: the numpy path then decides)."""
+    if type(x) is np.ndarray and x.dtype is _FLOAT64:
+        if x.ndim != 1:
             return None
-        x = x.tolist()
-    if isinstance(x, (int, float)) and not isinstance(x, bool):
-        return [float(x)]
-    if not isinstance(x, (list, tuple)) or not x:
-        return None
-    try:
-        out = [float(v) for v in x]
-    except (TypeError, ValueError):
-        return None
-    return out if all(map(math.isfinite, out)) else None
+        out = x.tolist()
+    else:
+        if isinstance(x, np.ndarray):
+            if x.ndim > 1:
+                return None
+            x = x.tolist()
+        if isinstance(x, (int, float)) and not isinstance(x, bool):
+            return [float(x)] if math.isfinite(x) else None
+        if not isinstance(x, (list, tuple)):
+            return None
+        try:
+            out = [float(v) for v in x]
+        except (TypeError, ValueError):
+            return None
+    return out if out and math.isfinite(sum(out)) else None  # inf, nan, or a sum that overflows
 
 
-def _one_move_checked(p0, pf, vmax, amax):
-    """One well-formed move timed in Python floats, or None: the numpy path then times it (or
-    refuses it with its message)."""
+def _one_move_floats(p0, pf, vmax, amax):
+    """``(p0, pf, ends, velocity)`` of one well-formed move timed in Python floats, or None:
+    the numpy path then times it (or refuses it with its message)."""
     a, b, v, acc = _floats(p0), _floats(pf), _floats(vmax), _floats(amax)
     if a is None or b is None or v is None or acc is None or len(a) != len(b) or a == b:
         return None
@@ -348,10 +364,61 @@ def _one_move_checked(p0, pf, vmax, amax):
     if len(v) not in (1, n) or len(acc) not in (1, n) or min(v) <= 0 or min(acc) <= 0:
         return None
     one = _one_move(a, b, v * n if len(v) == 1 else v, acc * n if len(acc) == 1 else acc)
+    return None if one is None else (a, b, *one)
+
+
+def _one_move_checked(p0, pf, vmax, amax):
+    """:func:`_one_move_floats` as :class:`TrapezoidMoves`, or None."""
+    one = _one_move_floats(p0, pf, vmax, amax)
     if one is None:
         return None
-    ends, vel = one
+    a, b, ends, vel = one
     return TrapezoidMoves(np.array([a]), np.array([b]), np.array([ends]), np.array([vel]))
+
+
+def _one_trapezoid(p0, pf, vmax, amax):
+    """:func:`trapezoidal` of a well-formed move in Python floats, or None (the numpy path then
+    builds it, or refuses it with its message).
+
+    The operations of :func:`_pieces` and of ``PiecewisePolynomial.from_local`` (its
+    ``_shift``: ``a_j = 0 + sum_k C(k, j) s^(k - j) b_k``, ``s = -t0``, ``s**2`` as ``s * s``)
+    one by one, so the same floats, without a numpy call per value: one move then costs
+    microseconds, as a planner timing candidate edges needs.
+    """
+    one = _one_move_floats(p0, pf, vmax, amax)
+    if one is None:
+        return None
+    a, b, (e1, e2, e3), vel = one
+    if not math.isfinite(e3 * e3):  # s * s below would overflow: numpy raises its message
+        return None
+    h1, h3 = e1, e3 - e2
+    cruise = e2 > e1
+    s = -e2  # the deceleration's start, on the clock
+    ss, s2 = s * s, 2 * s
+    rows = []
+    for x0, x1, v in zip(a, b, vel):
+        acc, dec, c0 = 0.5 * (v / h1), -0.5 * (v / h3), x1 - 0.5 * v * h3
+        # Local forms, then from_local's absolute ones, term by term
+        # (0 + 1 * 1.0 * b0 + 1 * s * b1 + 1 * s**2 * b2, ...) where no term is an exact zero:
+        # at t0 = 0 and for the cruise's zero acceleration those terms add nothing, not even
+        # a sign of zero, to 0.0 + b0 (see the tests against trapezoidal_path, bit for bit).
+        if cruise:
+            m0 = x0 + 0.5 * v * h1
+            rows.append((x0, 0.0, acc, m0, v, 0.0, c0, v, dec, 0.0 + x0, 0.0, 0.0 + acc,
+                         0.0 + m0 + -e1 * v + 0.0, 0.0 + v, 0.0,
+                         0.0 + c0 + s * v + ss * dec, 0.0 + v + s2 * dec, 0.0 + dec))
+        else:
+            rows.append((x0, 0.0, acc, c0, v, dec, 0.0 + x0, 0.0, 0.0 + acc,
+                         0.0 + c0 + s * v + ss * dec, 0.0 + v + s2 * dec, 0.0 + dec))
+    if not math.isfinite(sum(map(sum, rows))):  # something overflowed (or the sum did): numpy decides
+        return None
+    # The breakpoints, then (2 forms, pieces, 3 powers, joints) C-ordered as _pieces makes
+    # them (joints last): one array, read-only, and views of it.
+    m = 4 if cruise else 3
+    flat = np.array(list(chain((0.0, e1, e2, e3) if cruise else (0.0, e1, e3), *zip(*rows))))
+    flat.setflags(write=False)
+    both = flat[m:].reshape((2, m - 1, 3, len(a)))
+    return PiecewisePolynomial.from_checked(flat[:m], both[1], both[0])
 
 
 def trapezoidal_moves(p0, pf, vmax, amax) -> TrapezoidMoves:

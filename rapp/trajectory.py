@@ -348,6 +348,31 @@ class PiecewisePolynomial:
                         "segments: the absolute-time coefficients overflow float64")
         return cls(bp, absolute, loc)
 
+    @classmethod
+    def from_checked(cls, breakpoints: np.ndarray, coefficients: np.ndarray,
+                     local: np.ndarray) -> "PiecewisePolynomial":
+        """Build from arrays a constructor has already made right, without checking them again.
+
+        ``breakpoints`` ``(m + 1,)`` strictly increasing, ``coefficients`` and ``local``
+        ``(m, deg + 1, d)``, every entry finite, the two forms of the same segments: what
+        :func:`rapp.time_scaling.trapezoidal` computes for one move, where the checks of the
+        ordinary constructor would cost more than the move. The arrays are kept, not copied:
+        pass read-only ones (views of a read-only array are), as every other constructor makes.
+
+        Examples
+        --------
+        >>> arrays = [np.array(a) for a in ([2.0, 3.0], [[[-1.0], [1.0]]], [[[1.0], [1.0]]])]
+        >>> for a in arrays:
+        ...     a.setflags(write=False)
+        >>> pp = PiecewisePolynomial.from_checked(*arrays)
+        >>> same = PiecewisePolynomial.from_local([2.0, 3.0], [[[1.0], [1.0]]])
+        >>> bool((pp.coefficients == same.coefficients).all()), pp.evaluate(2.5).tolist()
+        (True, [1.5])
+        """
+        pp = object.__new__(cls)
+        pp.__dict__.update(breakpoints=breakpoints, coefficients=coefficients, local=local)  # frozen
+        return pp
+
     @property
     def t0(self) -> float:
         """Start time, the first breakpoint."""

@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 import rapp
 from rapp import reference
 from rapp._kernels import collision_numba as collision_kernel
+from rapp._kernels import collision_numpy
 from rapp.collision import collides, link_clearances, segment_collision_free
 from rapp.prm import prm
 
@@ -187,3 +188,45 @@ def test_without_numba_the_numpy_versions_answer(monkeypatch):
     _without_numba(monkeypatch)
     assert np.array_equal(collides(arm, q, OBSTACLES3), fast[0])
     np.testing.assert_allclose(link_clearances(arm, q, OBSTACLES3), fast[1], rtol=0, atol=1e-12)
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(worlds(), st.floats(0.0, 0.2), st.floats(0.0, 0.2), st.booleans())
+def test_one_configuration_scene_is_the_batch_answer(world, radius, margin, as_list):
+    """The packed one-configuration scene (compiled, and its numpy twin) answers as the batch,
+    link radii, margins and the obstacles grown for some links only included."""
+    lengths, obstacles, rng = world[0].link_lengths, world[1], world[2]
+    arm = rapp.Arm(lengths, link_radius=[radius * (j % 2) for j in range(len(lengths))])
+    obstacles = list(obstacles) if as_list else tuple(obstacles)
+    q = rng.uniform(-np.pi, np.pi, (40, arm.n))
+    batch = collides(arm, q, obstacles, margin=margin)
+    thin, pieces = rapp.collision.scene(arm, obstacles, margin)
+    packed = collision_kernel.pack_scene(thin.lengths, pieces, rapp.arm.MAX_ANGLE)
+    compiled = collision_kernel.kernels().collides_scene
+    twin = [collision_numpy.collides_scene(packed, row) for row in q]
+    near = np.abs(rapp.collision.link_clearances(arm, q, obstacles, margin=margin).min(axis=-1)) < 1e-9
+    assert (np.array(twin) == batch)[~near].all()
+    assert (np.array([compiled(packed, row) for row in q]) == batch)[~near].all()
+    one = [collides(arm, row, obstacles, margin=margin) for row in q]  # the cached scene's path
+    assert (np.array(one) == batch)[~near].all()
+
+
+def test_the_cached_scene_follows_its_arguments():
+    arm, q = rapp.Arm([1.0, 1.0]), np.array([0.0, 0.0])
+    obstacles = [rapp.Circle((0.0, 2.0), 0.3)]
+    assert not collides(arm, q, obstacles) and not collides(arm, q, obstacles)  # cached now
+    obstacles.append(rapp.Circle((2.0, 0.0), 0.3))  # a list may change: its copy is compared
+    assert collides(arm, q, obstacles)
+    obstacles.pop()
+    assert not collides(arm, q, obstacles)
+    assert collides(arm, q, obstacles, margin=2.0) and not collides(arm, q, obstacles)
+    assert collides(rapp.Arm([1.0, 1.0], link_radius=2.0), q, obstacles)
+    assert not collides(arm, q, tuple(obstacles)) and not collides(arm, q, tuple(obstacles))
+    for bad in (np.array([0.0, np.nan]), np.array([0.0, 0.0, 0.0]), np.array([0.0, 2e100])):
+        with pytest.raises(ValueError) as fast:  # after the cached call: the same one-line errors
+            collides(arm, bad, obstacles)
+        with pytest.raises(ValueError) as slow:
+            reference.collides(arm, bad, obstacles)
+        assert str(fast.value) == str(slow.value)
+    # Any other 1-D array (not contiguous, read-only) takes the general path, with the same answer.
+    assert collides(arm, np.zeros(4)[::2], obstacles) == collides(arm, np.zeros((1, 2)), obstacles)[0]

@@ -50,3 +50,42 @@ def test_a_limit_misses_its_goal_below_it():
 def test_format_ratio_keeps_about_three_digits(k):
     text = recorded.format_ratio(k)
     assert text.endswith("×") and math.isclose(float(text[:-1].replace(",", "")), k, rel_tol=0.05)
+
+
+def test_quoted_numbers_are_read_from_their_files():
+    q = recorded.quoted()
+    files = {name: recorded.load(name) for name in recorded.CHAPTER_FILES}
+    search = files["search"]["results"]
+    assert q["astar_scipy_min"] == min(s["ratio_scipy_over_rapp"] for s in search.values())
+    assert q["astar_scipy_max"] == max(s["ratio_scipy_over_rapp"] for s in search.values())
+    assert q["kern_min"] == files["collides"]["cpu_us"]["rapp_collides"] / files["collides"]["cpu_us"]["minimal_numba"]
+    assert q["ts_one"] == files["time_scaling"]["ratios"]["rapp_trapezoidal_over_ruckig"]
+    for key, short in (("rrt_connect", "rrtc"), ("prm", "prm"), ("rrt_star", "star")):
+        p = files["planners_cpu"]["planners"][key]
+        assert q[f"ompl_{short}"] == p["ratio_ompl_over_rapp_cpu"]
+        assert q[f"ompl_{short}_c"] == p["ratio_ompl_corrected_over_rapp_cpu"]
+    loads = [recorded.machine(f)["load"] for f in files.values() if recorded.machine(f)["load"] is not None]
+    assert (q["load_lo"], q["load_hi"]) == (min(loads), max(loads))
+    assert q["n_missed"] == sum(row.met is False for row in recorded.limits())
+    assert all(type(v) is (int if k in {"cells128", "intervals", "painted", "n_missed", "ts_on", "ts_off",
+                                         "ts_moves", "seeds", "cpu_seeds"} else float) for k, v in q.items())
+
+
+def test_every_number_chapter_10_glues_from_the_files_is_quoted():
+    """The chapter's prose names each glued number; those of the peers' section come from quoted()."""
+    import json
+    import re
+    from pathlib import Path
+    nb = json.loads((Path(__file__).resolve().parents[1] / "notebooks" / "10_performance.ipynb").read_text())
+    prose = "".join("".join(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
+    used = set(re.findall(r"\{glue:text\}`(\w+)", prose))
+    glued_in_cells = set(re.findall(r'glue\("(\w+)"', "".join("".join(c["source"]) for c in nb["cells"]
+                                                            if c["cell_type"] == "code")))
+    assert used <= set(recorded.quoted()) | glued_in_cells, used - set(recorded.quoted()) - glued_in_cells
+
+
+def test_limit_labels_are_short():
+    rows = recorded.limits()
+    assert len({row.label for row in rows}) == len(rows)
+    assert all(len(row.label) <= len(f"{row.case} vs {row.peer}") for row in rows)
+    assert "RRT-Connect vs OMPL (as compiled)" in [row.label for row in rows]

@@ -58,3 +58,39 @@ def test_one_move_may_be_given_as_vectors():
 def test_bad_moves_are_refused_naming_the_field(p0, pf, vmax, match):
     with pytest.raises(ValueError, match=match):
         trapezoidal_moves(p0, pf, vmax, 1.0)
+
+
+@settings(max_examples=150, deadline=None, derandomize=True)
+@given(moves(), st.sampled_from(["array", "list", "scalar limits", "zero joint", "signed zeros"]))
+def test_one_trapezoid_is_the_numpy_construction_bit_for_bit(case, form):
+    """trapezoidal's one-move path (Python floats) against the numpy construction it replaced,
+    which trapezoidal_path runs for a path of two waypoints: the same bytes in every array."""
+    from rapp.time_scaling import trapezoidal_path
+    p0, pf, vmax, amax = (x[0] if x.ndim == 2 else x for x in case)
+    p0, pf = p0.copy(), pf.copy()
+    if form == "zero joint" and p0.size > 1:
+        pf[0] = p0[0]  # a joint that does not move: zero velocity, zero coefficients
+    if form == "signed zeros" and p0.size > 1:
+        p0[-1], pf[-1] = 0.0, -0.0
+    args = (p0, pf, vmax, amax)
+    if form == "list":
+        args = tuple(x.tolist() for x in args)
+    if form == "scalar limits":
+        args = (p0, pf, float(vmax[0]), float(amax[0]))
+    fast, slow = trapezoidal(*args), trapezoidal_path([args[0], args[1]], args[2], args[3])
+    for name in ("breakpoints", "coefficients", "local"):
+        a, b = getattr(fast, name), getattr(slow, name)
+        assert a.shape == b.shape and a.tobytes() == b.tobytes(), name
+        assert not a.flags.writeable
+    assert fast.local.flags.c_contiguous
+
+
+def test_one_trapezoid_refuses_bad_input_with_the_numpy_messages():
+    for args, message in [((0.0, 0.0, 1.0, 1.0), "pf must differ from p0"),
+                          (([0.0, 1.0], [1.0], 1.0, 1.0), "p0 and pf must be"),
+                          ((0.0, 1.0, -1.0, 1.0), "vmax must be > 0"),
+                          ((0.0, float("nan"), 1.0, 1.0), "pf must be finite"),
+                          ((0.0, 1e308, 1e-308, 1.0), "overflows float64"),
+                          ((0.0, 1.0, [1.0, 2.0], 1.0), "vmax must be a number or one number per joint")]:
+        with pytest.raises(ValueError, match=message):
+            trapezoidal(*args)

@@ -19,11 +19,11 @@ import numpy as np
 
 from rapp.arm import MAX_ANGLE
 from rapp._kernels import collision_numba, collision_numpy
-from rapp._kernels.collision_numba import LOAD_FROM, Kernels, by_identity, pack
+from rapp._kernels.collision_numba import LOAD_FROM, Kernels, by_identity, pack, pack_scene
 from rapp._kernels.collision_numpy import check_segments
 
 __all__ = ["collides", "link_clearances", "segment_collision_free", "kernels", "loaded", "pack",
-           "by_identity", "Kernels", "LOAD_FROM"]
+           "by_identity", "Kernels", "LOAD_FROM", "collides_scene", "pack_scene"]
 
 #: The answers of the one-configuration kernel (0 free, 1 collides) as numpy's own booleans.
 _ANSWER = (np.False_, np.True_)
@@ -70,6 +70,21 @@ def collides(arm, q, obstacles) -> np.ndarray:
     if not ok:  # the kernel checks the angles' range; the message is check_q's
         arm.check_q(q)
     return hit[0] if q.ndim == 1 else hit.reshape(q.shape[:-1])
+
+
+def collides_scene(scene, q) -> int:
+    """One configuration against a :func:`pack_scene` array (1 collides, 0 free, -1 an angle out
+    of range, -2 a wrong length), by the backend of the moment.
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> scene = pack_scene([1.0, 1.0], [Circle((1.5, 0.0), 0.2)], MAX_ANGLE)
+    >>> collides_scene(scene, np.array([0.0, 0.0])), collides_scene(scene, np.array([0.0, 0.0, 0.0]))
+    (1, -2)
+    """
+    k = loaded(1)
+    return (collision_numpy.collides_scene if k is None else k.collides_scene)(scene, q)
 
 
 def _checked(arm, q):

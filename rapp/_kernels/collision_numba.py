@@ -37,10 +37,11 @@ import numpy as np
 from rapp.obstacles import Circle, Polygon
 from rapp.jit import jit, numba_available
 
-__all__ = ["pack", "by_identity", "kernels", "loaded", "Kernels", "LOAD_FROM", "link_mask", "MASK_LINKS"]
+__all__ = ["pack", "by_identity", "kernels", "loaded", "Kernels", "LOAD_FROM", "link_mask", "MASK_LINKS",
+           "pack_scene", "unpack_scene", "SCENE_HEADER"]
 
 #: The compiled functions (see :func:`kernels`).
-Kernels = namedtuple("Kernels", "collides collides_one clearances certify")
+Kernels = namedtuple("Kernels", "collides collides_one clearances certify collides_scene")
 
 
 def pack(obstacles) -> tuple:
@@ -117,6 +118,56 @@ def _pack(obstacles) -> tuple:
 
 
 _PACKED: dict = {}
+
+#: Entries before the arrays of a :func:`pack_scene` array: links, discs, polygons, polygon
+#: rows, and the largest angle accepted.
+SCENE_HEADER = 5
+
+
+def pack_scene(lengths, obstacles, max_abs: float) -> np.ndarray:
+    """An arm's link lengths, its obstacles and the angle bound as ONE float array.
+
+    The question "does this one configuration collide?" then crosses from Python into
+    compiled code with two arrays, the scene and ``q``: each array argument costs a call
+    about 0.05 µs, and :func:`pack`'s five arrays plus the lengths and the bound were most
+    of a single check's cost. Layout: ``n, c, p, v, max_abs`` (:data:`SCENE_HEADER`), then
+    the ``n`` lengths, the ``(c, 4)`` discs, the ``p + 1`` polygon offsets and the ``(v, 2)``
+    vertices, ``(v, 2)`` normals and ``(v, 3)`` projections of :func:`pack`, row by row.
+    :func:`unpack_scene` reads it back.
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> pack_scene(np.array([1.0, 1.0]), [Circle((0, 1), 0.5)], 1e100).tolist()
+    [2.0, 1.0, 0.0, 0.0, 1e+100, 1.0, 1.0, 0.0, 1.0, 0.5, -1.0, 0.0]
+    """
+    circles, pv, pn, pr, offsets = pack(obstacles)
+    lengths = np.asarray(lengths, dtype=float)
+    head = [lengths.size, circles.shape[0], offsets.size - 1, pv.shape[0], max_abs]
+    # Writable, as the compiled check is declared for (the scene never leaves rapp).
+    return np.concatenate([np.array(head, dtype=float), lengths, circles.ravel(), offsets.astype(float),
+                           pv.ravel(), pn.ravel(), pr.ravel()])
+
+
+def unpack_scene(scene):
+    """:func:`pack_scene`'s arrays back: ``lengths, circles, pv, pn, pr, offsets, max_abs``
+    (views of ``scene``, but ``offsets``: int64).
+
+    Examples
+    --------
+    >>> from rapp import Polygon
+    >>> parts = unpack_scene(pack_scene(np.array([1.0]), [Polygon.rectangle((0, 0), 1, 1)], 7.0))
+    >>> [np.shape(x) for x in parts], parts[5].tolist()
+    ([(1,), (0, 4), (4, 2), (4, 2), (4, 3), (2,), ()], [0, 4])
+    """
+    n, c, p, v = (int(x) for x in scene[:4])
+    i = SCENE_HEADER
+    offsets = scene[i + n + 4 * c:i + n + 4 * c + p + 1].astype(np.int64)
+    i += n + 4 * c + p + 1
+    return (scene[SCENE_HEADER:SCENE_HEADER + n], scene[SCENE_HEADER + n:SCENE_HEADER + n + 4 * c].reshape(c, 4),
+            scene[i:i + 2 * v].reshape(v, 2), scene[i + 2 * v:i + 4 * v].reshape(v, 2),
+            scene[i + 4 * v:i + 7 * v].reshape(v, 3), offsets, float(scene[4]))
+
 
 #: Link masks are bits of a float64 (exact below 2**53): obstacles for some links only
 #: (:func:`rapp.collision.scene`) name links 0 .. MASK_LINKS - 1.
@@ -272,6 +323,59 @@ def _collides_one(lengths, q, circles, pv, pn, pr, offsets, max_abs):
     return _hits(lengths, q, np.empty((q.shape[0] + 1, 2)), circles, pv, pn, pr, offsets, max_abs)
 
 
+def _collides_scene(scene, q):
+    """One configuration against a :func:`pack_scene` array: 1 collides, 0 free, -1 an angle
+    is not finite or beyond the scene's bound, -2 ``q`` has not one angle per link.
+
+    :func:`_hits` and :func:`_link_hits`, the same operations, but reading the scene in place
+    (no views made) and walking the links without a joint buffer (no allocation): those were
+    half of a single check's cost.
+    """
+    n, c, p, v = int(scene[0]), int(scene[1]), int(scene[2]), int(scene[3])
+    if q.shape[0] != n:
+        return -2
+    for j in range(n):
+        if not abs(q[j]) <= scene[4]:  # also False for NaN
+            return -1
+    start = SCENE_HEADER + n + 4 * c  # the polygon offsets, then the vertices, normals, projections
+    rows = (start + p + 1, start + p + 1 + 2 * v, start + p + 1 + 4 * v)
+    phi = x = y = 0.0
+    for j in range(n):
+        phi += q[j]
+        ax, ay = x, y
+        x += math.cos(phi) * scene[SCENE_HEADER + j]
+        y += math.sin(phi) * scene[SCENE_HEADER + j]
+        for k in range(SCENE_HEADER + n, start, 4):
+            if _applies(scene[k + 3], j) and _point_distance(ax, ay, x, y, scene[k], scene[k + 1]) <= scene[k + 2]:
+                return 1
+        for k in range(p):
+            s, e = int(scene[start + k]), int(scene[start + k + 1])
+            if _applies(scene[rows[2] + 3 * s + 2], j) and _hits_polygon_flat(ax, ay, x, y, scene, rows, s, e):
+                return 1
+    return 0
+
+
+def _hits_polygon_flat(ax, ay, bx, by, scene, rows, s, e):
+    """:func:`_hits_polygon` on a :func:`pack_scene` array: its vertices, normals and
+    projections start at ``rows``; polygon rows ``s:e``."""
+    vs, ns, rs = rows
+    for k in range(s, e):
+        sa = ax * scene[ns + 2 * k] + ay * scene[ns + 2 * k + 1]
+        sb = bx * scene[ns + 2 * k] + by * scene[ns + 2 * k + 1]
+        if max(sa, sb) < scene[rs + 3 * k] or min(sa, sb) > scene[rs + 3 * k + 1]:
+            return False
+    nx = -(by - ay)
+    ny = bx - ax
+    sv = ax * nx + ay * ny
+    lo = np.inf
+    hi = -np.inf
+    for k in range(s, e):
+        pk = nx * scene[vs + 2 * k] + ny * scene[vs + 2 * k + 1]
+        lo = min(lo, pk)
+        hi = max(hi, pk)
+    return not (hi < sv or lo > sv)
+
+
 def _clearances(lengths, q, circles, pv, pn, pr, offsets):
     """Link clearances of every configuration of ``q`` ``(m, n)``: ``(m, n)``."""
     m, n = q.shape
@@ -385,6 +489,9 @@ def kernels():
     g = globals()
     # The helpers are compiled first, so that the kernels calling them find compiled functions.
     for name in ("_fk", "_point_distance", "_applies", "_hits_polygon", "_polygon_distance", "_link_hits",
-                 "_link_clearance", "_hits"):
+                 "_link_clearance", "_hits", "_hits_polygon_flat"):
         g[name] = jit(g[name])
-    return Kernels(jit(_collides), jit(_collides_one), jit(_clearances), jit(_certify))
+    # Declared for writable C arrays only: any other q is refused (TypeError) before compiling a
+    # variant, and rapp.collision.collides then takes its general path.
+    one = jit(_collides_scene, signature_or_function="int64(float64[::1], float64[::1])")
+    return Kernels(jit(_collides), jit(_collides_one), jit(_clearances), jit(_certify), one)

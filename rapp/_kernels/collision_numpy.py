@@ -20,11 +20,12 @@ import numpy as np
 from rapp.checks import finite_number, positive_integer
 from rapp.errors import CertificationLimit
 from rapp.obstacles import Circle, Polygon
+from rapp._kernels.collision_numba import unpack_scene
 
 __all__ = ["closest_point_on_segment", "segment_point_distance", "segment_hits_polygon",
            "segment_polygon_distance", "check_obstacle", "segment_clearances", "reach_matrix",
            "check_segments", "collides", "link_clearances", "segment_collision_free",
-           "MAX_PENDING_INTERVALS"]
+           "MAX_PENDING_INTERVALS", "collides_scene"]
 
 #: Most sub-intervals :func:`segment_collision_free` keeps pending at once in one
 #: call (a few MB in all); one segment needing more raises
@@ -348,6 +349,40 @@ def collides(arm, q, obstacles) -> np.ndarray:
                    else segment_hits_polygon(a, b, ob))
             hit |= own & _link_mask(ob, None, arm.n)
     return hit.any(axis=-1)
+
+
+def collides_scene(scene, q) -> int:
+    """The compiled ``collides_scene`` of :mod:`rapp._kernels.collision_numba` in numpy: one
+    configuration ``q`` ``(n,)`` against a :func:`~rapp._kernels.collision_numba.pack_scene`
+    array; 1 collides, 0 free, -1 an angle not finite or beyond the scene's bound, -2 not
+    one angle per link.
+
+    Examples
+    --------
+    >>> from rapp import Circle
+    >>> from rapp._kernels.collision_numba import pack_scene
+    >>> scene = pack_scene([1.0, 1.0], [Circle((1.5, 0.0), 0.2)], 1e100)
+    >>> collides_scene(scene, np.array([0.0, 0.0])), collides_scene(scene, np.array([1.5, 0.0]))
+    (1, 0)
+    """
+    lengths, circles, pv, _, pr, offsets, max_abs = unpack_scene(scene)
+    q = np.asarray(q, dtype=float)
+    if q.shape != lengths.shape:
+        return -2
+    if not (np.abs(q) <= max_abs).all():
+        return -1
+    phi = np.cumsum(q)
+    pts = np.concatenate([np.zeros((1, 2)), np.cumsum(np.stack((np.cos(phi), np.sin(phi)), -1)
+                                                      * lengths[:, None], axis=0)])
+    for j in range(lengths.size):  # links, and below obstacles: never configurations
+        own = lambda mask: mask < 0 or (int(mask) >> j) & 1 == 1  # noqa: E731  link_mask's bits
+        c = circles[[own(m) for m in circles[:, 3]]] if circles.size else circles
+        if (segment_point_distance(pts[j], pts[j + 1], c[:, :2]) <= c[:, 2]).any():
+            return 1
+        for s, e in zip(offsets[:-1], offsets[1:]):
+            if own(pr[s, 2]) and segment_hits_polygon(pts[j], pts[j + 1], pv[s:e]):
+                return 1
+    return 0
 
 
 def link_clearances(arm, q, obstacles) -> np.ndarray:
