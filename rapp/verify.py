@@ -68,7 +68,7 @@ from rapp.collision import (clearance, collides, scene, segment_collision_free, 
 from rapp.motion import certify_motion
 from rapp.time_scaling import peak_rates
 from rapp.trajectory import PiecewisePolynomial
-from rapp.validity import DEFAULT_RESOLUTION, user_validity
+from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, user_validity
 
 __all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL", "RATE_TOL",
            "MOTION_TOL", "CLEARANCE_RTOL"]
@@ -403,7 +403,7 @@ def _check_validity(arm, q, checker) -> Check:
                  f"{checker.text}")
 
 
-def verify(plan: Plan, scenario: Scenario, *, validity=None,
+def verify(plan: Plan, scenario: Scenario, *, validity: ValidityFunction | None = None,
            validity_resolution: float = DEFAULT_RESOLUTION) -> Report:
     """Check a plan's timed trajectory against the scenario.
 
