@@ -92,6 +92,22 @@ def test_edges_valid_is_the_plain_loop_over_each_edge_in_one_call(m, r, seed):
     assert got.tolist() == expected
 
 
+@settings(max_examples=80, deadline=None)
+@given(st.lists(st.floats(0.1, 2.0), min_size=1, max_size=4), st.integers(0, 2**31),
+       st.floats(1e-4, 0.5))
+def test_the_tip_moves_at_most_the_travel_bound_over_a_step(lengths, seed, step):
+    # The lemma behind the oracle: over a joint-space move of length <= step, the end effector
+    # moves at most end_effector_travel(lengths, step), all along the move.
+    arm = rapp.Arm(lengths)
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(-np.pi, np.pi, (20, arm.n))
+    dq = rng.normal(size=(20, arm.n))
+    dq *= step * rng.uniform(0, 1, (20, 1)) / np.linalg.norm(dq, axis=1, keepdims=True)
+    t = np.linspace(0.0, 1.0, 11)
+    moved = arm.end_effector(q[:, None] + t[:, None] * dq[:, None]) - arm.end_effector(q)[:, None]
+    assert np.linalg.norm(moved, axis=-1).max() <= end_effector_travel(lengths, step) * (1 + 1e-9)
+
+
 def test_the_users_function_is_called_once_per_batch_not_once_per_sample():
     calls = []
 
