@@ -188,7 +188,7 @@ def check_planner(name, seed):
     assert r.validity_resolution == RESOLUTION
 
 
-@pytest.mark.parametrize("name", ["rrt_connect", "prm", "rrt_star", "astar", "rrt"])
+@pytest.mark.parametrize("name", sorted(planners.PLANNERS))   # rrt_connect, prm, rrt_star, ...
 def test_a_keep_out_disc_given_only_as_validity_is_respected(name):
     check_planner(name, 0)
 
@@ -251,3 +251,21 @@ def test_the_verification_report_says_sampled_never_certified():
     assert rapp.verify(p, s) == p.report   # without a checker, the same report as before
     everywhere = rapp.verify(p, s, validity=lambda q: np.zeros(len(q), bool))
     assert not everywhere.ok and everywhere.failed[0].name.startswith("validity")
+
+
+# --------------------------------------------------------------------------- the table, the files
+
+
+def test_every_entry_of_the_table_takes_the_checker_and_no_file_can():
+    for entry in planners.PLANNERS.values():
+        assert entry.code_keys == ("validity", "validity_resolution")
+        assert entry.default("validity") is None
+        assert entry.default("validity_resolution") == DEFAULT_RESOLUTION
+        assert not set(entry.code_keys) & set(entry.keys)
+    assert not {"validity", "validity_resolution"} & set(planners.all_settings())
+    d = rapp.load_scenario("default").to_dict()
+    for key in ("validity", "validity_resolution"):
+        d["planner"] = {"algorithm": "rrt_connect", key: 0.1}
+        with pytest.raises(rapp.errors.InvalidValue) as info:
+            rapp.load_scenario(d)
+        assert info.value.field == f"planner.{key}" and "cannot carry" in str(info.value)
