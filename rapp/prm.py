@@ -45,6 +45,7 @@ from rapp.rrt import RRTResult
 from rapp.sampling import warms
 from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared_norms, uniform_samples,
                            unwrapped_chain)
+from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, mark_sampled, user_validity
 
 __all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE"]
 
@@ -183,7 +184,9 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
         samples: int = 500, neighbours: int = 10, seed: int | np.random.SeedSequence = 0,
         max_iterations: int = 500, time_budget: float | None = None,
         max_samples: int | None = None, raise_on_failure: bool = True,
-        neighbors: int | None = None, margin: float = 0.0) -> PlannerResult:
+        neighbors: int | None = None, margin: float = 0.0,
+        validity: ValidityFunction | None = None,
+        validity_resolution: float = DEFAULT_RESOLUTION) -> PlannerResult:
     """Plan with a lazy probabilistic roadmap from ``start`` to a goal configuration.
 
     Parameters
@@ -206,6 +209,14 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
     margin : float
         Safety margin (metres, >= 0) every link keeps beyond its radius
         (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
+    validity : callable, optional
+        A user's checker, ``(m, n)`` configurations -> ``m`` booleans (True: allowed), on top
+        of rapp's certified obstacles: samples it rejects are not added, and an edge is sampled
+        at ``validity_resolution`` (:mod:`rapp.validity`). The roadmap is then searched in
+        numpy (compiled loops cannot call Python), and the result says its path was sampled
+        (``certified`` False, ``checked_by``).
+    validity_resolution : float
+        Largest joint-space step (rad) between two samples of an edge for ``validity``.
 
     Returns
     -------
@@ -233,7 +244,8 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
     cap_name = "samples" if max_samples is None else "max_samples"
     max_samples = 20 * samples if max_samples is None else positive_integer(max_samples, "max_samples")
     budget = Budget(max_iterations, time_budget)
-    start, goals = check_start_and_goals(arm, start, goal, obstacles)
+    checker = user_validity(validity, validity_resolution)
+    start, goals = check_start_and_goals(arm, start, goal, obstacles, checker)
     peak = roadmap_bytes(arm.n, max_samples + 1 + len(goals), neighbours)
     if peak > MEMORY_BUDGET:
         raise InvalidSetting(
@@ -243,8 +255,9 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
             f"the {MEMORY_BUDGET / 1e9:g} GB budget: lower {cap_name} or neighbours", cap_name)
     try:
         try:
-            return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples,
-                            budget, seed, raise_on_failure)
+            return mark_sampled(_roadmap(arm, start, goals, obstacles, samples, neighbours,
+                                         max_samples, budget, seed, raise_on_failure,
+                                         checker=checker), checker)
         except _Limit:  # the numpy loop meets the same edge and raises its message
             budget = Budget(max_iterations, time_budget)
             return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples,
@@ -258,8 +271,10 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
 
 
 def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, budget, seed,
-             raise_on_failure, compiled=True) -> RRTResult:
-    """The lazy PRM loop of :func:`prm` on validated arguments; raises _OutOfTime."""
+             raise_on_failure, compiled=True, checker=None) -> RRTResult:
+    """The lazy PRM loop of :func:`prm` on validated arguments; raises _OutOfTime. A user's
+    ``checker`` (:class:`rapp.validity.UserValidity`) runs it in numpy."""
+    compiled = compiled and checker is None  # the compiled loops cannot call Python
     rng = np.random.default_rng(seed)
     nodes = arm.wrap(np.vstack((start, goals)))
     goal_ids = np.arange(1, len(goals) + 1)
@@ -270,7 +285,7 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
         edges = _ArrayEdges(arm, neighbours, loops, lazy, goal_ids)
     else:
         edges = _DictEdges(arm, neighbours, goal_ids)
-    certify = EdgeCertifier(arm, obstacles)
+    certify = EdgeCertifier(arm, obstacles, checker)
     parent, hit = np.full(len(nodes), -1), -1
     grow, full = True, False
     while True:
@@ -283,7 +298,7 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
                 full = True
                 break
             first_new = len(nodes)
-            nodes = _grow(arm, rng, nodes, samples, obstacles, budget)
+            nodes = _grow(arm, rng, nodes, samples, obstacles, budget, checker)
             edges.add(nodes, 0 if first_new <= 1 + len(goals) else first_new, budget)
         parent, hit, used, found = edges.search(nodes, rounds, certify, budget)
         budget.iterations += used
@@ -416,8 +431,9 @@ class _ArrayEdges:
         return parent, int(hit), int(used), status == _FOUND
 
 
-def _grow(arm, rng, nodes, k, obstacles, budget=None):
-    """``nodes`` with ``k`` free uniform samples appended (drawn until that many are free)."""
+def _grow(arm, rng, nodes, k, obstacles, budget=None, checker=None):
+    """``nodes`` with ``k`` free uniform samples appended (drawn until that many are free;
+    with a user's ``checker``, also allowed by it)."""
     new = []
     have = 0
     for _ in range(100):
@@ -425,6 +441,8 @@ def _grow(arm, rng, nodes, k, obstacles, budget=None):
         q = uniform_samples(arm, rng, k)
         if obstacles or arm.self_collision:
             q = q[~collides(arm, q, obstacles)]
+        if checker is not None:
+            q = q[checker.points(q, arm)]
         new.append(q)
         have += len(q)
         if have >= k:
