@@ -24,8 +24,7 @@ from rapp.collision import segment_point_distance
 from rapp.manipulability import condition_number, manipulability, manipulability_ellipse
 from rapp.palette import COLORS
 from rapp.plotting import plot_arm, plot_cspace, plot_workspace, style_axes
-from rapp.time_scaling import peak_rates
-from rapp.trajectory import time_path
+from rapp.time_scaling import peak_rates, time_path
 
 __all__ = ["PROFILE_STYLE", "plot_duration_scaling", "plot_limited_moves", "plot_synchronization",
            "plot_joint_velocities", "plot_line_following", "plot_velocity_ellipse",
