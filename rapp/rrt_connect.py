@@ -175,7 +175,8 @@ def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reac
                     else endpoint_certified(c0, clear[:reach_k], bounds, touch))
             todo = np.flatnonzero(~free)
             if todo.size:  # the rest are bisected, as every edge was before
-                free[todo] = certify(prev[todo], points[todo])
+                ends = () if arm.self_collision else (c0[todo], clear[todo])
+                free[todo] = certify(prev[todo], points[todo], *ends)
     ok = int(np.argmin(free)) if not free.all() else reach_k  # the free prefix
     last = -1
     parent = i

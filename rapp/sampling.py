@@ -116,10 +116,11 @@ class EdgeCertifier:
         # Self-collision (arm.self_collision) is certified only by segment_collision_free.
         self.kernel = (collision_backend.loaded() if self.obstacles and not arm.self_collision
                        else None)
+        #: Clearance within which a configuration counts as touching (no edge leaves it).
+        self.touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
         if self.kernel is not None:
             self.packed = pack(self.obstacles)
             self.reach = reach_matrix(arm)
-            self.touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
 
     def __call__(self, q0, q1, c0=None, c1=None) -> np.ndarray:
         """Free or not, for each straight edge ``q0 -> q1`` (``(m, n)`` each): bool ``(m,)``.
@@ -140,7 +141,16 @@ class EdgeCertifier:
     def certified(self, q0, q1, c0=None, c1=None) -> np.ndarray:
         """:meth:`__call__` for rapp's obstacles alone (the user's checker left out)."""
         if self.kernel is None:
-            return segment_collision_free(self.arm, q0, q1, self.obstacles)
+            if c0 is None or self.arm.self_collision:
+                return segment_collision_free(self.arm, q0, q1, self.obstacles)
+            # An end within touching distance: not free, without a bisection that could not end.
+            q0, q1 = np.atleast_2d(q0), np.atleast_2d(q1)
+            hit = ((np.atleast_2d(c0) <= self.touch) | (np.atleast_2d(c1) <= self.touch)).any(axis=-1)
+            free = np.zeros(hit.shape[0], dtype=bool)
+            rest = np.flatnonzero(~hit)
+            if rest.size:
+                free[rest] = segment_collision_free(self.arm, q0[rest], q1[rest], self.obstacles)
+            return free
         q0 = np.ascontiguousarray(q0, dtype=float)
         dq = np.ascontiguousarray(q1 - q0)  # as segment_collision_free forms it
         bounds = motion_bounds_of(dq, self.reach)

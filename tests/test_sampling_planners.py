@@ -157,3 +157,18 @@ def test_settings_an_algorithm_does_not_read_are_warned():
     d["planner"] = {"algorithm": "prm", "step": 0.2}
     s = rapp.load_scenario(d)
     assert any(w.startswith("planner.step ") and "prm" in w for w in s.warnings)
+
+
+@pytest.mark.parametrize("name", [n for n in sorted(PLANNERS) if n != "rrt_star"])
+def test_a_start_touching_an_obstacle_fails_honestly_instead_of_raising(name):
+    # Found by hypothesis: a rectangle 6e-237 above the straight arm's tip. No edge can leave a
+    # start within touching distance, so no path is found (the bisection would never end).
+    arm = rapp.Arm([0.8864195997777288, 0.8975709065026599])
+    box = rapp.Polygon(((1.7505561097359128, 6.371174504398166e-237),
+                        (2.0608123170572457, 7.5003564980077e-237),
+                        (2.0608123170572457, 0.22196949766704926),
+                        (1.7505561097359128, 0.22196949766704926)))
+    start, goal = np.zeros(2), np.array([0.0, 1.0])
+    assert not collides(arm, start, [box])
+    res = PLANNERS[name](arm, start, goal, [box], 29)
+    assert not res.success and res.path.shape == (0, 2)
