@@ -17,7 +17,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import rapp
-from rapp import reference, sampling_kernel
+from rapp import reference
+from rapp._kernels import sampling as sampling_kernel
 from rapp.errors import CertificationLimit, NoPathFound
 from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect
