@@ -1,4 +1,4 @@
-"""The compiled loops of RRT-Connect, RRT* and PRM (rapp.sampling_kernel) against the numpy
+"""The compiled loops of RRT-Connect, RRT* and PRM (rapp._kernels.sampling_numba) against the numpy
 loops they replaced.
 
 Properties: from the same seed both grow the same trees (roadmaps), node for node and bit for
