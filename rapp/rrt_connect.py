@@ -301,8 +301,11 @@ def _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_r
     return trees, meet, full
 
 
-#: Iterations the compiled loop runs between two looks at the clock (and the progress line).
+#: Iterations the compiled loop runs between two looks at the clock (and the progress line);
+#: without a time budget the batches double up to :data:`LARGEST_BATCH` (fewer calls from
+#: Python, each with its samples drawn: the same stream, so the same trees).
 BATCH = 64
+LARGEST_BATCH = 1024
 
 
 def _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach, touch,
@@ -324,17 +327,21 @@ def _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach
     arrays = sampling_backend.Trees(nodes, parent, cost, clear, m)
     meet = None
     room = int(min(chain_room, MAX_NODES - m[0] - m[1]))
-    j, reached, status = loops.extend(1, start, True, room, step, scene, arrays, np.empty((7, n)))
+    scratch = np.empty((sampling_backend.EXTEND_ROWS + n, max(n, 2)))
+    j, reached, status = loops.extend(1, start, True, room, step, scene, arrays, scratch)
     if status == sampling_backend.CONNECT_LIMIT:
         return None
     if reached:
         meet = (0, j)
     full = False
     met = np.full(2, -1, dtype=np.int64)
+    batch = BATCH
     while meet is None:
-        k = budget.grant(BATCH)
+        k = budget.grant(batch)
         if not k:
             break
+        if budget.time_budget is None:
+            batch = min(2 * batch, LARGEST_BATCH)
         progress.report("RRT-Connect", budget.iterations, budget.max_iterations)
         samples = uniform_samples(arm, rng, k)
         status, ran = loops.connect(samples, budget.iterations, MAX_NODES, chain_room, step,

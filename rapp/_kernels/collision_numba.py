@@ -40,7 +40,7 @@ from rapp.jit import jit, numba_available
 __all__ = ["pack", "by_identity", "kernels", "loaded", "Kernels", "LOAD_FROM", "link_mask", "MASK_LINKS"]
 
 #: The compiled functions (see :func:`kernels`).
-Kernels = namedtuple("Kernels", "collides collides_one clearances certify")
+Kernels = namedtuple("Kernels", "collides collides_one clearances certify clearances_one")
 
 
 def pack(obstacles) -> tuple:
@@ -284,6 +284,14 @@ def _clearances(lengths, q, circles, pv, pn, pr, offsets):
     return out
 
 
+def _clearances_one(lengths, q, pts, out, circles, pv, pn, pr, offsets):
+    """:func:`_clearances` of one configuration ``q`` ``(n,)`` into ``out`` ``(n,)``, its
+    joints into ``pts`` ``(n + 1, 2)``: no allocation, for a planner's inner loop."""
+    _fk(lengths, q, pts)
+    for j in range(q.shape[0]):
+        out[j] = _link_clearance(pts, j, circles, pv, pn, pr, offsets)
+
+
 def _certify(lengths, q0, dq, bounds, circles, pv, pn, pr, offsets, min_interval, cap, touch):
     """The bisection of rapp.collision.segment_collision_free, one segment at a time.
 
@@ -387,4 +395,5 @@ def kernels():
     for name in ("_fk", "_point_distance", "_applies", "_hits_polygon", "_polygon_distance", "_link_hits",
                  "_link_clearance", "_hits"):
         g[name] = jit(g[name])
-    return Kernels(jit(_collides), jit(_collides_one), jit(_clearances), jit(_certify))
+    return Kernels(jit(_collides), jit(_collides_one), jit(_clearances), jit(_certify),
+                   jit(_clearances_one))

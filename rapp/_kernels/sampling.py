@@ -18,11 +18,11 @@ from __future__ import annotations
 
 from rapp._kernels import sampling_numba
 from rapp._kernels.sampling_numba import (CONNECT_FULL, CONNECT_LIMIT, CONNECT_MEET,
-                                          CONNECT_MORE, GRID_FROM, Cells, Loops, NearSet, Scene,
+                                          CONNECT_MORE, EXTEND_ROWS, GRID_FROM, Cells, Loops, NearSet, Scene,
                                           StarProblem, StarTree, Trees)
 
 __all__ = ["kernels", "Loops", "Scene", "Trees", "StarProblem", "StarTree", "Cells", "NearSet",
-           "GRID_FROM", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
+           "GRID_FROM", "EXTEND_ROWS", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
 
 
 def kernels():

@@ -41,7 +41,7 @@ import numpy as np
 from rapp._kernels import collision as collision_backend
 from rapp.jit import jit
 
-__all__ = ["kernels", "Loops", "Scene", "Trees", "StarProblem", "StarTree", "Cells", "NearSet",
+__all__ = ["kernels", "Loops", "Scene", "Trees", "EXTEND_ROWS", "StarProblem", "StarTree", "Cells", "NearSet",
            "StarWork", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
 
 #: The compiled functions (see :func:`kernels`).
@@ -71,7 +71,11 @@ Cells = namedtuple("Cells", "lo width shape head nxt indexed")
 #: ``dist``, sort keys ``key`` and a ``stack`` (the grid's found nodes, the rewiring's walk).
 NearSet = namedtuple("NearSet", "near dn dist key stack")
 #: The small scratch arrays of one :func:`_star` call.
-StarWork = namedtuple("StarWork", "scratch d q_new at off span")
+StarWork = namedtuple("StarWork", "scratch d q_new at off span c_new pts")
+
+#: :func:`_extend`'s scratch is ``(EXTEND_ROWS + n, max(n, 2))``: eight rows of ``n`` numbers,
+#: then the arm's ``n + 1`` joint positions.
+EXTEND_ROWS = 9
 
 #: What :func:`_connect` says when it returns: a batch ran out without a meeting, the trees
 #: met, the trees are full, an edge needed more bisection intervals than allowed.
@@ -88,7 +92,7 @@ def _clearances(*args):
     raise RuntimeError("compiled only")
 
 
-_certify = _clearances
+_certify = _clearances_one = _clearances
 
 
 def _wrap(x):
@@ -120,7 +124,36 @@ def _delta(q, row, limited, out):
 
 
 def _nearest(nodes, m, q, limited):
-    """Index of the node of ``nodes[:m]`` nearest ``q`` (the first of equals, as argmin)."""
+    """Index of the node of ``nodes[:m]`` nearest ``q`` (the first of equals, as argmin).
+
+    ``nodes`` are wrapped; where ``q`` is too on every free joint, the differences lie
+    within two turns and :func:`_wrap`'s sum needs no range check: every node's sum of
+    squares in full, without a branch a random sample would mispredict (the sums and so the
+    node found are the same)."""
+    n = q.shape[0]
+    for j in range(n):
+        if not (limited[j] or -math.pi <= q[j] <= math.pi):
+            return _nearest_scan(nodes, m, q, limited)
+    best = np.inf
+    bi = 0
+    for i in range(m):
+        s = 0.0
+        for j in range(n):
+            d = q[j] - nodes[i, j]
+            if not limited[j]:
+                y = d + math.pi
+                up = _TWO_PI if y < 0.0 else 0.0
+                down = _TWO_PI if y >= _TWO_PI else 0.0
+                d = ((y + up) - down) - math.pi
+            s += d * d
+        if s < best:
+            best = s
+            bi = i
+    return bi
+
+
+def _nearest_scan(nodes, m, q, limited):
+    """:func:`_nearest` for any ``q``: each sum stopped once it reaches the best so far."""
     n = q.shape[0]
     best = np.inf
     bi = 0
@@ -150,8 +183,9 @@ def _extend(t, target, chain, room, step, scene, trees, scratch):
     lengths, limited, reach, circles, pv, pn, pr, offsets, touch, min_interval, cap = scene
     nodes, parent, cost, clear, m = trees
     n = target.shape[0]
-    base, d, p, prev, q0, dq, bnd = (scratch[0], scratch[1], scratch[2], scratch[3],
-                                     scratch[4:5], scratch[5:6], scratch[6:7])
+    base, d, p, prev = scratch[0, :n], scratch[1, :n], scratch[2, :n], scratch[3, :n]
+    q0, dq, bnd, c = scratch[4:5, :n], scratch[5:6, :n], scratch[6:7, :n], scratch[7, :n]
+    pts = scratch[8:9 + n, :2]
     i = _nearest(nodes[t], m[t], target, limited)
     for j in range(n):
         base[j] = nodes[t, i, j]
@@ -172,8 +206,7 @@ def _extend(t, target, chain, room, step, scene, trees, scratch):
         frac = min((s + 1) * step / dist, 1.0)
         for j in range(n):
             p[j] = base[j] + frac * d[j]
-        c = _clearances(lengths, p.reshape(1, n), circles, pv, pn, pr,
-                                                offsets)[0]
+        _clearances_one(lengths, p, pts, c, circles, pv, pn, pr, offsets)
         hit = False
         for j in range(n):
             if c[j] <= touch:
@@ -232,7 +265,7 @@ def _connect(samples, it0, max_nodes, chain_room, step, scene, trees, meet):
     """
     nodes, m = trees.nodes, trees.m
     n = samples.shape[1]
-    scratch = np.empty((7, n))
+    scratch = np.empty((EXTEND_ROWS + n, max(n, 2)))
     target = np.empty(n)
     for s in range(samples.shape[0]):
         it = it0 + s + 1
@@ -546,7 +579,8 @@ def _star(targets, problem, scene, tree, cells, buf):
     intervals than ``scene.cap``."""
     n = targets.shape[1]
     work = StarWork(np.empty((3, n)), np.empty(n), np.empty(n), np.empty(n, dtype=np.int64),
-                    np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64))
+                    np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n),
+                    np.empty((n + 1, 2)))
     for v in range(cells.indexed[0], tree.m[0]):
         _grid_insert(v, tree.nodes, scene.limited, cells, work.at)
     cells.indexed[0] = tree.m[0]
@@ -573,8 +607,8 @@ def _star_iteration(target, problem, scene, tree, cells, buf, work):
     for j in range(n):
         q_new[j] = nodes[i, j] + f * d[j]
     s = scene
-    c_new = _clearances(s.lengths, q_new.reshape(1, n), s.circles, s.pv, s.pn, s.pr,
-                        s.offsets)[0]
+    c_new = work.c_new
+    _clearances_one(s.lengths, q_new, work.pts, c_new, s.circles, s.pv, s.pn, s.pr, s.offsets)
     for j in range(n):
         if c_new[j] <= s.touch:  # no edge to it is free
             return 0
@@ -768,9 +802,11 @@ def _compile():
         return None
 
     g = globals()
-    g["_clearances"], g["_certify"] = ck.clearances, ck.certify
+    g["_clearances"], g["_certify"], g["_clearances_one"] = (ck.clearances, ck.certify,
+                                                            ck.clearances_one)
     g["_wrap"] = jit(_wrap)
     g["_delta"] = jit(_delta)
+    g["_nearest_scan"] = jit(_nearest_scan)
     g["_nearest"] = jit(_nearest)
     g["_extend"] = jit(_extend)
     for name in ("_shifted_cell", "_edge_bounds", "_bisect_bounded", "_bisect", "_edge_free",
