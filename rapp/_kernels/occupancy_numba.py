@@ -663,6 +663,7 @@ def _collect_obstacle(k, rp, ns, spans, blocked, lv, batch, n, m, mz):
     spr = lv.sp[rp]
     phr = lv.phip[rp]
     Lp, L, cap, sap, axp = lv.Lp, lv.L, lv.cap, lv.sap, lv.axp
+    v, e, ee, slack, etol = lv.v, lv.e, lv.ee, lv.slack, lv.etol
     rowof, meta, phis, Y, X, Z = batch
     base = rp * axp.shape[0]
     okx = lv.ox[k]
@@ -713,7 +714,7 @@ def _collect_obstacle(k, rp, ns, spans, blocked, lv, batch, n, m, mz):
                 if gx * gx + gy * gy > lim2:
                     continue
                 kind, ay, ax, by, bx, cy, cx = _polygon_args(
-                    px, py, L, lv.v, lv.e, lv.ee, lv.slack, lv.etol, s0, s1, tp)
+                    px, py, L, v, e, ee, slack, etol, s0, s1, tp)
             if kind == NONE:
                 continue
             rowof[n] = r
