@@ -458,19 +458,6 @@ def _cell_nodes_nearest(q, c, nodes, limited, cells, best_s, best_v, d):
     return best_s, best_v
 
 
-def _next_offset(off, low, high):
-    """``off`` moved to the next cell of the box ``low <= off[j] <= high[j]`` (last axis
-    fastest); False once past the last cell (``off`` is then all ``low``)."""
-    j = off.shape[0] - 1
-    while j >= 0 and off[j] == high[j]:
-        off[j] = low
-        j -= 1
-    if j < 0:
-        return False
-    off[j] += 1
-    return True
-
-
 def _grid_nearest(q, nodes, m, limited, cells, at, off):
     """:func:`_nearest` through the grid ``cells`` (:data:`Cells`): cells in growing rings
     around ``q``'s until no unvisited cell can hold a nearer node; the linear scan once the
@@ -486,7 +473,6 @@ def _grid_nearest(q, nodes, m, limited, cells, at, off):
     best_s = np.inf
     best_v = -1
     d = np.empty(n)
-    high = np.empty(n, dtype=np.int64)
     rho = 0
     cells_seen = 0
     while True:
@@ -495,7 +481,6 @@ def _grid_nearest(q, nodes, m, limited, cells, at, off):
             return _nearest(nodes, m, q, limited)
         for j in range(n):
             off[j] = -rho
-            high[j] = rho
         while True:
             shell = rho == 0
             for j in range(n):
@@ -505,8 +490,13 @@ def _grid_nearest(q, nodes, m, limited, cells, at, off):
             if flat >= 0:
                 best_s, best_v = _cell_nodes_nearest(q, flat, nodes, limited, cells, best_s,
                                                      best_v, d)
-            if not _next_offset(off, -rho, high):
+            j = n - 1
+            while j >= 0 and off[j] == rho:
+                off[j] = -rho
+                j -= 1
+            if j < 0:
                 break
+            off[j] += 1
         # Every node not seen lies in a cell at least rho + 1 cells away on some axis: more
         # than rho cell widths away (the margin covers rounding at the cell borders).
         if best_v >= 0 and (rho * wmin * (1 - 1e-9)) ** 2 > best_s:
@@ -531,8 +521,6 @@ def _grid_near(q, r, nodes, limited, cells, at, off, span, out):
             span[j] = 2 * reach + 1
             at[j] -= reach
         off[j] = 0
-    for j in range(n):
-        span[j] -= 1  # the last offset of each axis
     k = 0
     d = np.empty(n)
     while True:
@@ -544,8 +532,13 @@ def _grid_near(q, r, nodes, limited, cells, at, off, span, out):
                     out[k] = v
                     k += 1
                 v = nxt[v]
-        if not _next_offset(off, 0, span):
+        j = n - 1
+        while j >= 0 and off[j] == span[j] - 1:
+            off[j] = 0
+            j -= 1
+        if j < 0:
             break
+        off[j] += 1
     out[:k].sort()
     return k
 
@@ -810,10 +803,13 @@ def _compile():
     g["_nearest"] = jit(_nearest)
     g["_extend"] = jit(_extend)
     for name in ("_shifted_cell", "_edge_bounds", "_bisect_bounded", "_bisect", "_edge_free",
-                 "_link", "_unlink", "_cell", "_grid_insert", "_cell_nodes_nearest", "_next_offset",
-                 "_grid_nearest", "_grid_near", "_near_set", "_add_node", "_shift_descendants",
-                 "_rewire", "_join_goal", "_star_iteration"):
+                 "_link", "_unlink", "_cell", "_grid_nearest", "_grid_near"):
         g[name] = jit(g[name])
+    # RRT*'s iteration in parts, inlined into its loop: a call that passes the named tuples
+    # costs a reference count per array in them, a fifth of the loop's time when not inlined.
+    for name in ("_grid_insert", "_cell_nodes_nearest", "_near_set", "_add_node",
+                 "_shift_descendants", "_rewire", "_join_goal", "_star_iteration"):
+        g[name] = jit(g[name], inline="always")
     return Loops(g["_wrap"], g["_extend"], jit(_connect), jit(_nearest_k), jit(_star),
                  jit(_draw), g["_bisect"])
 
