@@ -7,7 +7,7 @@ discs and a rectangle):
   against the numpy version it replaced (``rapp.reference.collides``), alternately; also a
   batch of 10,000 configurations, and ``segment_collision_free`` for one short edge.
 * ``rrt_connect``, ``prm`` and ``rrt_star`` over 20 seeds: compiled (the collision kernel,
-  the planners' compiled loops of ``rapp.sampling_kernel`` and PRM's compiled Dijkstra) and
+  the planners' compiled loops of ``rapp._kernels.sampling_numba`` and PRM's compiled Dijkstra) and
   with the numpy versions and PRM's Python Dijkstra (switched off as when numba is missing),
   the same seeds growing the same trees (checked node by node); ratio of the summed times.
 * Start-up: ``python -m rapp plan`` (the default scenario) against ``python -c "import

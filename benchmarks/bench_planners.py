@@ -119,11 +119,10 @@ def counted_validity(arm, obstacles):
     The counter is one list-element increment inside the same Python function: the callback
     whose cost per call :func:`callback_cost` measures is this very one.
     """
-    from rapp import collision_kernel
     from rapp.arm import MAX_ANGLE
 
-    kernel = collision_kernel.kernels()
-    packed, lengths, n = collision_kernel.pack(list(obstacles)), arm.lengths, arm.n
+    kernel = collision_backend.kernels()
+    packed, lengths, n = collision_backend.pack(list(obstacles)), arm.lengths, arm.n
     q = np.zeros((1, n))
     row = q[0]
     collides = kernel.collides
@@ -207,7 +206,6 @@ def callback_cost(arm, obstacles, k=1000, repeats=20, rounds=5):
     Best of ``rounds``, CPU time, the three interleaved.
     """
     from ompl import base as ob
-    from rapp import collision_kernel
     from rapp.arm import MAX_ANGLE
 
     rng = np.random.default_rng(0)
@@ -217,8 +215,8 @@ def callback_cost(arm, obstacles, k=1000, repeats=20, rounds=5):
     states = [state(space, q) for q in qs]
     python_checker = si.getStateValidityChecker()
     all_valid = ob.AllValidStateValidityChecker(si)
-    kernel = collision_kernel.kernels()
-    packed, lengths = collision_kernel.pack(list(obstacles)), arm.lengths
+    kernel = collision_backend.kernels()
+    packed, lengths = collision_backend.pack(list(obstacles)), arm.lengths
     one = qs[:1].copy()
     kernel.collides(lengths, qs, *packed, MAX_ANGLE)
     best = {"python": np.inf, "cpp": np.inf, "batch": np.inf, "single": np.inf}

@@ -8,7 +8,7 @@ The tools, from exact to general:
   arm over a whole batch of targets at once, with damped least squares (DLS)
   near singular configurations, seeded random restarts and joint limits,
   from the exact start of :func:`closed_form_start` where there is one; on
-  large batches compiled per target (:mod:`rapp.ik_kernel`).
+  large batches compiled per target (:mod:`rapp._kernels.ik_numba`).
 * :func:`ik` -- the contract: every distinct solution for ONE target (for
   three or more links a seeded sample of the self-motion manifold, and the
   exact collinear arm on a boundary circle).
@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations
 
 from numpy.typing import ArrayLike  # noqa: F401
 
-from rapp import ik_kernel
+from rapp._kernels import ik as ik_backend
 from rapp.arm import Arm, wrap_angle
 from rapp.collision import clearance, collides
 from rapp.errors import NoIKSolution, NoPathFound
@@ -472,8 +472,8 @@ def _newton(lengths, limited, lo, hi, targets, q, stop_tol, max_iter, max_step):
     (see :func:`ik_numeric`), so the damping constants below are pure numbers.
     Returns the final ``q``.
     """
-    sigma_floor = ik_kernel.SIGMA_FLOOR
-    lambda_max = ik_kernel.LAMBDA_MAX
+    sigma_floor = ik_backend.SIGMA_FLOOR
+    lambda_max = ik_backend.LAMBDA_MAX
     any_limited = bool(limited.any())
     lim, lo_c, hi_c = limited[:, None], lo[:, None], hi[:, None]
     q = q.copy()
@@ -599,7 +599,7 @@ def _numpy_attempts(arm: Arm, rows, q, tol, budget):
 
 def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
     """The attempts of :func:`ik_numeric`, each target solved start to check by the
-    compiled :mod:`rapp.ik_kernel`; ``q`` (m, n) the caller's starts or None.
+    compiled :mod:`rapp._kernels.ik_numba`; ``q`` (m, n) the caller's starts or None.
 
     The same starts, restarts (the same seeded generator, drawn for the same
     targets as long as the successes agree) and checks as :func:`_numpy_attempts`.
@@ -622,7 +622,7 @@ def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
         far = np.empty(sub.shape[0], dtype=bool)
         status = kernel.solve(arm.lengths, limited, lo, hi, sub_rows, sub, starts_closed, far,
                               stop_tol, tol, max_iter, max_step)
-        lost = np.flatnonzero(status == ik_kernel.NO_START)
+        lost = np.flatnonzero(status == ik_backend.NO_START)
         if lost.size:
             lengths, t, _, _ = _scaled(arm, sub_rows[lost], tol)
             fix = np.ascontiguousarray(_initial_guess(lengths, t).T)
@@ -631,7 +631,7 @@ def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
                                         np.empty(lost.size, bool), stop_tol, tol, max_iter,
                                         max_step)
             sub[lost] = fix
-        unsure = np.flatnonzero(status == ik_kernel.UNSURE)
+        unsure = np.flatnonzero(status == ik_backend.UNSURE)
         if unsure.size:
             # Within rounding of tol: the caller's own check decides.
             status[unsure] = ((_tip_error(arm, sub[unsure], sub_rows[unsure]) <= tol)
@@ -641,7 +641,7 @@ def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
             hopeless[idx] = far
         else:
             hopeless[:] = far
-        return status == ik_kernel.OK
+        return status == ik_backend.OK
 
     ok = attempt(None, closed)
     todo = np.flatnonzero(~ok & ~hopeless)
@@ -674,9 +674,9 @@ def ik_numeric(
     Every target is solved at the same time: each iteration is a handful of
     numpy calls over the whole batch (no loop over targets), and only the
     targets not yet converged are carried to the next iteration. With numba,
-    a batch of at least ``rapp.ik_kernel.LOAD_FROM`` targets (any batch once
+    a batch of at least ``rapp._kernels.ik.LOAD_FROM`` targets (any batch once
     numba is imported) is instead solved target by target by compiled loops
-    that do the same (:mod:`rapp.ik_kernel`): the same starts, steps,
+    that do the same (:mod:`rapp._kernels.ik_numba`): the same starts, steps,
     restarts and checks, equal up to the last bits of ``cos`` and ``sin``, so
     the same targets are solved (on a joint limit a restart may decide
     otherwise, never reporting a wrong ``ok``). The iteration runs on the arm
@@ -767,7 +767,7 @@ def ik_numeric(
             raise ValueError(f"q0 must have shape (..., {n}), got {q0.shape}")
         q = np.broadcast_to(q0, batch + (n,)).reshape(-1, n).copy()
     budget = (max_iter, restarts, seed, max_step)
-    kernel = ik_kernel.loaded(rows.shape[0])
+    kernel = ik_backend.loaded(rows.shape[0])
     if kernel is None:
         if q is not None:
             # A non-finite start is no start: use the default guess there.

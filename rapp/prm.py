@@ -35,7 +35,8 @@ if TYPE_CHECKING:
     from rapp.arm import Arm
     from rapp.obstacles import Circle, Polygon
 
-from rapp import heap, progress, sampling_kernel
+from rapp import heap, progress
+from rapp._kernels import sampling as sampling_backend
 from rapp.checks import positive_integer
 from rapp.collision import MAX_PENDING_INTERVALS, collides, scene
 from rapp.errors import InvalidSetting, NoPathFound
@@ -279,7 +280,7 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
     nodes = arm.wrap(np.vstack((start, goals)))
     goal_ids = np.arange(1, len(goals) + 1)
     # The compiled loops know obstacles only: an arm with self-collision searches in numpy.
-    loops = sampling_kernel.kernels() if compiled and obstacles and not arm.self_collision else None
+    loops = sampling_backend.kernels() if compiled and obstacles and not arm.self_collision else None
     lazy = _compiled_lazy() if loops is not None else None
     if lazy is not None:
         edges = _ArrayEdges(arm, neighbours, loops, lazy, goal_ids)
@@ -467,7 +468,7 @@ def _add_candidate_edges(arm, nodes, k, edges, first_new, budget=None):
         dist[np.arange(len(block)), block] = np.inf
         near = np.argpartition(dist, k - 1, axis=1)[:, :k]
         # Nearest first, equal distances by index: the order of the compiled scan
-        # (rapp.sampling_kernel), so both fill the roadmap alike.
+        # (rapp._kernels.sampling_numba), so both fill the roadmap alike.
         near = np.take_along_axis(near, np.lexsort((near, np.take_along_axis(dist, near, 1))), 1)
         for row, i in enumerate(block):
             for j in near[row]:
@@ -532,8 +533,7 @@ def _lazy_searches(rounds, nodes_n, roadmap, scene):
             for j in range(n):
                 dj = nodes[hi, j] - nodes[lo, j]
                 d[j] = dj if limited[j] else _wrap_compiled(dj)
-            code = _bisect_compiled(lengths, nodes[lo], d, reach, circles, pv, pn, pr, offsets,
-                                    touch, min_interval, cap, scratch)
+            code = _bisect_compiled(nodes[lo], d, scene, scratch)
             if code < 0:
                 return _LIMIT, used, hit, parent
             if code == 1:
@@ -559,8 +559,8 @@ _bisect_compiled = _wrap_compiled = _dijkstra_compiled
 @functools.cache
 def _compiled_lazy():
     """:func:`_lazy_searches` compiled (cached on disk), calling the compiled Dijkstra and the
-    compiled loops of :mod:`rapp.sampling_kernel`; None without numba."""
-    dijkstra, loops = _compiled_dijkstra(), sampling_kernel.kernels()
+    compiled loops of :mod:`rapp._kernels.sampling_numba`; None without numba."""
+    dijkstra, loops = _compiled_dijkstra(), sampling_backend.kernels()
     if dijkstra is None or loops is None:
         return None
     g = globals()

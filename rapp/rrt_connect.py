@@ -8,7 +8,7 @@ connect attempt certifies its whole chain of steps in one vectorized call and ke
 free prefix, the same tree as stepping one edge at a time. An edge whose end clearances prove it
 free (:func:`rapp.sampling.endpoint_certified`) needs no bisection.
 
-With numba the whole iteration runs compiled (:mod:`rapp.sampling_kernel`) on samples drawn by
+With numba the whole iteration runs compiled (:mod:`rapp._kernels.sampling_numba`) on samples drawn by
 the same generator, and grows the same trees bit for bit; the numpy loop is the fallback.
 
 References
@@ -32,7 +32,7 @@ if TYPE_CHECKING:
 from rapp import progress
 from rapp.checks import finite_number
 from rapp.collision import reach_matrix, link_clearances, scene
-from rapp import sampling_kernel
+from rapp._kernels import sampling as sampling_backend
 from rapp._kernels import collision as collision_backend
 from rapp.collision import MAX_PENDING_INTERVALS
 from rapp._kernels.collision import pack
@@ -263,7 +263,7 @@ def rrt_connect(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable
     touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
     # The compiled loops know obstacles only: an arm with self-collision, or a user's checker
     # (Python), grows in numpy.
-    loops = (sampling_kernel.kernels() if collision_backend.loaded() is not None
+    loops = (sampling_backend.kernels() if collision_backend.loaded() is not None
              and not arm.self_collision and checker is None else None)
     grown = None
     if loops is not None:
@@ -323,13 +323,16 @@ def _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_r
     return trees, meet, full
 
 
-#: Iterations the compiled loop runs between two looks at the clock (and the progress line).
+#: Iterations the compiled loop runs between two looks at the clock (and the progress line);
+#: without a time budget the batches double up to :data:`LARGEST_BATCH` (fewer calls from
+#: Python, each with its samples drawn: the same stream, so the same trees).
 BATCH = 64
+LARGEST_BATCH = 1024
 
 
 def _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach, touch,
                    chain_room):
-    """:func:`_grow` in the compiled loops of :mod:`rapp.sampling_kernel`, the same trees;
+    """:func:`_grow` in the compiled loops of :mod:`rapp._kernels.sampling_numba`, the same trees;
     None when an edge needs more bisection intervals than allowed (numpy says so then)."""
     n = arm.n
     cap = MAX_NODES + len(goals) + 2
@@ -341,33 +344,37 @@ def _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach
         nodes[t, :k] = arm.wrap(roots)
         clear[t, :k] = link_clearances(arm, nodes[t, :k], obstacles)
         parent[t, :k], cost[t, :k], m[t] = -1, 0.0, k
-    scene = sampling_kernel.Scene(arm.lengths, np.asarray(arm.limited, dtype=np.bool_), reach,
+    scene = sampling_backend.Scene(arm.lengths, np.asarray(arm.limited, dtype=np.bool_), reach,
                                   *pack(obstacles), touch, 1e-9, MAX_PENDING_INTERVALS)
-    arrays = sampling_kernel.Trees(nodes, parent, cost, clear, m)
+    arrays = sampling_backend.Trees(nodes, parent, cost, clear, m)
     meet = None
     room = int(min(chain_room, MAX_NODES - m[0] - m[1]))
-    j, reached, status = loops.extend(1, start, True, room, step, scene, arrays, np.empty((7, n)))
-    if status == sampling_kernel.CONNECT_LIMIT:
+    scratch = np.empty((sampling_backend.EXTEND_ROWS + n, max(n, 2)))
+    j, reached, status = loops.extend(1, start, True, room, step, scene, arrays, scratch)
+    if status == sampling_backend.CONNECT_LIMIT:
         return None
     if reached:
         meet = (0, j)
     full = False
     met = np.full(2, -1, dtype=np.int64)
+    batch = BATCH
     while meet is None:
-        k = budget.grant(BATCH)
+        k = budget.grant(batch)
         if not k:
             break
+        if budget.time_budget is None:
+            batch = min(2 * batch, LARGEST_BATCH)
         progress.report("RRT-Connect", budget.iterations, budget.max_iterations)
         samples = uniform_samples(arm, rng, k)
         status, ran = loops.connect(samples, budget.iterations, MAX_NODES, chain_room, step,
                                     scene, arrays, met)
         budget.iterations += int(ran)
-        if status == sampling_kernel.CONNECT_MEET:
+        if status == sampling_backend.CONNECT_MEET:
             meet = (int(met[0]), int(met[1]))
-        elif status == sampling_kernel.CONNECT_FULL:
+        elif status == sampling_backend.CONNECT_FULL:
             full = True
             break
-        elif status == sampling_kernel.CONNECT_LIMIT:
+        elif status == sampling_backend.CONNECT_LIMIT:
             return None
     trees = [SimpleNamespace(nodes=nodes[t, :m[t]], parent=parent[t, :m[t]]) for t in (0, 1)]
     return trees, meet, full

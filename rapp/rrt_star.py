@@ -8,7 +8,7 @@ cost of the best path to a goal falls toward the optimum as the samples grow (as
 optimality), unlike RRT's. Every node keeps its link clearances, so that most edges are proved
 free by their ends alone (:func:`rapp.sampling.endpoint_certified`); the rest are bisected.
 
-With numba the whole iteration runs compiled (:mod:`rapp.sampling_kernel`: nearest and near
+With numba the whole iteration runs compiled (:mod:`rapp._kernels.sampling_numba`: nearest and near
 nodes through a grid of cells once the tree is large, descendants' costs through child lists)
 on targets drawn by the same generator, and grows the same tree bit for bit; the numpy loop is
 the fallback.
@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     from rapp.arm import Arm
     from rapp.obstacles import Circle, Polygon
 
-from rapp import sampling_kernel
+from rapp._kernels import sampling as sampling_backend
 from rapp._kernels import collision as collision_backend
 from rapp.checks import finite_number
 from rapp.collision import MAX_PENDING_INTERVALS, link_clearances, reach_matrix, scene
@@ -172,7 +172,7 @@ def rrt_star(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Ci
     rng = np.random.default_rng(seed)
     # The compiled loops know obstacles only: an arm with self-collision, or a user's checker
     # (Python), grows in numpy.
-    loops = (sampling_kernel.kernels() if collision_backend.loaded() is not None
+    loops = (sampling_backend.kernels() if collision_backend.loaded() is not None
              and not arm.self_collision and checker is None else None)
     grown = None
     if loops is not None:
@@ -253,7 +253,7 @@ def _grow(arm, goals, obstacles, step, cap, goal_bias, goal_threshold, gamma, rn
 
 class _Targets:
     """:func:`_targets` for the compiled loop: with one goal, parsed from blocks of the
-    generator's doubles by the compiled :func:`rapp.sampling_kernel` ``draw``, the same
+    generator's doubles by the compiled :mod:`rapp._kernels.sampling_numba` ``draw``, the same
     targets (the stream read further ahead, which no result depends on)."""
 
     def __init__(self, loops, arm, goals, goal_bias, rng):
@@ -297,7 +297,7 @@ BATCH = 64
 
 def _grow_compiled(loops, arm, goals, obstacles, step, radius, goal_bias, goal_threshold, gamma,
                    rng, budget, start):
-    """:func:`_grow` in the compiled loop of :mod:`rapp.sampling_kernel`, the same tree; None
+    """:func:`_grow` in the compiled loop of :mod:`rapp._kernels.sampling_numba`, the same tree; None
     when an edge needs more bisection intervals than allowed (numpy says so then)."""
     n = arm.n
     cap = 2 * BATCH + 2
@@ -316,10 +316,13 @@ def _grow_compiled(loops, arm, goals, obstacles, step, radius, goal_bias, goal_t
     # Cells of two steps (or the radius, if wider): cells of one step left most of them empty
     # on the benchmark, and the nearest-node search slower (the same trees either way).
     grid = _grid(arm, max(2 * step, radius))
-    fixed = (step, radius, gamma, goal_threshold, np.ascontiguousarray(goals),
-             link_clearances(arm, goals, obstacles), arm.lengths,
-             np.asarray(arm.limited, dtype=np.bool_), reach_matrix(arm), *pack(obstacles),
-             16 * np.finfo(float).eps * float(np.sum(arm.lengths)), 1e-9, MAX_PENDING_INTERVALS)
+    problem = sampling_backend.StarProblem(step, radius, gamma, goal_threshold,
+                                           np.ascontiguousarray(goals),
+                                           link_clearances(arm, goals, obstacles))
+    scene = sampling_backend.Scene(arm.lengths, np.asarray(arm.limited, dtype=np.bool_),
+                                   reach_matrix(arm), *pack(obstacles),
+                                   16 * np.finfo(float).eps * float(np.sum(arm.lengths)), 1e-9,
+                                   MAX_PENDING_INTERVALS)
     draw = _Targets(loops, arm, goals, goal_bias, rng)
     indexed = np.zeros(1, dtype=np.int64)  # nodes already in the grid
     while True:
@@ -334,14 +337,16 @@ def _grow_compiled(loops, arm, goals, obstacles, step, radius, goal_bias, goal_t
                 arrays[name] = grown
             scratch = None
         if scratch is None:  # near set, its deltas, distances, sort keys; a DFS stack
-            scratch = (np.empty(cap, dtype=np.int64), np.empty((cap, n)), np.empty(cap),
-                       np.empty(cap), np.empty(cap, dtype=np.int64))
-        status, ran = loops.star(draw(k), *fixed,
-                                 arrays["nodes"], arrays["clear"], arrays["parent"], arrays["cost"],
-                                 arrays["first_child"], arrays["next_sib"], arrays["prev_sib"], m,
-                                 best, best_cost, *scratch, *grid, arrays["grid_next"], indexed)
+            scratch = sampling_backend.NearSet(
+                np.empty(cap, dtype=np.int64), np.empty((cap, n)), np.empty(cap), np.empty(cap),
+                np.empty(cap, dtype=np.int64))
+            tree = sampling_backend.StarTree(
+                arrays["nodes"], arrays["clear"], arrays["parent"], arrays["cost"],
+                arrays["first_child"], arrays["next_sib"], arrays["prev_sib"], m, best, best_cost)
+            cells = sampling_backend.Cells(*grid, arrays["grid_next"], indexed)
+        status, ran = loops.star(draw(k), problem, scene, tree, cells, scratch)
         budget.iterations += int(ran)
-        if status == sampling_kernel.CONNECT_LIMIT:
+        if status == sampling_backend.CONNECT_LIMIT:
             return None
     mm = int(m[0])
     return arrays["nodes"][:mm].copy(), arrays["parent"][:mm].copy(), int(best[0])

@@ -34,7 +34,7 @@ def squared_norms(d) -> np.ndarray:
 
     Written out rather than ``d @ d`` or ``einsum``, whose rounding depends on the BLAS and
     the processor (fused multiply-adds, vector lanes): this order is the one the compiled
-    loops of :mod:`rapp.sampling_kernel` use, so both find the same nearest nodes and steps
+    loops of :mod:`rapp._kernels.sampling_numba` use, so both find the same nearest nodes and steps
     to the last bit.
 
     Examples
@@ -282,8 +282,8 @@ def warms(planner, **settings):
 
 def _plan_tiny_problems() -> None:
     """Run each registered sampling planner on a tiny problem (compiled kernels only)."""
-    from rapp import sampling_kernel
-    if sampling_kernel.kernels() is None:
+    from rapp._kernels import sampling as sampling_backend
+    if sampling_backend.kernels() is None:
         _PREPARED[0] = len(_WARMERS)   # nothing to compile
     else:
         arm = Arm([1.0, 0.6])

@@ -254,8 +254,15 @@ def test_the_arc_of_rows_holds_every_row_the_exact_test_accepts(dx, dy, rho, Lp,
     accepted = (dx - px) ** 2 + (dy - py) ** 2 <= rho * rho * (1.0 + 1e-9)
     for j0, j1 in ((0, m), (m // 3, m - m // 4)):
         spans = np.empty((max(min(periods, m), 1), 2), dtype=np.int64)
-        ns = arc(dx, dy, rho, Lp, phi, ax[0], step, periods, m, j0, j1, spans,
-                 abs(dx) + abs(dy) + Lp, abs(ax[0]) + abs(ax[-1]))
+        # The parent cell at the origin, its link Lp, the obstacle's centre and reach.
+        level = cspace_kernel.Level(
+            Pp=np.zeros((1, 2)), phip=np.array([phi]), cp=np.ones(1), sp=np.zeros(1), axp=ax,
+            cap=np.cos(ax), sap=np.sin(ax), stepp=step, periodsp=periods, Lp=float(Lp), L=1.0,
+            circles=np.zeros((0, 3)), v=np.zeros((0, 2)), e=np.zeros((0, 2)), ee=np.zeros(0),
+            offsets=np.zeros(1, dtype=np.int64), slack=np.zeros(0), etol=np.zeros(0),
+            tol=np.zeros(0), box=np.zeros((0, 4)), ox=np.array([dx]), oy=np.array([dy]),
+            rho=np.array([rho]), ax=ax, step=step, periods=periods)
+        ns = arc(0, 0, level, j0, j1, spans, abs(ax[0]) + abs(ax[-1]))
         visited = np.zeros(m, dtype=int)
         for a, b in spans[:ns]:
             assert j0 <= a < b <= j1

@@ -1,4 +1,4 @@
-"""The compiled loops of RRT-Connect, RRT* and PRM (rapp.sampling_kernel) against the numpy
+"""The compiled loops of RRT-Connect, RRT* and PRM (rapp._kernels.sampling_numba) against the numpy
 loops they replaced.
 
 Properties: from the same seed both grow the same trees (roadmaps), node for node and bit for
@@ -17,7 +17,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import rapp
-from rapp import reference, sampling_kernel
+from rapp import reference
+from rapp._kernels import sampling as sampling_kernel
 from rapp.errors import CertificationLimit, NoPathFound
 from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect

@@ -41,7 +41,7 @@ __all__ = ["pack", "by_identity", "kernels", "loaded", "Kernels", "LOAD_FROM", "
            "pack_scene", "unpack_scene", "SCENE_HEADER"]
 
 #: The compiled functions (see :func:`kernels`).
-Kernels = namedtuple("Kernels", "collides collides_one clearances certify collides_scene")
+Kernels = namedtuple("Kernels", "collides collides_one clearances certify collides_scene clearances_one")
 
 
 def pack(obstacles) -> tuple:
@@ -388,6 +388,14 @@ def _clearances(lengths, q, circles, pv, pn, pr, offsets):
     return out
 
 
+def _clearances_one(lengths, q, pts, out, circles, pv, pn, pr, offsets):
+    """:func:`_clearances` of one configuration ``q`` ``(n,)`` into ``out`` ``(n,)``, its
+    joints into ``pts`` ``(n + 1, 2)``: no allocation, for a planner's inner loop."""
+    _fk(lengths, q, pts)
+    for j in range(q.shape[0]):
+        out[j] = _link_clearance(pts, j, circles, pv, pn, pr, offsets)
+
+
 def _certify(lengths, q0, dq, bounds, circles, pv, pn, pr, offsets, min_interval, cap, touch):
     """The bisection of rapp.collision.segment_collision_free, one segment at a time.
 
@@ -494,4 +502,5 @@ def kernels():
     # Declared for writable C arrays only: any other q is refused (TypeError) before compiling a
     # variant, and rapp.collision.collides then takes its general path.
     one = jit(_collides_scene, signature_or_function="int64(float64[::1], float64[::1])")
-    return Kernels(jit(_collides), jit(_collides_one), jit(_clearances), jit(_certify), one)
+    return Kernels(jit(_collides), jit(_collides_one), jit(_clearances), jit(_certify), one,
+                   jit(_clearances_one))

@@ -64,7 +64,7 @@ from rapp._kernels.occupancy_numpy import prefix_step
 from rapp.jit import jit, numba_available
 from rapp.obstacles import Circle, Polygon
 
-__all__ = ["pack", "levels", "run", "paint", "one_per_cell", "kernels", "Kernels",
+__all__ = ["pack", "levels", "run", "paint", "one_per_cell", "kernels", "Kernels", "Batch",
            "Polygons", "Level", "BATCH", "NONE", "TANGENT", "TIP", "IN_DISC", "POLYGON",
            "IN_POLYGON"]
 
@@ -194,8 +194,10 @@ _PACKED: dict = {}
 Level = namedtuple("Level", "Pp phip cp sp axp cap sap stepp periodsp Lp L circles v e ee "
                             "offsets slack etol tol box ox oy rho ax step periods")
 
-#: How many leading fields of a :data:`Level` :func:`_collect` takes.
-_COLLECTED = 23
+#: The buffers of one batch of intervals (:func:`_collect`): each interval's row ``rowof``,
+#: ``meta`` (its kind, where its ``atan2`` and ``atan`` arguments start), prefix angle ``phis``;
+#: the ``atan2`` arguments ``Y``, ``X`` and the ``atan`` arguments ``Z``.
+Batch = namedtuple("Batch", "rowof meta phis Y X Z")
 
 
 def levels(grid, per_link) -> list:
@@ -428,13 +430,13 @@ def _run(k, lv, keep, buffers, size):
     rowof, meta, phis, Y, X, Z, A, AZ, starts, widths = buffers
     blocked = np.zeros(1, dtype=bool)
     kept = []
+    batch = Batch(rowof, meta, phis, Y, X, Z)
     for x in lv:
         rows = x.Pp.shape[0] * x.axp.size
         out = np.empty((rows, x.ax.size), dtype=bool)
         r, parts = 0, []
         while r < rows:
-            r, n, m, mz = k.collect(r, blocked, *x[:_COLLECTED], out, rowof, meta, phis, Y, X, Z,
-                                      size)
+            r, n, m, mz = k.collect(r, blocked, x, out, batch, size)
             if n == 0:
                 continue
             np.arctan2(Y[:m], X[:m], out=A[:m])
@@ -602,15 +604,14 @@ def _extremes(n_seen, x, y, lox, loy, hix, hiy):
     return n_seen + 1, lox, loy, hix, hiy
 
 
-def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, stepp, periodsp, Lp, L, circles, v,
-             e, ee, offsets, slack, etol, tol, box, ox, oy, rho, out, rowof, meta, phis, Y, X, Z,
-             cap_n):
-    """Rows ``r0, r0 + 1, ...`` of one level (see :data:`Level`): each row of ``out`` filled
-    (an earlier link already collides at that prefix cell, ``blocked[r]``) or cleared,
-    and each of its intervals appended: its row and kind to ``meta``, its prefix angle to
-    ``phis``, the arguments of its ``atan2`` (those of :func:`_circle_args` /
-    :func:`_polygon_args`: one for IN_DISC and TIP, two for TANGENT, three for POLYGON,
-    none for IN_POLYGON) to ``Y``, ``X`` and that of its ``atan`` (TIP) to ``Z``.
+def _collect(r0, blocked, lv, out, batch, cap_n):
+    """Rows ``r0, r0 + 1, ...`` of one level ``lv`` (a :data:`Level`): each row of ``out``
+    filled (an earlier link already collides at that prefix cell, ``blocked[r]``) or cleared,
+    and each of its intervals appended to ``batch`` (a :data:`Batch`): its row to ``rowof``,
+    its kind to ``meta``, its prefix angle to ``phis``, the arguments of its ``atan2`` (those
+    of :func:`_circle_args` / :func:`_polygon_args`: one for IN_DISC and TIP, two for
+    TANGENT, three for POLYGON, none for IN_POLYGON) to ``Y``, ``X`` and that of its ``atan``
+    (TIP) to ``Z``.
 
     The rows go by parent cell, in runs that fit ``cap_n`` intervals (``nobs`` per row at
     most); it stops before a run that might not fit and returns ``(next row, intervals,
@@ -620,17 +621,16 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, stepp, periodsp, Lp, 
     the exact test of reach comes first. So the intervals of a run come obstacle by
     obstacle, not row by row.
     """
-    nc = circles.shape[0]
-    nobs = ox.shape[0]
+    nobs = lv.ox.shape[0]
+    axp = lv.axp
     mp = axp.shape[0]
-    rows = Pp.shape[0] * mp
     n = m = mz = 0
     # _arc cuts at most one span per 2 pi piece, and takes every row past one piece per cell.
-    spans = np.empty((max(min(periodsp, mp), 1), 2), dtype=np.int64)
+    spans = np.empty((max(min(lv.periodsp, mp), 1), 2), dtype=np.int64)
     turn = abs(axp[0]) + abs(axp[mp - 1])
     rp = r0 // mp
     j0 = r0 - rp * mp
-    while rp < Pp.shape[0]:
+    while rp < lv.Pp.shape[0]:
         room = (cap_n - n) // nobs
         if room == 0:
             return rp * mp + j0, n, m, mz
@@ -638,99 +638,112 @@ def _collect(r0, blocked, Pp, phip, cp, sp, axp, cap, sap, stepp, periodsp, Lp, 
         base = rp * mp
         for j in range(j0, j1):
             out[base + j, :] = blocked[base + j]
-        # Read once here: the compiler cannot tell that the outputs written in the loops
-        # below do not alias these arrays, so it would load them again on every row.
-        Px = Pp[rp, 0]
-        Py = Pp[rp, 1]
-        cpr = cp[rp]
-        spr = sp[rp]
-        phr = phip[rp]
         for k in range(nobs):
-            okx = ox[k]
-            oky = oy[k]
-            ns = _arc(okx - Px, oky - Py, rho[k], Lp, phr, axp[0], stepp, periodsp, mp, j0,
-                      j1, spans, abs(Px) + abs(Py) + abs(okx) + abs(oky) + Lp, turn)
-            if ns == 0:
-                continue
-            rk2 = rho[k] * rho[k] * (1.0 + 1e-9)
-            circle = k < nc
-            if circle:
-                ccx = circles[k, 0]
-                ccy = circles[k, 1]
-                cr = circles[k, 2]
-                s0 = s1 = 0
-                bx0 = bx1 = by0 = by1 = tp = lim2 = 0.0
-            else:
-                ccx = ccy = cr = 0.0
-                p = k - nc
-                s0 = offsets[p]
-                s1 = offsets[p + 1]
-                bx0 = box[p, 0]
-                bx1 = box[p, 1]
-                by0 = box[p, 2]
-                by1 = box[p, 3]
-                tp = tol[p]
-                lim = L + 2 * tp
-                lim2 = lim * lim * (1.0 + 1e-9)
-            for q in range(ns):
-                for j in range(spans[q, 0], spans[q, 1]):
-                    r = base + j
-                    if blocked[r]:
-                        continue
-                    c = cpr * cap[j] - spr * sap[j]
-                    s = spr * cap[j] + cpr * sap[j]
-                    px = Px + Lp * c
-                    py = Py + Lp * s
-                    dx = okx - px
-                    dy = oky - py
-                    if dx * dx + dy * dy > rk2:
-                        continue
-                    if circle:
-                        kind, ay, ax, by, bx = _circle_args(px, py, L, ccx, ccy, cr)
-                        cy = 0.0
-                        cx = 1.0
-                    else:
-                        # Farther than L from the polygon's box (with a margin above its
-                        # tolerances): no vertex or edge within reach, and not inside.
-                        gx = max(bx0 - px, px - bx1, 0.0)
-                        gy = max(by0 - py, py - by1, 0.0)
-                        if gx * gx + gy * gy > lim2:
-                            continue
-                        kind, ay, ax, by, bx, cy, cx = _polygon_args(
-                            px, py, L, v, e, ee, slack, etol, s0, s1, tp)
-                    if kind == NONE:
-                        continue
-                    rowof[n] = r
-                    meta[n, 0] = kind
-                    meta[n, 1] = m
-                    meta[n, 2] = mz
-                    phis[n] = phr + axp[j]
-                    n += 1
-                    # Written whether used or not; the counts advance by what the kind uses.
-                    Y[m] = ay
-                    X[m] = ax
-                    Y[m + 1] = by
-                    X[m + 1] = bx
-                    Y[m + 2] = cy
-                    X[m + 2] = cx
-                    Z[mz] = by
-                    m += 0 if kind == IN_POLYGON else (
-                        1 if kind == IN_DISC or kind == TIP else (2 if kind == TANGENT else 3))
-                    mz += 1 if kind == TIP else 0
+            ns = _arc(k, rp, lv, j0, j1, spans, turn)
+            if ns != 0:
+                n, m, mz = _collect_obstacle(k, rp, ns, spans, blocked, lv, batch, n, m, mz)
         if j1 < mp:
             j0 = j1
         else:
             rp += 1
             j0 = 0
-    return rows, n, m, mz
+    return lv.Pp.shape[0] * mp, n, m, mz
 
 
-def _arc(dx, dy, rho, Lp, phi, ax0, step, periods, m, j0, j1, spans, size, turn):
-    """The cells ``j0 <= j < j1`` of joint ``i - 1``'s axis (``m`` cells from ``ax0``, ``step``
-    apart) whose row may have its base point within ``rho`` of an obstacle centred
-    ``(dx, dy)`` from the parent point (the row's base point is ``Lp`` from it, at the
-    angle ``phi`` plus the cell's): their ranges ``spans[q, 0] <= j < spans[q, 1]``,
-    ``q < `` the count returned.
+def _collect_obstacle(k, rp, ns, spans, blocked, lv, batch, n, m, mz):
+    """:func:`_collect`'s work for obstacle ``k`` on the rows ``spans[:ns]`` of parent cell
+    ``rp``: the intervals of the rows that reach it appended to ``batch`` after the ``n``
+    entries, ``m`` ``atan2`` and ``mz`` ``atan`` arguments already there; returns the new
+    counts."""
+    # Read once here: the compiler cannot tell that the outputs written in the loops
+    # below do not alias these arrays, so it would load them again on every row.
+    Px = lv.Pp[rp, 0]
+    Py = lv.Pp[rp, 1]
+    cpr = lv.cp[rp]
+    spr = lv.sp[rp]
+    phr = lv.phip[rp]
+    Lp, L, cap, sap, axp = lv.Lp, lv.L, lv.cap, lv.sap, lv.axp
+    v, e, ee, slack, etol = lv.v, lv.e, lv.ee, lv.slack, lv.etol
+    rowof, meta, phis, Y, X, Z = batch
+    base = rp * axp.shape[0]
+    okx = lv.ox[k]
+    oky = lv.oy[k]
+    rk2 = lv.rho[k] * lv.rho[k] * (1.0 + 1e-9)
+    nc = lv.circles.shape[0]
+    circle = k < nc
+    if circle:
+        ccx = lv.circles[k, 0]
+        ccy = lv.circles[k, 1]
+        cr = lv.circles[k, 2]
+        s0 = s1 = 0
+        bx0 = bx1 = by0 = by1 = tp = lim2 = 0.0
+    else:
+        ccx = ccy = cr = 0.0
+        p = k - nc
+        s0 = lv.offsets[p]
+        s1 = lv.offsets[p + 1]
+        bx0 = lv.box[p, 0]
+        bx1 = lv.box[p, 1]
+        by0 = lv.box[p, 2]
+        by1 = lv.box[p, 3]
+        tp = lv.tol[p]
+        lim = L + 2 * tp
+        lim2 = lim * lim * (1.0 + 1e-9)
+    for q in range(ns):
+        for j in range(spans[q, 0], spans[q, 1]):
+            r = base + j
+            if blocked[r]:
+                continue
+            c = cpr * cap[j] - spr * sap[j]
+            s = spr * cap[j] + cpr * sap[j]
+            px = Px + Lp * c
+            py = Py + Lp * s
+            dx = okx - px
+            dy = oky - py
+            if dx * dx + dy * dy > rk2:
+                continue
+            if circle:
+                kind, ay, ax, by, bx = _circle_args(px, py, L, ccx, ccy, cr)
+                cy = 0.0
+                cx = 1.0
+            else:
+                # Farther than L from the polygon's box (with a margin above its
+                # tolerances): no vertex or edge within reach, and not inside.
+                gx = max(bx0 - px, px - bx1, 0.0)
+                gy = max(by0 - py, py - by1, 0.0)
+                if gx * gx + gy * gy > lim2:
+                    continue
+                kind, ay, ax, by, bx, cy, cx = _polygon_args(
+                    px, py, L, v, e, ee, slack, etol, s0, s1, tp)
+            if kind == NONE:
+                continue
+            rowof[n] = r
+            meta[n, 0] = kind
+            meta[n, 1] = m
+            meta[n, 2] = mz
+            phis[n] = phr + axp[j]
+            n += 1
+            # Written whether used or not; the counts advance by what the kind uses.
+            Y[m] = ay
+            X[m] = ax
+            Y[m + 1] = by
+            X[m + 1] = bx
+            Y[m + 2] = cy
+            X[m + 2] = cx
+            Z[mz] = by
+            m += 0 if kind == IN_POLYGON else (
+                1 if kind == IN_DISC or kind == TIP else (2 if kind == TANGENT else 3))
+            mz += 1 if kind == TIP else 0
+    return n, m, mz
+
+
+def _arc(k, rp, lv, j0, j1, spans, turn):
+    """The cells ``j0 <= j < j1`` of joint ``i - 1``'s axis (level ``lv``'s ``axp``: ``m``
+    cells from ``ax0``, ``step`` apart) whose row of parent cell ``rp`` may have its base
+    point within ``rho`` (``lv.rho[k]``) of obstacle ``k``, centred ``(dx, dy)`` from the
+    parent point (the row's base point is ``Lp`` from it, at the parent's angle ``phi``
+    plus the cell's): their ranges ``spans[q, 0] <= j < spans[q, 1]``, ``q < `` the count
+    returned.
 
     The base point is within ``rho`` where the cosine of its angle to the centre's
     direction is at least ``kappa = (D^2 + Lp^2 - rho^2) / (2 D Lp)`` (``D`` the centre's
@@ -750,6 +763,16 @@ def _arc(dx, dy, rho, Lp, phi, ax0, step, periods, m, j0, j1, spans, size, turn)
     ``pi`` or more, an axis of more turns than cells).
     """
     two_pi = 2.0 * math.pi
+    Px = lv.Pp[rp, 0]
+    Py = lv.Pp[rp, 1]
+    okx = lv.ox[k]
+    oky = lv.oy[k]
+    dx = okx - Px
+    dy = oky - Py
+    rho, Lp, phi, step, periods = lv.rho[k], lv.Lp, lv.phip[rp], lv.stepp, lv.periodsp
+    ax0 = lv.axp[0]
+    m = lv.axp.shape[0]
+    size = abs(Px) + abs(Py) + abs(okx) + abs(oky) + Lp
     d2 = dx * dx + dy * dy
     reach = rho + Lp
     moved = 4e-15 * size              # how far rounding may move a point, generously
@@ -865,7 +888,7 @@ def kernels():
     # rejecting a far obstacle does. numpy's error model: no divisor here can be zero (see
     # _circle_args; an edge's squared length is positive), so no test for one is compiled.
     for name in ("_mod", "_circle_args", "_extremes", "_polygon_args", "_cell_range",
-                 "_arc", "_paint_one"):
+                 "_arc", "_collect_obstacle", "_paint_one"):
         g[name] = jit(g[name], inline="always", error_model="numpy")
     return Kernels(*(jit(g[name], error_model="numpy")
                      for name in ("_collect", "_found", "_paint", "_rows", "_polygons",

@@ -41,7 +41,8 @@ import numpy as np
 from rapp._kernels import collision as collision_backend
 from rapp.jit import jit
 
-__all__ = ["kernels", "Loops", "Scene", "Trees", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
+__all__ = ["kernels", "Loops", "Scene", "Trees", "EXTEND_ROWS", "StarProblem", "StarTree", "Cells", "NearSet",
+           "StarWork", "CONNECT_MEET", "CONNECT_FULL", "CONNECT_LIMIT", "CONNECT_MORE"]
 
 #: The compiled functions (see :func:`kernels`).
 Loops = namedtuple("Loops", "wrap extend connect nearest_k star draw bisect")
@@ -53,6 +54,28 @@ Scene = namedtuple("Scene", "lengths limited reach circles pv pn pr offsets touc
 #: RRT-Connect's two trees, tree ``t`` in row ``t``: ``nodes``, ``parent``, ``cost``, the
 #: nodes' link clearances ``clear`` and the node counts ``m``.
 Trees = namedtuple("Trees", "nodes parent cost clear m")
+#: RRT*'s settings in its compiled loop: the ``step``, the largest near radius ``rcap``,
+#: the radius constant ``gamma``, the distance within which a node is joined to a goal, the
+#: ``goals`` (g, n) and their link clearances ``goal_clear``.
+StarProblem = namedtuple("StarProblem", "step rcap gamma goal_threshold goals goal_clear")
+#: RRT*'s tree: ``nodes``, their link clearances ``clear``, ``parent``, ``cost``, the child
+#: lists (``first_child``, ``next_sib``, ``prev_sib``), the node count ``m`` (one element),
+#: the best goal node ``best`` (-1: none) and its cost ``best_cost`` (one element each).
+StarTree = namedtuple("StarTree", "nodes clear parent cost first_child next_sib prev_sib m best "
+                                  "best_cost")
+#: The grid that finds nearest and near nodes of a large tree: the lower corner ``lo``, the
+#: cells' ``width`` and count ``shape`` per joint, each cell's first node ``head`` and each
+#: node's next ``nxt`` (-1 ends a list), and how many nodes are ``indexed`` (one element).
+Cells = namedtuple("Cells", "lo width shape head nxt indexed")
+#: RRT*'s near-set buffers, a row per node: indices ``near``, differences ``dn``, distances
+#: ``dist``, sort keys ``key`` and a ``stack`` (the grid's found nodes, the rewiring's walk).
+NearSet = namedtuple("NearSet", "near dn dist key stack")
+#: The small scratch arrays of one :func:`_star` call.
+StarWork = namedtuple("StarWork", "scratch d q_new at off span c_new pts")
+
+#: :func:`_extend`'s scratch is ``(EXTEND_ROWS + n, max(n, 2))``: eight rows of ``n`` numbers,
+#: then the arm's ``n + 1`` joint positions.
+EXTEND_ROWS = 9
 
 #: What :func:`_connect` says when it returns: a batch ran out without a meeting, the trees
 #: met, the trees are full, an edge needed more bisection intervals than allowed.
@@ -69,7 +92,7 @@ def _clearances(*args):
     raise RuntimeError("compiled only")
 
 
-_certify = _clearances
+_certify = _clearances_one = _clearances
 
 
 def _wrap(x):
@@ -101,7 +124,36 @@ def _delta(q, row, limited, out):
 
 
 def _nearest(nodes, m, q, limited):
-    """Index of the node of ``nodes[:m]`` nearest ``q`` (the first of equals, as argmin)."""
+    """Index of the node of ``nodes[:m]`` nearest ``q`` (the first of equals, as argmin).
+
+    ``nodes`` are wrapped; where ``q`` is too on every free joint, the differences lie
+    within two turns and :func:`_wrap`'s sum needs no range check: every node's sum of
+    squares in full, without a branch a random sample would mispredict (the sums and so the
+    node found are the same)."""
+    n = q.shape[0]
+    for j in range(n):
+        if not (limited[j] or -math.pi <= q[j] <= math.pi):
+            return _nearest_scan(nodes, m, q, limited)
+    best = np.inf
+    bi = 0
+    for i in range(m):
+        s = 0.0
+        for j in range(n):
+            d = q[j] - nodes[i, j]
+            if not limited[j]:
+                y = d + math.pi
+                up = _TWO_PI if y < 0.0 else 0.0
+                down = _TWO_PI if y >= _TWO_PI else 0.0
+                d = ((y + up) - down) - math.pi
+            s += d * d
+        if s < best:
+            best = s
+            bi = i
+    return bi
+
+
+def _nearest_scan(nodes, m, q, limited):
+    """:func:`_nearest` for any ``q``: each sum stopped once it reaches the best so far."""
     n = q.shape[0]
     best = np.inf
     bi = 0
@@ -131,8 +183,9 @@ def _extend(t, target, chain, room, step, scene, trees, scratch):
     lengths, limited, reach, circles, pv, pn, pr, offsets, touch, min_interval, cap = scene
     nodes, parent, cost, clear, m = trees
     n = target.shape[0]
-    base, d, p, prev, q0, dq, bnd = (scratch[0], scratch[1], scratch[2], scratch[3],
-                                     scratch[4:5], scratch[5:6], scratch[6:7])
+    base, d, p, prev = scratch[0, :n], scratch[1, :n], scratch[2, :n], scratch[3, :n]
+    q0, dq, bnd, c = scratch[4:5, :n], scratch[5:6, :n], scratch[6:7, :n], scratch[7, :n]
+    pts = scratch[8:9 + n, :2]
     i = _nearest(nodes[t], m[t], target, limited)
     for j in range(n):
         base[j] = nodes[t, i, j]
@@ -153,8 +206,7 @@ def _extend(t, target, chain, room, step, scene, trees, scratch):
         frac = min((s + 1) * step / dist, 1.0)
         for j in range(n):
             p[j] = base[j] + frac * d[j]
-        c = _clearances(lengths, p.reshape(1, n), circles, pv, pn, pr,
-                                                offsets)[0]
+        _clearances_one(lengths, p, pts, c, circles, pv, pn, pr, offsets)
         hit = False
         for j in range(n):
             if c[j] <= touch:
@@ -213,7 +265,7 @@ def _connect(samples, it0, max_nodes, chain_room, step, scene, trees, meet):
     """
     nodes, m = trees.nodes, trees.m
     n = samples.shape[1]
-    scratch = np.empty((7, n))
+    scratch = np.empty((EXTEND_ROWS + n, max(n, 2)))
     target = np.empty(n)
     for s in range(samples.shape[0]):
         it = it0 + s + 1
@@ -293,17 +345,18 @@ def _nearest_k(nodes, first, k, limited, out_j, out_d):
                 bound = out_d[r, k - 1] * out_d[r, k - 1] * (1 + 1e-9)
 
 
-def _edge_free(lengths, q0, d, c0, c1, reach, circles, pv, pn, pr, offsets, touch,
-               min_interval, cap, scratch):
+def _edge_free(q0, d, c0, c1, scene, scratch):
     """rapp.sampling.EdgeCertifier for the edge ``q0 -> q0 + d`` whose ends have the link
-    clearances ``c0``, ``c1``: 1 free, 0 not, -1 over ``cap`` pending intervals.
+    clearances ``c0``, ``c1`` in ``scene`` (:data:`Scene`): 1 free, 0 not, -1 over
+    ``scene.cap`` pending intervals.
 
     ``dq`` is formed as segment_collision_free forms it and the bounds joint by joint (as
     rapp.sampling.motion_bounds_of); the ends' certificate first, else the bisection.
     """
     n = q0.shape[0]
+    touch = scene.touch
     a, dq, bnd = scratch[0:1], scratch[1:2], scratch[2:3]
-    _edge_bounds(q0, d, reach, a, dq, bnd)
+    _edge_bounds(q0, d, scene.reach, a, dq, bnd)
     ends = True
     for l in range(n):
         if c0[l] <= touch or c1[l] <= touch:
@@ -312,8 +365,7 @@ def _edge_free(lengths, q0, d, c0, c1, reach, circles, pv, pn, pr, offsets, touc
             ends = False
     if ends:
         return 1
-    return _bisect_bounded(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, touch,
-                           min_interval, cap)
+    return _bisect_bounded(a, dq, bnd, scene)
 
 
 def _edge_bounds(q0, d, reach, a, dq, bnd):
@@ -329,24 +381,26 @@ def _edge_bounds(q0, d, reach, a, dq, bnd):
         bnd[0, l] = b
 
 
-def _bisect_bounded(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, touch, min_interval,
-                    cap):
-    code = _certify(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, min_interval,
-                    _FIRST_CAP, touch)[0]
+def _bisect_bounded(a, dq, bnd, scene):
+    """The collision kernel's bisection of the edge row ``a``, ``dq`` (bounds ``bnd``) in
+    ``scene``: first with a small allowance of pending intervals, then with ``scene.cap``."""
+    s = scene
+    code = _certify(s.lengths, a, dq, bnd, s.circles, s.pv, s.pn, s.pr, s.offsets,
+                    s.min_interval, _FIRST_CAP, s.touch)[0]
     if code < 0:
-        code = _certify(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, min_interval, cap,
-                        touch)[0]
+        code = _certify(s.lengths, a, dq, bnd, s.circles, s.pv, s.pn, s.pr, s.offsets,
+                        s.min_interval, s.cap, s.touch)[0]
     return code
 
 
-def _bisect(lengths, q0, d, reach, circles, pv, pn, pr, offsets, touch, min_interval, cap,
-            scratch):
+def _bisect(q0, d, scene, scratch):
     """rapp.sampling.EdgeCertifier for the edge ``q0 -> q0 + d`` by the bisection alone: 1 free,
-    0 not, -1 over ``cap`` pending intervals."""
+    0 not, -1 over ``scene.cap`` pending intervals. ``scene`` is any named tuple with the
+    fields of :data:`Scene` (``lengths reach circles pv pn pr offsets touch min_interval cap``
+    are read)."""
     a, dq, bnd = scratch[0:1], scratch[1:2], scratch[2:3]
-    _edge_bounds(q0, d, reach, a, dq, bnd)
-    return _bisect_bounded(lengths, a, dq, bnd, circles, pv, pn, pr, offsets, touch,
-                           min_interval, cap)
+    _edge_bounds(q0, d, scene.reach, a, dq, bnd)
+    return _bisect_bounded(a, dq, bnd, scene)
 
 
 #: Trees of more nodes than this find their nearest and near nodes through the grid of cells.
@@ -382,16 +436,18 @@ def _shifted_cell(at, off, shape, limited):
     return flat
 
 
-def _grid_insert(v, nodes, limited, lo, w, shape, head, nxt, at):
-    c = _cell(nodes[v], limited, lo, w, shape, at)
-    nxt[v] = head[c]
-    head[c] = v
+def _grid_insert(v, nodes, limited, cells, at):
+    """Node ``v`` pushed onto the list of its cell in ``cells`` (:data:`Cells`)."""
+    c = _cell(nodes[v], limited, cells.lo, cells.width, cells.shape, at)
+    cells.nxt[v] = cells.head[c]
+    cells.head[c] = v
 
 
-def _cell_nodes_nearest(q, c, nodes, limited, head, nxt, best_s, best_v, d):
+def _cell_nodes_nearest(q, c, nodes, limited, cells, best_s, best_v, d):
     """The nodes of cell ``c`` against the nearest so far ``(best_s, best_v)`` (sum of squares,
     index; equal sums: the lower index), with the arithmetic of :func:`_nearest`; ``d`` is
     scratch."""
+    head, nxt = cells.head, cells.nxt
     v = head[c]
     while v >= 0:
         s = _delta(q, nodes[v], limited, d)
@@ -402,12 +458,13 @@ def _cell_nodes_nearest(q, c, nodes, limited, head, nxt, best_s, best_v, d):
     return best_s, best_v
 
 
-def _grid_nearest(q, nodes, m, limited, lo, w, shape, head, nxt, at, off):
-    """:func:`_nearest` through the grid: cells in growing rings around ``q``'s until no
-    unvisited cell can hold a nearer node; the linear scan once the rings would visit more
-    cells than there are nodes."""
+def _grid_nearest(q, nodes, m, limited, cells, at, off):
+    """:func:`_nearest` through the grid ``cells`` (:data:`Cells`): cells in growing rings
+    around ``q``'s until no unvisited cell can hold a nearer node; the linear scan once the
+    rings would visit more cells than there are nodes."""
     n = q.shape[0]
-    _cell(q, limited, lo, w, shape, at)
+    w, shape = cells.width, cells.shape
+    _cell(q, limited, cells.lo, w, shape, at)
     wmin = np.inf
     gmin = shape[0]
     for j in range(n):
@@ -417,10 +474,10 @@ def _grid_nearest(q, nodes, m, limited, lo, w, shape, head, nxt, at, off):
     best_v = -1
     d = np.empty(n)
     rho = 0
-    cells = 0
+    cells_seen = 0
     while True:
-        cells += (2 * rho + 1) ** n
-        if cells > m or 2 * rho + 1 > gmin:  # (a ring must not wrap onto itself)
+        cells_seen += (2 * rho + 1) ** n
+        if cells_seen > m or 2 * rho + 1 > gmin:  # (a ring must not wrap onto itself)
             return _nearest(nodes, m, q, limited)
         for j in range(n):
             off[j] = -rho
@@ -431,7 +488,7 @@ def _grid_nearest(q, nodes, m, limited, lo, w, shape, head, nxt, at, off):
                     shell = True
             flat = _shifted_cell(at, off, shape, limited) if shell else -1
             if flat >= 0:
-                best_s, best_v = _cell_nodes_nearest(q, flat, nodes, limited, head, nxt, best_s,
+                best_s, best_v = _cell_nodes_nearest(q, flat, nodes, limited, cells, best_s,
                                                      best_v, d)
             j = n - 1
             while j >= 0 and off[j] == rho:
@@ -447,12 +504,14 @@ def _grid_nearest(q, nodes, m, limited, lo, w, shape, head, nxt, at, off):
         rho += 1
 
 
-def _grid_near(q, r, nodes, limited, lo, w, shape, head, nxt, at, off, span, out):
+def _grid_near(q, r, nodes, limited, cells, at, off, span, out):
     """Indices of the nodes within ``r`` of ``q`` (sum of squares ``<= r * r``, the
-    arithmetic of the linear scan), ascending, into ``out``; returns how many."""
+    arithmetic of the linear scan), ascending, into ``out``; returns how many. ``cells``
+    is the grid (:data:`Cells`); ``at``, ``off``, ``span`` scratch."""
     n = q.shape[0]
     r2 = r * r
-    _cell(q, limited, lo, w, shape, at)
+    w, shape, head, nxt = cells.width, cells.shape, cells.head, cells.nxt
+    _cell(q, limited, cells.lo, w, shape, at)
     for j in range(n):
         reach = int(r / w[j]) + 1  # cells are wider than r by a margin over any rounding
         if 2 * reach + 1 >= shape[j]:
@@ -503,169 +562,209 @@ def _unlink(i, parent, first_child, next_sib, prev_sib):
         prev_sib[next_sib[i]] = prev_sib[i]
 
 
-def _star(targets, step, rcap, gamma, goal_threshold, goals, goal_clear, lengths, limited, reach,
-          circles, pv, pn, pr, offsets, touch, min_interval, cap, nodes, clear, parent, cost,
-          first_child, next_sib, prev_sib, m, best, best_cost, near, dn, dist, key, stack,
-          lo, width, shape, head, nxt, indexed):
+def _star(targets, problem, scene, tree, cells, buf):
     """Iterations of rapp.rrt_star.rrt_star's loop, one per row of ``targets`` (drawn by the
     planner's generator): nearest node, steer, near set, cheapest certified parent, rewiring
-    (descendants' costs through child lists), the goal joined. Returns ``(status, iterations
-    run)``, status CONNECT_LIMIT when an edge needed more intervals than ``cap``."""
+    (descendants' costs through child lists), the goal joined. ``problem`` is a
+    :data:`StarProblem`, ``scene`` a :data:`Scene`, ``tree`` a :data:`StarTree`, ``cells``
+    the grid of its nodes (:data:`Cells`), ``buf`` the near set's buffers (:data:`NearSet`).
+    Returns ``(status, iterations run)``, status CONNECT_LIMIT when an edge needed more
+    intervals than ``scene.cap``."""
     n = targets.shape[1]
-    scratch = np.empty((3, n))
-    d = np.empty(n)
-    q_new = np.empty(n)
-    at = np.empty(n, dtype=np.int64)
-    off = np.empty(n, dtype=np.int64)
-    span = np.empty(n, dtype=np.int64)
-    for v in range(indexed[0], m[0]):
-        _grid_insert(v, nodes, limited, lo, width, shape, head, nxt, at)
-    indexed[0] = m[0]
+    work = StarWork(np.empty((3, n)), np.empty(n), np.empty(n), np.empty(n, dtype=np.int64),
+                    np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n),
+                    np.empty((n + 1, 2)))
+    for v in range(cells.indexed[0], tree.m[0]):
+        _grid_insert(v, tree.nodes, scene.limited, cells, work.at)
+    cells.indexed[0] = tree.m[0]
     for it in range(targets.shape[0]):
-        target = targets[it]
-        mm = m[0]
-        if mm > GRID_FROM:
-            i = _grid_nearest(target, nodes, mm, limited, lo, width, shape, head, nxt, at, off)
-        else:
-            i = _nearest(nodes, mm, target, limited)
-        dd = math.sqrt(_delta(target, nodes[i], limited, d))
-        if dd == 0.0:
-            continue
-        f = min(1.0, step / dd)
-        for j in range(n):
-            q_new[j] = nodes[i, j] + f * d[j]
-        c_new = _clearances(lengths, q_new.reshape(1, n), circles, pv, pn, pr, offsets)[0]
-        blocked = False
-        for j in range(n):
-            if c_new[j] <= touch:
-                blocked = True
-        if blocked:  # no edge to it is free
-            continue
-        radius = min(rcap, gamma * (math.log(mm + 1) / (mm + 1)) ** (1 / n))
-        r2 = radius * radius
-        k = 0
-        has_i = False
-        if mm > GRID_FROM:
-            found = _grid_near(q_new, radius, nodes, limited, lo, width, shape, head, nxt, at, off,
-                               span, stack)
-        else:
-            found = mm
-        for t in range(found):
-            v = stack[t] if mm > GRID_FROM else t
-            s = _delta(q_new, nodes[v], limited, dn[k])
-            if s <= r2:
-                near[k] = v
-                dist[k] = math.sqrt(s)
-                has_i = has_i or v == i
-                k += 1
-        if not has_i:
-            near[k] = i
-            dist[k] = math.sqrt(_delta(q_new, nodes[i], limited, dn[k]))
-            k += 1
-        # The cheapest parent whose edge is free (choose_parent_and_add).
-        for v in range(k):
-            key[v] = cost[near[v]] + dist[v]
-        order = np.argsort(key[:k], kind="mergesort")
-        chosen = -1
-        for o in order:
-            code = _edge_free(lengths, nodes[near[o]], dn[o], clear[near[o]], c_new, reach,
-                              circles, pv, pn, pr, offsets, touch, min_interval, cap, scratch)
-            if code < 0:
-                return CONNECT_LIMIT, it + 1
-            if code == 1:
-                chosen = o
-                break
-        if chosen < 0:
-            continue
-        new = mm
-        for j in range(n):
-            nodes[new, j] = q_new[j] if limited[j] else _wrap(q_new[j])
-        for j in range(n):
-            clear[new, j] = c_new[j]
-        cost[new] = cost[near[chosen]] + dist[chosen]
-        first_child[new] = -1
-        _link(new, near[chosen], parent, first_child, next_sib, prev_sib)
-        m[0] = mm + 1
-        _grid_insert(new, nodes, limited, lo, width, shape, head, nxt, at)
-        indexed[0] = m[0]
-        # Rewire the near nodes (but the new node's parent) through the new node where cheaper
-        # (_rewire): which are cheaper is decided first, then each certified edge applied.
-        kb = 0
-        for v in range(k):
-            u = near[v]
-            if u == parent[new]:
-                continue
-            through = cost[new] + math.sqrt(_delta(nodes[u], nodes[new], limited, dn[v]))
-            if through < cost[u] - 1e-12:
-                near[kb] = u
-                key[kb] = through
-                for j in range(n):
-                    dn[kb, j] = dn[v, j]
-                kb += 1
-        for v in range(kb):
-            code = _edge_free(lengths, nodes[new], dn[v], clear[new], clear[near[v]], reach,
-                              circles, pv, pn, pr, offsets, touch, min_interval, cap, scratch)
-            if code < 0:
-                return CONNECT_LIMIT, it + 1
-            if code == 0:
-                continue
-            u = near[v]
-            delta = key[v] - cost[u]
-            _unlink(u, parent, first_child, next_sib, prev_sib)
-            _link(u, new, parent, first_child, next_sib, prev_sib)
-            cost[u] = key[v]
-            top = 0
-            c = first_child[u]
-            while c >= 0:
-                stack[top] = c
-                top += 1
-                c = next_sib[c]
-            while top:
-                top -= 1
-                w = stack[top]
-                cost[w] += delta
-                c = first_child[w]
-                while c >= 0:
-                    stack[top] = c
-                    top += 1
-                    c = next_sib[c]
-        # A node close to a goal is joined to it exactly (the edge certified too).
-        g = 0
-        best_s = np.inf
-        for h in range(goals.shape[0]):
-            s = _delta(goals[h], nodes[new], limited, d)
-            if s < best_s:
-                best_s = s
-                g = h
-        _delta(goals[g], nodes[new], limited, d)
-        gd = math.sqrt(best_s)
-        # Against the best goal node's cost now: rewiring may have lowered it since.
-        if best[0] >= 0:
-            best_cost[0] = cost[best[0]]
-        if gd <= goal_threshold and cost[new] + gd < best_cost[0]:
-            if gd == 0.0:
-                best[0] = new
-                best_cost[0] = cost[new]
-            else:
-                code = _edge_free(lengths, nodes[new], d, clear[new], goal_clear[g], reach,
-                                  circles, pv, pn, pr, offsets, touch, min_interval, cap,
-                                  scratch)
-                if code < 0:
-                    return CONNECT_LIMIT, it + 1
-                if code == 1:
-                    gi = m[0]
-                    for j in range(n):
-                        nodes[gi, j] = goals[g, j] if limited[j] else _wrap(goals[g, j])
-                        clear[gi, j] = goal_clear[g, j]
-                    cost[gi] = cost[new] + gd
-                    first_child[gi] = -1
-                    _link(gi, new, parent, first_child, next_sib, prev_sib)
-                    m[0] = gi + 1
-                    _grid_insert(gi, nodes, limited, lo, width, shape, head, nxt, at)
-                    indexed[0] = m[0]
-                    best[0] = gi
-                    best_cost[0] = cost[gi]
+        if _star_iteration(targets[it], problem, scene, tree, cells, buf, work) < 0:
+            return CONNECT_LIMIT, it + 1
     return CONNECT_MORE, targets.shape[0]
+
+
+def _star_iteration(target, problem, scene, tree, cells, buf, work):
+    """One iteration of :func:`_star` toward ``target``: 0 done (a node added or not), -1 an
+    edge needed more intervals than allowed."""
+    nodes, limited, d, q_new = tree.nodes, scene.limited, work.d, work.q_new
+    n = target.shape[0]
+    mm = tree.m[0]
+    if mm > GRID_FROM:
+        i = _grid_nearest(target, nodes, mm, limited, cells, work.at, work.off)
+    else:
+        i = _nearest(nodes, mm, target, limited)
+    dd = math.sqrt(_delta(target, nodes[i], limited, d))
+    if dd == 0.0:
+        return 0
+    f = min(1.0, problem.step / dd)
+    for j in range(n):
+        q_new[j] = nodes[i, j] + f * d[j]
+    s = scene
+    c_new = work.c_new
+    _clearances_one(s.lengths, q_new, work.pts, c_new, s.circles, s.pv, s.pn, s.pr, s.offsets)
+    for j in range(n):
+        if c_new[j] <= s.touch:  # no edge to it is free
+            return 0
+    k = _near_set(q_new, i, problem, scene, tree, cells, buf, work)
+    # The cheapest parent whose edge is free (choose_parent_and_add).
+    for v in range(k):
+        buf.key[v] = tree.cost[buf.near[v]] + buf.dist[v]
+    order = np.argsort(buf.key[:k], kind="mergesort")
+    chosen = -1
+    for o in order:
+        p = buf.near[o]
+        code = _edge_free(nodes[p], buf.dn[o], tree.clear[p], c_new, scene, work.scratch)
+        if code < 0:
+            return -1
+        if code == 1:
+            chosen = o
+            break
+    if chosen < 0:
+        return 0
+    p = buf.near[chosen]
+    new = _add_node(q_new, c_new, p, tree.cost[p] + buf.dist[chosen], limited, tree, cells,
+                    work.at)
+    if _rewire(new, k, scene, tree, buf, work) < 0:
+        return -1
+    return _join_goal(new, problem, scene, tree, cells, work)
+
+
+def _near_set(q_new, i, problem, scene, tree, cells, buf, work):
+    """The nodes within the shrinking radius of ``q_new`` (and the nearest ``i`` always) into
+    ``buf.near``, their differences to ``q_new`` into ``buf.dn`` and distances into
+    ``buf.dist``; returns how many."""
+    nodes, limited, near, dn, dist = tree.nodes, scene.limited, buf.near, buf.dn, buf.dist
+    n = q_new.shape[0]
+    mm = tree.m[0]
+    radius = min(problem.rcap, problem.gamma * (math.log(mm + 1) / (mm + 1)) ** (1 / n))
+    r2 = radius * radius
+    k = 0
+    has_i = False
+    if mm > GRID_FROM:
+        found = _grid_near(q_new, radius, nodes, limited, cells, work.at, work.off, work.span,
+                           buf.stack)
+    else:
+        found = mm
+    for t in range(found):
+        v = buf.stack[t] if mm > GRID_FROM else t
+        s = _delta(q_new, nodes[v], limited, dn[k])
+        if s <= r2:
+            near[k] = v
+            dist[k] = math.sqrt(s)
+            has_i = has_i or v == i
+            k += 1
+    if not has_i:
+        near[k] = i
+        dist[k] = math.sqrt(_delta(q_new, nodes[i], limited, dn[k]))
+        k += 1
+    return k
+
+
+def _add_node(q, c, par, cost, limited, tree, cells, at):
+    """Node ``m`` of ``tree`` at ``q`` (wrapped), its link clearances ``c``, child of ``par``
+    at ``cost``, filed in ``cells``; returns its index."""
+    new = tree.m[0]
+    for j in range(q.shape[0]):
+        tree.nodes[new, j] = q[j] if limited[j] else _wrap(q[j])
+        tree.clear[new, j] = c[j]
+    tree.cost[new] = cost
+    tree.first_child[new] = -1
+    _link(new, par, tree.parent, tree.first_child, tree.next_sib, tree.prev_sib)
+    tree.m[0] = new + 1
+    _grid_insert(new, tree.nodes, limited, cells, at)
+    cells.indexed[0] = tree.m[0]
+    return new
+
+
+def _rewire(new, k, scene, tree, buf, work):
+    """Rewire the ``k`` near nodes (but the new node's parent) through node ``new`` where
+    cheaper (rapp.rrt_star's ``_rewire``): which are cheaper is decided first, then each
+    certified edge applied. Returns -1 when an edge needed more intervals than allowed."""
+    nodes, cost, parent, near, dn, key = tree.nodes, tree.cost, tree.parent, buf.near, buf.dn, buf.key
+    n = nodes.shape[1]
+    kb = 0
+    for v in range(k):
+        u = near[v]
+        if u == parent[new]:
+            continue
+        through = cost[new] + math.sqrt(_delta(nodes[u], nodes[new], scene.limited, dn[v]))
+        if through < cost[u] - 1e-12:
+            near[kb] = u
+            key[kb] = through
+            for j in range(n):
+                dn[kb, j] = dn[v, j]
+            kb += 1
+    for v in range(kb):
+        u = near[v]
+        code = _edge_free(nodes[new], dn[v], tree.clear[new], tree.clear[u], scene,
+                          work.scratch)
+        if code < 0:
+            return -1
+        if code == 0:
+            continue
+        delta = key[v] - cost[u]
+        _unlink(u, parent, tree.first_child, tree.next_sib, tree.prev_sib)
+        _link(u, new, parent, tree.first_child, tree.next_sib, tree.prev_sib)
+        cost[u] = key[v]
+        _shift_descendants(u, delta, tree, buf.stack)
+    return 0
+
+
+def _shift_descendants(u, delta, tree, stack):
+    """``delta`` added to the cost of every descendant of ``u`` (a depth-first walk of the
+    child lists on ``stack``)."""
+    first_child, next_sib, cost = tree.first_child, tree.next_sib, tree.cost
+    top = 0
+    c = first_child[u]
+    while c >= 0:
+        stack[top] = c
+        top += 1
+        c = next_sib[c]
+    while top:
+        top -= 1
+        w = stack[top]
+        cost[w] += delta
+        c = first_child[w]
+        while c >= 0:
+            stack[top] = c
+            top += 1
+            c = next_sib[c]
+
+
+def _join_goal(new, problem, scene, tree, cells, work):
+    """A node close to a goal is joined to it exactly (the edge certified too): node ``new``
+    against the nearest of ``problem.goals``. Returns -1 when that edge needed more
+    intervals than allowed, else 0."""
+    nodes, limited, cost, d = tree.nodes, scene.limited, tree.cost, work.d
+    goals = problem.goals
+    best, best_cost = tree.best, tree.best_cost
+    g = 0
+    best_s = np.inf
+    for h in range(goals.shape[0]):
+        s = _delta(goals[h], nodes[new], limited, d)
+        if s < best_s:
+            best_s = s
+            g = h
+    _delta(goals[g], nodes[new], limited, d)
+    gd = math.sqrt(best_s)
+    # Against the best goal node's cost now: rewiring may have lowered it since.
+    if best[0] >= 0:
+        best_cost[0] = cost[best[0]]
+    if not (gd <= problem.goal_threshold and cost[new] + gd < best_cost[0]):
+        return 0
+    if gd == 0.0:
+        best[0] = new
+        best_cost[0] = cost[new]
+        return 0
+    code = _edge_free(nodes[new], d, tree.clear[new], problem.goal_clear[g], scene, work.scratch)
+    if code < 0:
+        return -1
+    if code == 1:
+        gi = _add_node(goals[g], problem.goal_clear[g], new, cost[new] + gd, limited, tree,
+                       cells, work.at)
+        best[0] = gi
+        best_cost[0] = cost[gi]
+    return 0
 
 
 def _draw(buf, pos, bias, lower, span, goal, out):
@@ -696,15 +795,21 @@ def _compile():
         return None
 
     g = globals()
-    g["_clearances"], g["_certify"] = ck.clearances, ck.certify
+    g["_clearances"], g["_certify"], g["_clearances_one"] = (ck.clearances, ck.certify,
+                                                            ck.clearances_one)
     g["_wrap"] = jit(_wrap)
     g["_delta"] = jit(_delta)
+    g["_nearest_scan"] = jit(_nearest_scan)
     g["_nearest"] = jit(_nearest)
     g["_extend"] = jit(_extend)
-    for name in ("_shifted_cell", "_edge_bounds", "_bisect_bounded", "_bisect", "_edge_free", "_link", "_unlink",
-                 "_cell", "_grid_insert", "_cell_nodes_nearest",
-                 "_grid_nearest", "_grid_near"):
+    for name in ("_shifted_cell", "_edge_bounds", "_bisect_bounded", "_bisect", "_edge_free",
+                 "_link", "_unlink", "_cell", "_grid_nearest", "_grid_near"):
         g[name] = jit(g[name])
+    # RRT*'s iteration in parts, inlined into its loop: a call that passes the named tuples
+    # costs a reference count per array in them, a fifth of the loop's time when not inlined.
+    for name in ("_grid_insert", "_cell_nodes_nearest", "_near_set", "_add_node",
+                 "_shift_descendants", "_rewire", "_join_goal", "_star_iteration"):
+        g[name] = jit(g[name], inline="always")
     return Loops(g["_wrap"], g["_extend"], jit(_connect), jit(_nearest_k), jit(_star),
                  jit(_draw), g["_bisect"])
 

@@ -37,19 +37,21 @@ from __future__ import annotations
 
 import functools
 import math
-import sys
 from collections import namedtuple
 
 import numpy as np
 
 from rapp.jit import jit, numba_available
 
-__all__ = ["Kernels", "solver", "loaded", "LOAD_FROM", "SIGMA_FLOOR", "LAMBDA_MAX", "NOT_OK", "OK", "UNSURE",
+__all__ = ["Kernels", "Joints", "solver", "LOAD_FROM", "SIGMA_FLOOR", "LAMBDA_MAX", "NOT_OK", "OK", "UNSURE",
            "NO_START"]
 
 #: The compiled functions (see :func:`solver`): ``solve`` is :func:`_solve`, ``start_errors``
 #: :func:`_start_errors` and ``atan2`` :func:`_atan2` (the last two for the tests).
 Kernels = namedtuple("Kernels", "solve start_errors atan2")
+#: The arm as the iteration sees it: link ``lengths`` (scaled to total length 1), which
+#: joints are ``limited`` and their bounds ``lo``, ``hi``.
+Joints = namedtuple("Joints", "lengths limited lo hi")
 
 #: The damping constants of the iteration (on the arm scaled to total length 1), shared
 #: with the numpy version.
@@ -239,8 +241,10 @@ def _dls(jx, jy, ex, ey, dq):
         dq[j] = (jx[j] * ct + jy[j] * st) * f_big + (jy[j] * ct - jx[j] * st) * f_small
 
 
-def _newton(lengths, limited, lo, hi, tx, ty, q, stop2, max_iter, max_step, jx, jy, dq):
-    """``rapp.ik``'s Newton-Raphson with damped least squares on one configuration ``q``."""
+def _newton(joints, tx, ty, q, stop2, max_iter, max_step, jx, jy, dq):
+    """``rapp.ik``'s Newton-Raphson with damped least squares on one configuration ``q`` of
+    the arm ``joints`` (:data:`Joints`)."""
+    lengths, limited, lo, hi = joints
     n = lengths.size
     any_limited = False
     for j in range(n):
@@ -358,6 +362,7 @@ def _solve(true_lengths, limited, lo, hi, rows, q, closed, hopeless, stop_tol, t
     for j in range(n):
         scale += true_lengths[j]
     lengths = true_lengths / scale
+    joints = Joints(lengths, limited, lo, hi)
     arm = _arm_constants(lengths)
     big = _arm_constants(true_lengths)
     dirs = np.zeros(6)
@@ -395,8 +400,7 @@ def _solve(true_lengths, limited, lo, hi, rows, q, closed, hopeless, stop_tol, t
         else:
             _project(qi, limited, lo, hi)
         if not far and not err <= done:
-            _newton(lengths, limited, lo, hi, tx, ty, qi, stop_tol * stop_tol, max_iter,
-                    max_step, jx, jy, dq)
+            _newton(joints, tx, ty, qi, stop_tol * stop_tol, max_iter, max_step, jx, jy, dq)
             err = math.inf
         if err == math.inf:
             err = _tip_error(true_lengths, qi, x, y)
@@ -431,18 +435,3 @@ def solver():
                  "_start_error", "_start_errors", "_solve"):
         g[name] = jit(g[name], error_model="numpy")
     return Kernels(g["_solve"], g["_start_errors"], g["_atan2"])
-
-
-def loaded(targets: int):
-    """:func:`solver` for a batch of ``targets`` once numba is imported or the batch has
-    at least :data:`LOAD_FROM` targets, else None (numpy then solves it, with the same
-    successes).
-
-    Examples
-    --------
-    >>> loaded(LOAD_FROM) is solver()
-    True
-    """
-    if targets >= LOAD_FROM or "numba" in sys.modules:
-        return solver()
-    return None
