@@ -181,8 +181,7 @@ def targets_animation(arm, motion, targets, flags, *, interval=150):
     -------
     matplotlib.animation.FuncAnimation
     """
-    fig, ax = plt.subplots(figsize=(6.6, 6.6), dpi=75)
-    fig.subplots_adjust(left=0.13, bottom=0.1, right=0.97, top=0.94)
+    _, ax = plt.subplots(figsize=(6.6, 6.6), dpi=75)  # the book's constrained layout
     plot_targets(ax, targets, flags)
     anim = animate(arm, motion, ax=ax, max_frames=len(motion), interval=interval)
     ax.set_xlim(*LIMITS)
