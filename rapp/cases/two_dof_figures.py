@@ -158,8 +158,8 @@ def plot_joint_interpolation(short, long):
     --------
     >>> a = np.linspace([0.0, 0.0], [1.0, 1.0], 5)
     >>> ax = plot_joint_interpolation(a, a)
-    >>> [line.get_ydata()[-1].round(2) for line in ax.lines[:3]]
-    [np.float64(57.3), np.float64(57.3), np.float64(57.3)]
+    >>> [round(float(line.get_ydata()[-1]), 2) for line in ax.lines[:3]]
+    [57.3, 57.3, 57.3]
     """
     u = np.linspace(0.0, 1.0, len(short))
     fig, ax = plt.subplots(figsize=(7.5, 3.8), layout="constrained")
