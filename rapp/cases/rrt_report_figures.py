@@ -45,6 +45,7 @@ def plot_straight_vs_rrt(arm, obstacles, start, goal, straight, path):
     >>> fig = plot_straight_vs_rrt(arm, [seed_square()], q[0], q[1], q, q)
     >>> [t.get_text() for t in fig.axes[1].get_legend().get_texts()][-3:]
     ['RRT path (2 nodes)', 'start', 'goal']
+    >>> plt.close("all")
     """
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.9), layout="constrained")
     panels = ((straight, COLORS["vermillion"], "straight joint-space motion"),
@@ -75,6 +76,7 @@ def plot_axis_projections(polygon, a, b):
     >>> ax = plot_axis_projections(Polygon.rectangle((0, 0), 1, 1), np.array([1.5, -1.0]), np.array([2.5, 0.5]))
     >>> [float(v) for v in ax.lines[1].get_ydata()]    # the square projected on y
     [0.0, 1.0]
+    >>> plt.close("all")
     """
     sq_y, seg_y = _interval(polygon.array, [0, 1]), _interval([a, b], [0, 1])
     sq_x, seg_x = _interval(polygon.array, [1, 0]), _interval([a, b], [1, 0])
@@ -109,6 +111,7 @@ def plot_tree_projection(result, arm, start, goal, ax, title=""):
     >>> ax = plot_tree_projection(res, arm, [0.0, 0.0], [1.0, 1.0], plt.figure().add_subplot())
     >>> len(ax.collections[0].get_segments()) == len(res.nodes) - 1
     True
+    >>> plt.close("all")
     """
     e = np.stack((result.nodes[result.parent[1:]], result.nodes[1:]), 1)[:, :, :2]
     ax.add_collection(LineCollection(e, colors=COLORS["sky"], linewidths=0.8, label="tree"))
@@ -137,6 +140,7 @@ def plot_goal_run(arm, result, obstacles, start, goal, goal_xy, *, radius=0.05):
     >>> fig = plot_goal_run(arm, res, [], res.path[0], res.path[-1], arm.end_effector(res.path[-1]))
     >>> fig.axes[1].patches[-1].get_radius()
     0.05
+    >>> plt.close("all")
     """
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5), layout="constrained")
     plot_tree_projection(result, arm, start, goal, ax1,
@@ -167,6 +171,7 @@ def plot_alpha_beta(blocked, free, trials):
     >>> fig = plot_alpha_beta(out, out, 3)
     >>> fig.axes[0].get_ylabel(), fig.axes[1].get_yscale()
     ('success rate (3 trials)', 'log')
+    >>> plt.close("all")
     """
     alphas, betas = blocked["alpha"], blocked["beta"]
     lo, hi = wilson_interval(blocked["successes"], trials)
@@ -206,6 +211,7 @@ def plot_cost_heatmaps(runs, *, clim=(2.0, 7.5)):
     >>> out = alpha_beta_experiment(Arm([1.0, 1.0]), [0.0, 0.0], [0.0, 2.0], [], [0.5], [1.0], 2)
     >>> [ax.get_title() for ax in plot_cost_heatmaps({"a": out}).axes[:1]]
     ['mean path cost, a']
+    >>> plt.close("all")
     """
     fig, axes = plt.subplots(1, len(runs), figsize=(5 * len(runs), 4.2), layout="constrained",
                              squeeze=False)
@@ -230,6 +236,7 @@ def plot_cost_and_time(comparison):
     ...                           "rrt_seconds": 0.1, "astar_seconds": 0.4})
     >>> [float(p.get_height()) for p in fig.axes[0].patches]
     [3.0, 2.5]
+    >>> plt.close("all")
     """
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
     names = ["RRT", "A* (32 cells/joint)"]
@@ -258,6 +265,7 @@ def plot_plans(arm, plans, obstacles):
     >>> p = SimpleNamespace(q=np.zeros((3, 2)), xy=np.ones((3, 2)), metrics={"shortcut_length_rad": 1.0})
     >>> [ax.get_title() for ax in plot_plans(Arm([1.0, 1.0]), {"rrt": p}, []).axes]
     ['rrt: 1.00 rad after shortcutting']
+    >>> plt.close("all")
     """
     fig, axes = plt.subplots(1, len(plans), figsize=(5 * len(plans), 4.9), layout="constrained",
                              squeeze=False)
@@ -287,6 +295,15 @@ def tree_explorer(arm, start, goal, goal_xy, obstacles, controls, grown=None, *,
     -------
     ipywidgets.VBox
         :func:`rapp.view_stack.view_stack`'s explorer, titled "Grow your own tree".
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> arm, grown = Arm([1.0, 1.0], joint_limits=[(-3, 3), (-3, 3)]), {}
+    >>> c = {"alpha": Control("α", [0.5]), "beta": Control("β", [0.5]), "seed": Control("seed", [0])}
+    >>> w = tree_explorer(arm, [0.0, 0.0], [1.0, 1.0], arm.end_effector([1.0, 1.0]), [], c, grown)
+    >>> list(grown), grown[0.5, 0.5, 0].success
+    ([(0.5, 0.5, 0)], True)
     """
     grown = {} if grown is None else grown
     fig = Figure(figsize=(6.4, 5.2), layout="constrained")

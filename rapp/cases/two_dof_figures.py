@@ -34,6 +34,7 @@ def plot_targets(ax, targets, flags, *, numbers=True):
     >>> ax = plot_targets(plt.figure().add_subplot(), np.array([[0, 1], [5, 0]]), np.array([True, False]))
     >>> [t.get_text() for t in ax.texts], [c.get_label() for c in ax.collections]
     (['0', '1'], ['reachable', 'unreachable'])
+    >>> plt.close("all")
     """
     targets, flags = np.asarray(targets, dtype=float), np.asarray(flags, dtype=bool)
     ax.scatter(*targets[flags].T, s=40, color=COLORS["green"], zorder=6, label="reachable")
@@ -55,6 +56,7 @@ def plot_all_solutions(arm, targets, flags, solutions):
     >>> ax = plot_all_solutions(arm, t, np.array([True, False]), ik_2link(arm, t))
     >>> [c.get_offsets().shape[0] for c in ax.collections[-2:]]
     [1, 1]
+    >>> plt.close("all")
     """
     flags = np.asarray(flags, dtype=bool)
     fig, ax = plt.subplots(figsize=(6.6, 6.2), layout="constrained")
@@ -87,6 +89,7 @@ def plot_target_map(arm, targets, flags):
     >>> ax = plot_target_map(Arm([2.0, 1.25]), np.array([[2.0, 1.0]]), np.array([True]))
     >>> ax.get_title()
     'targets 0-0 in the workspace of L = (2, 1.25) m'
+    >>> plt.close("all")
     """
     fig, ax = plt.subplots(figsize=(6.2, 6.2), layout="constrained")
     plot_workspace(arm, ax)
@@ -109,6 +112,7 @@ def plot_fan(arm, fan):
     >>> fan = np.stack((np.linspace(-3, 3, 4), np.full(4, np.pi)), axis=-1)
     >>> plot_fan(Arm([1.0, 1.0]), fan).collections[-1].get_offsets().shape
     (4, 2)
+    >>> plt.close("all")
     """
     fig, ax = plt.subplots(figsize=(6.0, 6.0), layout="constrained")
     plot_workspace(arm, ax)
@@ -136,6 +140,7 @@ def plot_elbow_pairs(arm, points):
     >>> fig = plot_elbow_pairs(Arm([2.0, 1.25]), [np.array([2.5, 0.0])])
     >>> fig.axes[0].get_title()
     'target (2.5, 0) m'
+    >>> plt.close("all")
     """
     fig, axs = plt.subplots(1, len(points), figsize=(5.25 * len(points), 5.4), layout="constrained",
                             squeeze=False)
@@ -158,8 +163,9 @@ def plot_joint_interpolation(short, long):
     --------
     >>> a = np.linspace([0.0, 0.0], [1.0, 1.0], 5)
     >>> ax = plot_joint_interpolation(a, a)
-    >>> [line.get_ydata()[-1].round(2) for line in ax.lines[:3]]
-    [np.float64(57.3), np.float64(57.3), np.float64(57.3)]
+    >>> [round(float(line.get_ydata()[-1]), 2) for line in ax.lines[:3]]
+    [57.3, 57.3, 57.3]
+    >>> plt.close("all")
     """
     u = np.linspace(0.0, 1.0, len(short))
     fig, ax = plt.subplots(figsize=(7.5, 3.8), layout="constrained")
@@ -180,9 +186,16 @@ def targets_animation(arm, motion, targets, flags, *, interval=150):
     Returns
     -------
     matplotlib.animation.FuncAnimation
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> anim = targets_animation(Arm([2.0, 1.25]), np.linspace([0, 0], [1, 1], 4), [[2.0, 1.0]], [True])
+    >>> len(list(anim.new_frame_seq()))
+    4
+    >>> plt.close("all")
     """
-    fig, ax = plt.subplots(figsize=(6.6, 6.6), dpi=75)
-    fig.subplots_adjust(left=0.13, bottom=0.1, right=0.97, top=0.94)
+    _, ax = plt.subplots(figsize=(6.6, 6.6), dpi=75)  # the book's constrained layout
     plot_targets(ax, targets, flags)
     anim = animate(arm, motion, ax=ax, max_frames=len(motion), interval=interval)
     ax.set_xlim(*LIMITS)

@@ -64,6 +64,7 @@ def plot_arm_along(arm, traj, points, obstacles, ax=None, *, ghosts=17):
     >>> ax = plot_arm_along(Arm([9.0, 9.0]), tr, {"A": [9.0, 1.0]}, [Circle((5, 5), 1)])
     >>> [t.get_text() for t in ax.texts], [float(x) for x in ax.get_xlim()]
     (['A'], [-2.0, 19.0])
+    >>> plt.close("all")
     """
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 6))
@@ -91,6 +92,7 @@ def plot_xy_profiles(traj, title, knots):
     >>> fig = plot_xy_profiles(tr, "t", [0.0, 1.0, 2.0])
     >>> [ax.get_ylabel() for ax in fig.axes]
     ['x (m)', 'y (m)', 'ẋ (m/s)', 'ẏ (m/s)']
+    >>> plt.close("all")
     """
     t = np.linspace(traj.t0, traj.tf, 801)
     p, v = traj.evaluate(t), traj.evaluate(t, 1)
@@ -150,6 +152,7 @@ def plot_via_choices(ends, vias, obstacle, times, velocities, *, zoom):
     ...                        zoom=((1, 3), (1, 3)))
     >>> len(fig.axes), [float(x) for x in fig.axes[1].get_xlim()]
     (2, [1.0, 3.0])
+    >>> plt.close("all")
     """
     fig, axs = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
     _draw_via_paths(axs[0], ends, vias, obstacle, times, velocities,
@@ -171,6 +174,7 @@ def plot_formula_vs_atan2(cases):
     >>> fig = plot_formula_vs_atan2({"x < 0": ((1.0, 1.0), np.array([-1.0, 0.5]))})
     >>> [len(ax.get_legend().get_texts()) for ax in fig.axes]
     [3]
+    >>> plt.close("all")
     """
     fig, axs = plt.subplots(1, len(cases), figsize=(5 * len(cases), 4.6), layout="constrained",
                             squeeze=False)
@@ -206,6 +210,7 @@ def plot_postures(arm, postures, obstacles, *, marks=None, path=None, title=None
     ...                    path=np.zeros((3, 2)), title="t")
     >>> [t.get_text() for t in ax.get_legend().get_texts()][:2], ax.get_title()
     (['a', 'b'], 't')
+    >>> plt.close("all")
     """
     colours = (None, COLORS["vermillion"], COLORS["orange"])
     ax = None
@@ -259,6 +264,7 @@ def closest_approach_animation(arm, traj, obstacle, frames_t, *, window=0.05):
     >>> anim = closest_approach_animation(Arm([9.0, 9.0]), tr, Circle((10.5, 5.0), 1.9), [0.0, 0.5, 1.0])
     >>> plt.gcf().axes[1].get_title()
     'zoom: closest approach at t = 0.50 s'
+    >>> plt.close("all")
     """
     frames_t = np.asarray(frames_t, dtype=float)
     q_frames = printed_ik(traj.evaluate(frames_t), +1, lengths=tuple(arm.lengths))
@@ -314,6 +320,7 @@ def plot_spline_vs_cubic(trajs, points, obstacle):
     >>> fig = plot_spline_vs_cubic({"a": tr}, [[0, 0], [1, 0]], Circle((0.5, 1), 0.2))
     >>> [ax.get_title() for ax in fig.axes]
     ['path', 'speed', 'acceleration']
+    >>> plt.close("all")
     """
     fig, axs = plt.subplots(1, 3, figsize=(12, 3.8), layout="constrained")
     plot_obstacles([obstacle], axs[0])
@@ -357,6 +364,16 @@ def via_point_explorer(arm, ends, obstacle, times, velocities, xs, ys, default):
     -------
     ipywidgets.VBox
         :func:`rapp.view_stack.view_stack`'s explorer.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> from rapp.view_stack import selected
+    >>> z = np.zeros(2)
+    >>> w = via_point_explorer(Arm([9.0, 9.0]), ([2, 5], [5, 8], [14, 7]), Circle((10, 7), 1.5),
+    ...                        [0.0, 3.0, 5.5, 8.0], [z, [0.25, 0.25], z, z], [9.86], [5.32], (9.86, 5.32))
+    >>> selected(w)[1].split(";")[0]
+    '|BD| + |DC| = 10.018 m'
     """
     start, via_start, goal = (np.asarray(p, dtype=float) for p in ends)
     fig = Figure(figsize=(6.4, 6.4), layout="constrained")
