@@ -11,8 +11,8 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 import rapp
 from rapp import cli
-from rapp.collision import collides
-from rapp.errors import InvalidValue, NoPathFound
+from rapp.collision import collides, link_clearances
+from rapp.errors import CertificationLimit, InvalidValue, NoPathFound
 from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect
 from rapp.rrt_star import rrt_star
@@ -51,7 +51,15 @@ def test_every_returned_path_is_collision_free_and_joins_start_to_goal(name, pro
         with pytest.raises(NoPathFound):
             PLANNERS[name](arm, start, goal, obstacles, seed)
         return
-    res = PLANNERS[name](arm, start, goal, obstacles, seed)
+    try:
+        res = PLANNERS[name](arm, start, goal, obstacles, seed)
+    except CertificationLimit:
+        # The documented answer where an end grazes an obstacle, closer than touching distance
+        # allows to tell but too close for the bisection's interval limit (an end within
+        # touching distance answers no path: the test below). Only there.
+        ends = link_clearances(arm, np.array([start, goal]), obstacles)
+        assert ends.min() < 1e-6 * sum(arm.link_lengths)
+        return
     if not res.success:
         assert res.path.shape == (0, arm.n) and res.cost == np.inf
         return
