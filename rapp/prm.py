@@ -47,7 +47,7 @@ from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared
                            unwrapped_chain)
 
 __all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE", "CandidateEdges", "grow_roadmap",
-           "heuristic", "path_of", "SEARCHES"]
+           "heuristic", "path_of", "SEARCHES", "OutOfTime"]
 
 #: Peak bytes the roadmap may take (as the grid planner's budget, rapp.scenario.MEMORY_BUDGET).
 MEMORY_BUDGET = 1.5e9
@@ -135,8 +135,11 @@ def roadmap_bytes(n: int, nodes: int, neighbours: int) -> float:
     return nodes * neighbours * BYTES_PER_EDGE + BLOCK_BYTES + nodes * n * 8
 
 
-class _OutOfTime(Exception):
-    """The time budget ran out inside a roadmap batch."""
+class OutOfTime(Exception):
+    """The time budget ran out inside a roadmap's growth or search (the planner says so)."""
+
+
+_OutOfTime = OutOfTime
 
 
 class _Limit(Exception):
@@ -392,15 +395,24 @@ class CandidateEdges:
             self.impl.restore(*state, len(nodes))
             return self.impl.search(nodes, rounds, self.certify, budget, sources, targets, h)
 
+    @property
+    def count(self) -> int:
+        """How many candidate edges there are."""
+        return len(self.impl.w) if isinstance(self.impl, _ArrayEdges) else len(self.impl.edges)
+
     def keep(self, nodes_n, m) -> None:
-        self.impl.restore(*(a[:m] for a in self.state()), nodes_n)
+        if isinstance(self.impl, _ArrayEdges):
+            return self.impl.keep(nodes_n, m)
+        self.impl.restore(*(a[:m] for a in self.impl.state()), nodes_n)
 
     def state(self):
-        return self.impl.state()
+        """``(ij, w, done)``: the edges' node pairs, lengths (``inf`` refuted) and certified
+        flags, in the order they were found (copies)."""
+        return tuple(a.copy() for a in self.impl.state())
 
     def restore(self, ij, w, done, nodes_n) -> None:
-        self.impl.restore(np.asarray(ij, dtype=np.int64).reshape(-1, 2),
-                          np.asarray(w, dtype=float), np.asarray(done, dtype=bool), nodes_n)
+        self.impl.restore(np.array(ij, dtype=np.int64).reshape(-1, 2),
+                          np.array(w, dtype=float), np.array(done, dtype=bool), nodes_n)
 
 
 class _DictEdges:
@@ -481,27 +493,36 @@ class _ArrayEdges:
         ij = np.sort(np.stack((i, near.ravel()), axis=-1), axis=-1)
         # The first time each edge is met, in the order the dict of _DictEdges fills.
         first = np.sort(np.unique(ij[:, 0] * len(nodes) + ij[:, 1], return_index=True)[1])
+        # The graph before, for keep() to return to without rebuilding it (only wt changes).
+        self.before = (first_new, len(self.w), self.start, self.stop, self.dst, self.order,
+                       self.slot)
         self.restore(np.concatenate((self.ij, ij[first])),
                      np.concatenate((self.w, dist.ravel()[first])),
                      np.concatenate((self.done, np.zeros(len(first), dtype=bool))), len(nodes))
 
     def state(self):
-        return self.ij.copy(), self.w.copy(), self.done.copy()
+        return self.ij, self.w, self.done
+
+    def keep(self, nodes_n, m):
+        """:meth:`CandidateEdges.keep`; back to the graph before the last ``add`` when it was
+        of this size (a query's ends), its lengths from ``w`` (a refuted edge's ``inf``)."""
+        before = getattr(self, "before", None)
+        if before is None or before[:2] != (nodes_n, m):
+            return self.restore(self.ij[:m], self.w[:m], self.done[:m], nodes_n)
+        self.ij, self.w, self.done = self.ij[:m], self.w[:m].copy(), self.done[:m].copy()
+        _, _, self.start, self.stop, self.dst, self.order, self.slot = before
+        self.wt = self.w[self.order >> 1]
+        self.before = None
 
     def restore(self, ij, w, done, nodes_n):
-        """These edges, and their CSR graph over ``nodes_n`` nodes."""
-        self.ij, self.w, self.done = ij, np.ascontiguousarray(w, dtype=float), done.copy()
+        """These edges, and their CSR graph over ``nodes_n`` nodes (:func:`_csr_kernel`)."""
+        self.ij, self.w, self.done = ij, np.ascontiguousarray(w, dtype=float), done
         m = len(self.w)
-        src = self.ij.ravel()
-        order = np.argsort(src, kind="stable")  # as _shortest orders its neighbour lists
-        self.dst = self.ij[:, ::-1].ravel()[order]
-        self.wt = np.repeat(self.w, 2)[order]  # a refuted edge's length is inf already
-        self.slot = np.empty(2 * m, dtype=np.int64)  # where each edge's two entries went
-        self.slot[order] = np.arange(2 * m)
-        counts = np.bincount(src, minlength=nodes_n)
-        self.stop = np.cumsum(counts)
-        self.start = self.stop - counts
-        self.order = order
+        self.start, self.stop = np.zeros(nodes_n, dtype=np.int64), np.empty(nodes_n, dtype=np.int64)
+        self.dst, self.order, self.slot = (np.empty(2 * m, dtype=np.int64) for _ in range(3))
+        self.wt = np.empty(2 * m)
+        self.lazy.csr(np.ascontiguousarray(ij, dtype=np.int64), self.w,
+                      _Csr(self.start, self.stop, self.dst, self.wt, self.order, self.slot))
 
     def search(self, nodes, rounds, certify, budget, sources, targets, h):
         """:meth:`_DictEdges.search` in one compiled loop (:func:`_lazy_searches`)."""
@@ -509,7 +530,7 @@ class _ArrayEdges:
         c = certify
         is_target = np.zeros(len(nodes), dtype=np.bool_)
         is_target[targets] = True
-        status, used, hit, parent = self.lazy(
+        status, used, hit, parent = self.lazy.searches(
             rounds, len(nodes),
             _Roadmap(self.start, self.stop, self.dst, self.wt, self.order, self.slot, self.w,
                      self.done, sources, is_target, h),
@@ -572,6 +593,34 @@ def _add_candidate_edges(arm, nodes, k, edges, first_new, budget=None):
 #: Searches the roadmap loop runs between two looks at the clock.
 SEARCHES = 16
 _NO_PATH, _FOUND, _MORE, _LIMIT = 0, 1, 2, 3
+
+
+#: A CSR graph as :func:`_csr_kernel` fills it (see :data:`_Roadmap`).
+_Csr = namedtuple("_Csr", "start stop dst wt order slot")
+
+
+def _csr_kernel(ij, w, csr):
+    """The CSR graph of the edges ``ij`` (lengths ``w``) into ``csr`` (:data:`_Csr`; ``start``
+    zeros): node u's neighbours ``dst[start[u]:stop[u]]`` in edge order, entry ``p`` edge
+    ``order[p] >> 1``'s (``2e`` its first end's, ``2e + 1`` its second's), ``slot`` the
+    inverse of ``order``: the stable sort by source of :func:`_shortest`, by counting."""
+    start, stop, dst, wt, order, slot = csr
+    m = ij.shape[0]
+    for e in range(m):
+        start[ij[e, 0]] += 1
+        start[ij[e, 1]] += 1
+    total = 0
+    for u in range(start.shape[0]):
+        count = start[u]
+        start[u] = total
+        stop[u] = total
+        total += count
+    for e in range(m):
+        for end in range(2):
+            u, v = ij[e, end], ij[e, 1 - end]
+            p = stop[u]
+            stop[u] += 1
+            dst[p], wt[p], order[p], slot[2 * e + end] = v, w[e], 2 * e + end, p
 
 
 #: The roadmap as :func:`_lazy_searches` reads it: the CSR graph of :class:`_ArrayEdges`
@@ -648,6 +697,8 @@ def _dijkstra_compiled(*args):
 
 
 _bisect_compiled = _wrap_compiled = _dijkstra_compiled
+#: The compiled loops of :class:`_ArrayEdges`: the searches and the CSR builder.
+_Lazy = namedtuple("_Lazy", "searches csr")
 
 
 @functools.cache
@@ -660,7 +711,7 @@ def _compiled_lazy():
     g = globals()
     g["_dijkstra_compiled"], g["_bisect_compiled"], g["_wrap_compiled"] = (
         dijkstra, loops.bisect, loops.wrap)
-    return jit(_lazy_searches)
+    return _Lazy(jit(_lazy_searches), jit(_csr_kernel))
 
 
 # Its kernels are compiled before a time budget of it starts (rapp.sampling.prepare_kernels).

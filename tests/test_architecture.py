@@ -109,7 +109,7 @@ LAYERS = {
              "heap", "jit", "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
              "reference"},
     # and every planner's own module, which the planner table names (planner_modules below)
-    "planners": {"sampling", "sampling_kernel", "planners", "progress"},
+    "planners": {"sampling", "sampling_kernel", "planners", "progress", "roadmap"},
     "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts",
                  "recorded", "baseline", "traceability", "schema"},
     "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live"},
