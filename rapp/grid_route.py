@@ -34,16 +34,40 @@ from rapp.obstacles import Circle
 from rapp.paths import (GRID_TOO_COARSE, ITERATION_CAP, NO_PATH, PlannerResult, path_length,
                         unwrap_near, unwrap_path)
 from rapp.search import astar_search, bfs_distances
+from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
 
-__all__ = ["default_cells", "anchor_cell", "grid_route", "grid_step_motion", "obstacle_size",
+__all__ = ["default_cells", "edge_test", "anchor_cell", "grid_route", "grid_step_motion", "obstacle_size",
            "self_collision_cells"]
 
 
-def anchor_cell(arm: Arm, obstacles, grid: JointGrid, blocked, q) -> np.ndarray | None:
+def edge_test(arm: Arm, obstacles, checker=None):
+    """The test of a straight move ``(a, b) -> (m,) bool`` (``a``, ``b`` broadcast): certified
+    free of ``obstacles`` (:func:`rapp.collision.segment_collision_free`), and with a user's
+    ``checker`` (:class:`rapp.validity.UserValidity`) also allowed by it at every sample.
+
+    Examples
+    --------
+    >>> from rapp.validity import UserValidity
+    >>> free = edge_test(Arm([1.0, 1.0]), [], UserValidity(lambda q: q[:, 0] < 0.5, 0.1))
+    >>> free([0.0, 0.0], [[0.4, 0.0], [0.6, 0.0]]).tolist()
+    [True, False]
+    """
+    def free(a, b):
+        a, b = np.broadcast_arrays(np.atleast_2d(np.asarray(a, float)),
+                                   np.atleast_2d(np.asarray(b, float)))
+        ok = np.array(segment_collision_free(arm, a, b, obstacles), dtype=bool).reshape(-1)
+        if checker is not None and ok.any():
+            ok[ok] = checker.edges(a[ok], b[ok], arm)
+        return ok
+    return free
+
+
+def anchor_cell(arm: Arm, obstacles, grid: JointGrid, blocked, q, *, free=None) -> np.ndarray | None:
     """A free grid cell joined to the exact configuration ``q`` by a certified segment, or None.
 
     Candidates: the nearest cell, its axis neighbours and (for n <= 8) the
-    corners of the grid box around ``q``; the nearest certified one wins.
+    corners of the grid box around ``q``; the nearest certified one wins. ``free``, the
+    move test (:func:`edge_test`; by default certified against ``obstacles``), decides.
 
     Examples
     --------
@@ -73,22 +97,23 @@ def anchor_cell(arm: Arm, obstacles, grid: JointGrid, blocked, q) -> np.ndarray 
     if len(c) == 0:
         return None
     centres = unwrap_near(arm, grid.angles(c), q)
-    ok = segment_collision_free(arm, q, centres, obstacles)
+    ok = (segment_collision_free(arm, q, centres, obstacles) if free is None
+          else free(q, centres))
     if not ok.any():
         return None
     c, centres = c[ok], centres[ok]
     return c[np.argmin(np.linalg.norm(centres - q, axis=1))]
 
 
-def _anchors(arm, obstacles, grid, blocked, start, goal_qs):
+def _anchors(arm, obstacles, grid, blocked, start, goal_qs, free=None):
     """Start cell, goal cells (g', n) and the goal configurations that could be anchored."""
     shape_txt = "x".join(map(str, grid.shape))
-    s_cell = anchor_cell(arm, obstacles, grid, blocked, start)
+    s_cell = anchor_cell(arm, obstacles, grid, blocked, start, free=free)
     if s_cell is None:
         raise GridTooCoarse(
             "no free grid cell next to the start can be joined to it by a collision-free "
             f"segment on the {shape_txt} grid; try more planner.cells")
-    anchors = [(anchor_cell(arm, obstacles, grid, blocked, g), g) for g in goal_qs]
+    anchors = [(anchor_cell(arm, obstacles, grid, blocked, g, free=free), g) for g in goal_qs]
     anchors = [(a, g) for a, g in anchors if a is not None]
     if not anchors:
         raise GridTooCoarse(
@@ -147,7 +172,7 @@ def _nearest_reachable_goal(grid, blocked, s_cell, g_cells, coarse: bool, why: s
     return best, int(d_goal[best])
 
 
-def _failed_moves(arm, obstacles, grid, cells, full, certified_keys):
+def _failed_moves(arm, obstacles, grid, cells, full, certified_keys, free=None):
     """Check the grid moves of ``cells`` not certified before; return (failing move indices, keys).
 
     Segments 0 and -1 of ``full`` join the exact start and goal to their
@@ -159,13 +184,14 @@ def _failed_moves(arm, obstacles, grid, cells, full, certified_keys):
     todo = np.flatnonzero(~np.isin(keys, certified_keys))
     ok = np.ones(len(keys), bool)
     if todo.size:
-        ok[todo] = segment_collision_free(arm, full[todo + 1], full[todo + 2], obstacles)
+        ok[todo] = (segment_collision_free(arm, full[todo + 1], full[todo + 2], obstacles)
+                    if free is None else free(full[todo + 1], full[todo + 2]))
         certified_keys = np.union1d(certified_keys, keys[todo[ok[todo]]])
     return np.flatnonzero(~ok), certified_keys
 
 
 def _route_on(arm, obstacles, grid, blocked, start, goal_qs, *, certified: bool,
-              heuristic_weight: float, max_expansions):
+              heuristic_weight: float, max_expansions, free=None):
     """Search ``blocked`` from the exact start to the nearest reachable goal.
 
     Returns (full unwrapped path, metrics, closed set of the last search) or raises
@@ -173,16 +199,18 @@ def _route_on(arm, obstacles, grid, blocked, start, goal_qs, *, certified: bool,
     With ``certified`` the grid moves are known to be free; otherwise each new
     move is checked and a failing one blocks its cell and the search repeats.
     """
-    s_cell, g_cells, g_qs = _anchors(arm, obstacles, grid, blocked, start, goal_qs)
+    s_cell, g_cells, g_qs = _anchors(arm, obstacles, grid, blocked, start, goal_qs, free)
     # The grid tests cell centres only, so its "no path" is a proof about the scene only when
     # one step moves the arm less than the thinnest obstacle is thick: then no obstacle can
     # lie between the centres of two neighbouring cells unseen.
     motion = grid_step_motion(arm, grid)
     thinnest = min((obstacle_size(ob) for ob in obstacles), default=np.inf)
-    resolves = motion <= thinnest
+    resolves = motion <= thinnest and free is None
     why = "" if resolves else (
         f"; one step of this grid moves the arm up to {motion:.3g} m, more than the thinnest "
-        f"obstacle's half-thickness {thinnest:.3g} m, so a finer grid (planner.cells) may find one")
+        f"obstacle's half-thickness {thinnest:.3g} m, so a finer grid (planner.cells) may find one"
+        if free is None else "; the user's validity checker is sampled at the cell centres and "
+        "along the moves, which proves nothing between them, so a finer grid may find one")
     work = blocked.copy()
     repairs = expansions = 0
     certified_keys = np.zeros(0, np.int64)
@@ -205,7 +233,7 @@ def _route_on(arm, obstacles, grid, blocked, start, goal_qs, *, certified: bool,
         full = unwrap_path(arm, np.vstack([start, grid.angles(cells), g_qs[best]]))
         if certified:
             break
-        bad, certified_keys = _failed_moves(arm, obstacles, grid, cells, full, certified_keys)
+        bad, certified_keys = _failed_moves(arm, obstacles, grid, cells, full, certified_keys, free)
         if bad.size == 0:
             break
         # Block the cell a failing move enters (or leaves, if it enters the goal anchor).
@@ -242,7 +270,8 @@ def default_cells(n: int) -> int:
 
 def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_weight: float = 1.0,
                max_expansions=None, raise_on_failure: bool = True,
-               margin: float = 0.0) -> PlannerResult:
+               margin: float = 0.0, validity=None,
+               validity_resolution: float = DEFAULT_RESOLUTION) -> PlannerResult:
     """A certified polyline from ``start`` to the nearest reachable of ``goal``, by A* on a grid.
 
     A* runs first on the certified cells (no move needs checking); if they
@@ -266,6 +295,15 @@ def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_wei
     margin : float
         Safety margin (metres, >= 0) every link keeps beyond its radius
         (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
+    validity : callable, optional
+        A user's checker, ``(m, n)`` configurations -> ``m`` booleans (True: allowed), on top
+        of rapp's obstacles (:mod:`rapp.validity`): a cell is blocked when it rejects the
+        cell's centre (one call for the whole grid), and every move of the path, the anchors'
+        included, is sampled at ``validity_resolution`` (a failing move blocks its cell and the
+        search repeats). A "no path" is then no proof (``grid too coarse``), and the result
+        says its path was sampled (``certified`` False, ``checked_by``).
+    validity_resolution : float
+        Largest joint-space step (rad) between two samples of a move for ``validity``.
 
     Returns
     -------
@@ -289,15 +327,17 @@ def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_wei
     >>> r.goal_q.round(4).tolist()          # unwrapped: the way round clear of the disc
     [-4.2832, 0.0]
     """
+    checker = user_validity(validity, validity_resolution)
     try:
-        return _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions,
-                           margin)
+        return mark_sampled(_grid_route(arm, obstacles, start, goal, cells, heuristic_weight,
+                                        max_expansions, margin, checker), checker)
     except NoPathFound as err:
         if raise_on_failure:
             raise
         status = (GRID_TOO_COARSE if isinstance(err, GridTooCoarse) else ITERATION_CAP
                   if "limit of" in str(err) and max_expansions is not None else NO_PATH)
-        return PlannerResult(np.empty((0, arm.n)), False, float("inf"), {}, status)
+        return mark_sampled(PlannerResult(np.empty((0, arm.n)), False, float("inf"), {}, status),
+                            checker)
 
 
 def self_collision_cells(arm: Arm, grid: JointGrid, *, margin: float = 0.0,
@@ -329,11 +369,18 @@ def self_collision_cells(arm: Arm, grid: JointGrid, *, margin: float = 0.0,
     return occ.reshape(grid.shape), safe.reshape(grid.shape)
 
 
-def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions, margin):
+def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expansions, margin,
+                checker=None):
     if cells is None:
         cells = default_cells(arm.n)
     start = arm.check_q(start, "start")
     goal_qs = arm.check_q(np.atleast_2d(goal), "goal")
+    if checker is not None:
+        if not checker.points(start, arm)[0]:
+            raise NoPathFound("the start configuration is rejected by validity")
+        goal_qs = goal_qs[checker.points(goal_qs, arm)]
+        if len(goal_qs) == 0:
+            raise NoPathFound("every goal configuration is rejected by validity")
     obstacles = list(obstacles)
     t0 = time.perf_counter()
     grid = JointGrid(arm, cells)
@@ -349,14 +396,24 @@ def _grid_route(arm, obstacles, start, goal, cells, heuristic_weight, max_expans
     obstacles = list(obstacles)
     t1 = time.perf_counter()
     kw = {"heuristic_weight": heuristic_weight, "max_expansions": max_expansions}
-    try:
-        full, metrics, closed = _route_on(arm, obstacles, grid, ~safe, start, goal_qs, certified=True,
+    if checker is not None:
+        # The user's checker at every cell centre (one batch), and every move sampled: no cell
+        # is "certified" for it, so the search runs on the occupancy with each move checked.
+        occ = occ | ~checker.points(grid_q(grid).reshape(-1, arm.n), arm).reshape(grid.shape)
+        safe = safe & ~occ
+        full, metrics, closed = _route_on(arm, obstacles, grid, occ, start, goal_qs,
+                                          certified=False, free=edge_test(arm, obstacles, checker),
                                           **kw)
-        metrics["search_grid"] = "certified cells"
-    except GridTooCoarse:
-        full, metrics, closed = _route_on(arm, obstacles, grid, occ, start, goal_qs, certified=False,
-                                          **kw)
-        metrics["search_grid"] = "occupancy, moves checked"
+        metrics["search_grid"] = "occupancy and validity, moves checked"
+    else:
+        try:
+            full, metrics, closed = _route_on(arm, obstacles, grid, ~safe, start, goal_qs,
+                                              certified=True, **kw)
+            metrics["search_grid"] = "certified cells"
+        except GridTooCoarse:
+            full, metrics, closed = _route_on(arm, obstacles, grid, occ, start, goal_qs,
+                                              certified=False, **kw)
+            metrics["search_grid"] = "occupancy, moves checked"
     times = {"cspace": t1 - t0, "search": time.perf_counter() - t1}
     metrics.update({"grid_cells": int(occ.size), "free_fraction": float(1.0 - occ.mean()),
                     "certified_fraction": float(safe.mean())})

@@ -97,6 +97,13 @@ class PlannerResult:
         return self.path
 
     @property
+    def certified(self) -> bool:
+        """False when the path relied on a user's ``validity`` checker (:mod:`rapp.validity`),
+        which is sampled, not certified (``details["checked_by"]`` says at which step); True
+        when every segment is proved free of rapp's obstacles alone."""
+        return bool(self.details.get("certified", True))
+
+    @property
     def goal_q(self) -> np.ndarray:
         """The goal configuration reached: the last waypoint."""
         return self.path[-1]

@@ -57,8 +57,9 @@ from rapp.prm import prm
 from rapp.rrt import MAX_STEP, MIN_STEP, check_reachable, rrt
 from rapp.rrt_connect import rrt_connect
 from rapp.rrt_star import rrt_star
+from rapp.validity import MAX_RESOLUTION, MIN_RESOLUTION
 
-__all__ = ["Setting", "Planner", "PLANNERS", "SETTINGS", "names", "entry", "all_settings", "run",
+__all__ = ["Setting", "Planner", "PLANNERS", "SETTINGS", "USER_CHECK", "names", "entry", "all_settings", "run",
            "MAX_HEURISTIC_WEIGHT", "MAX_GOAL_THRESHOLD", "MAX_TIME_BUDGET"]
 
 #: Largest ``heuristic_weight``: weighted A* returns a path at most this factor longer than
@@ -100,6 +101,11 @@ class Setting:
         Given to a planner that does not read it, the loader warns (A*'s own settings and
         ``seed`` do not: a file that switches algorithm keeps them harmlessly).
     description : str
+    in_files : bool
+        A scenario file may hold it. ``validity`` (a Python callable) and its
+        ``validity_resolution`` are keywords of the planner functions only: a file cannot carry
+        a callable, so the loader, the schema and the echo leave them out (:func:`all_settings`,
+        :attr:`Planner.keys`).
     """
 
     key: str
@@ -115,6 +121,7 @@ class Setting:
     null_text: str = "none"
     warns_when_ignored: bool = True
     description: str = ""
+    in_files: bool = True
 
     def accepts(self, value) -> bool:
         """Whether a number of the right kind is within the range.
@@ -180,8 +187,13 @@ class Planner:
 
     @property
     def keys(self) -> tuple:
-        """The names of the settings it reads, in table order."""
-        return tuple(s.key for s in self.settings)
+        """The names of the settings it reads that a scenario file may hold, in table order."""
+        return tuple(s.key for s in self.settings if s.in_files)
+
+    @property
+    def code_keys(self) -> tuple:
+        """The names of its settings only a Python call can give (``validity``, ...)."""
+        return tuple(s.key for s in self.settings if not s.in_files)
 
     def default(self, key: str):
         """This planner's default for ``key``."""
@@ -219,6 +231,17 @@ TIME_BUDGET = Setting("time_budget", "number", None, 0.0, MAX_TIME_BUDGET, low_o
                       nullable=True, description="seconds at most; null: no limit")
 SEED = Setting("seed", "integer", None, 0, 2**63 - 1, label="seed", warns_when_ignored=False,
                description="seeds the random generator")
+VALIDITY = Setting("validity", "callable", None, label="validity", nullable=True,
+                   null_text="rapp's obstacles only", in_files=False,
+                   description="a user's checker, (m, n) configurations -> m booleans, sampled "
+                               "along each motion (rapp.validity); Python calls only")
+VALIDITY_RESOLUTION = Setting("validity_resolution", "number", None, MIN_RESOLUTION,
+                              MAX_RESOLUTION, range_text=f"[{MIN_RESOLUTION:g}, pi] rad",
+                              unit="rad", label="validity step", in_files=False,
+                              description="largest joint-space step between two samples of a "
+                                          "motion for validity")
+#: What every planner takes besides its own settings: a user's checker and its step.
+USER_CHECK = (VALIDITY, VALIDITY_RESOLUTION)
 
 
 #: The settings shared by the planners below, in the order the loader checks them and the echo
@@ -229,21 +252,24 @@ SETTINGS = (CELLS, HEURISTIC_WEIGHT, MAX_EXPANSIONS, STEP, RADIUS, GOAL_BIAS, GO
 
 #: Planner name -> :class:`Planner`. Read-only: a planner is added here, in code.
 PLANNERS: Mapping[str, Planner] = MappingProxyType({
-    "astar": Planner("astar", grid_route, (CELLS, HEURISTIC_WEIGHT, MAX_EXPANSIONS),
+    "astar": Planner("astar", grid_route, (CELLS, HEURISTIC_WEIGHT, MAX_EXPANSIONS, *USER_CHECK),
                      "A* on the joint grid, every move certified", grid=True,
                      complete="resolution", optimizing="resolution", proves_no_path=True),
-    "rrt": Planner("rrt", rrt, (STEP, GOAL_BIAS, GOAL_THRESHOLD, MAX_ITERATIONS, SEED, TIME_BUDGET),
+    "rrt": Planner("rrt", rrt, (STEP, GOAL_BIAS, GOAL_THRESHOLD, MAX_ITERATIONS, SEED, TIME_BUDGET,
+                                *USER_CHECK),
                    "a rapidly-exploring random tree from the start", check=check_reachable,
                    complete="probabilistic", iteration="samples"),
-    "rrt_connect": Planner("rrt_connect", rrt_connect, (STEP, MAX_ITERATIONS, SEED, TIME_BUDGET),
+    "rrt_connect": Planner("rrt_connect", rrt_connect, (STEP, MAX_ITERATIONS, SEED, TIME_BUDGET,
+                                                        *USER_CHECK),
                            "two trees, from the start and the goals, grown toward each other",
                            complete="probabilistic", iteration="samples"),
     "rrt_star": Planner("rrt_star", rrt_star, (STEP, RADIUS, GOAL_BIAS, GOAL_THRESHOLD,
-                                               MAX_ITERATIONS, SEED, TIME_BUDGET),
+                                               MAX_ITERATIONS, SEED, TIME_BUDGET, *USER_CHECK),
                         "RRT with rewiring: runs its whole budget, shortening the path",
                         complete="probabilistic", optimizing="asymptotically", anytime=True,
                         iteration="samples"),
-    "prm": Planner("prm", prm, (SAMPLES, NEIGHBOURS, MAX_ITERATIONS, SEED, TIME_BUDGET),
+    "prm": Planner("prm", prm, (SAMPLES, NEIGHBOURS, MAX_ITERATIONS, SEED, TIME_BUDGET,
+                                *USER_CHECK),
                    "a lazy probabilistic roadmap; its iterations are path searches",
                    complete="probabilistic", iteration="path searches"),
 })
@@ -263,14 +289,15 @@ def entry(name: str) -> Planner:
 
 
 def all_settings() -> dict:
-    """Every setting of any planner, key -> :class:`Setting`: :data:`SETTINGS`' order first, then
-    any a planner brings of its own. A key's range is the same in every planner that reads it;
+    """Every setting of any planner that a scenario file may hold (:attr:`Setting.in_files`),
+    key -> :class:`Setting`: :data:`SETTINGS`' order first, then any a planner brings of its own. A key's range is the same in every planner that reads it;
     its default here is that of the first planner reading it (``max_iterations`` differs by
     planner: :meth:`Planner.default`)."""
     read: dict = {}
     for p in PLANNERS.values():
         for s in p.settings:
-            read.setdefault(s.key, s)
+            if s.in_files:   # a scenario file's keys (validity is for Python calls only)
+                read.setdefault(s.key, s)
     return {**{s.key: read[s.key] for s in SETTINGS if s.key in read}, **read}
 
 

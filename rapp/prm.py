@@ -45,6 +45,7 @@ from rapp.rrt import RRTResult
 from rapp.sampling import warms
 from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared_norms, uniform_samples,
                            unwrapped_chain)
+from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
 
 __all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE", "CandidateEdges", "grow_roadmap",
            "heuristic", "path_of", "SEARCHES", "OutOfTime"]
@@ -195,7 +196,8 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
         samples: int = 500, neighbours: int = 10, seed: int | np.random.SeedSequence = 0,
         max_iterations: int = 500, time_budget: float | None = None,
         max_samples: int | None = None, raise_on_failure: bool = True,
-        neighbors: int | None = None, margin: float = 0.0) -> PlannerResult:
+        neighbors: int | None = None, margin: float = 0.0, validity=None,
+        validity_resolution: float = DEFAULT_RESOLUTION) -> PlannerResult:
     """Plan with a lazy probabilistic roadmap from ``start`` to a goal configuration.
 
     Parameters
@@ -218,6 +220,14 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
     margin : float
         Safety margin (metres, >= 0) every link keeps beyond its radius
         (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
+    validity : callable, optional
+        A user's checker, ``(m, n)`` configurations -> ``m`` booleans (True: allowed), on top
+        of rapp's certified obstacles: samples it rejects are not added, and an edge is sampled
+        at ``validity_resolution`` (:mod:`rapp.validity`). The roadmap is then searched in
+        numpy (compiled loops cannot call Python), and the result says its path was sampled
+        (``certified`` False, ``checked_by``).
+    validity_resolution : float
+        Largest joint-space step (rad) between two samples of an edge for ``validity``.
 
     Returns
     -------
@@ -245,7 +255,8 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
     cap_name = "samples" if max_samples is None else "max_samples"
     max_samples = 20 * samples if max_samples is None else positive_integer(max_samples, "max_samples")
     budget = Budget(max_iterations, time_budget)
-    start, goals = check_start_and_goals(arm, start, goal, obstacles)
+    checker = user_validity(validity, validity_resolution)
+    start, goals = check_start_and_goals(arm, start, goal, obstacles, checker)
     peak = roadmap_bytes(arm.n, max_samples + 1 + len(goals), neighbours)
     if peak > MEMORY_BUDGET:
         raise InvalidSetting(
@@ -255,8 +266,9 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
             f"the {MEMORY_BUDGET / 1e9:g} GB budget: lower {cap_name} or neighbours", cap_name)
     try:
         try:
-            return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples,
-                            budget, seed, raise_on_failure)
+            return mark_sampled(_roadmap(arm, start, goals, obstacles, samples, neighbours,
+                                         max_samples, budget, seed, raise_on_failure,
+                                         checker=checker), checker)
         except _Limit:  # the numpy loop meets the same edge and raises its message
             budget = Budget(max_iterations, time_budget)
             return _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples,
@@ -270,12 +282,14 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
 
 
 def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, budget, seed,
-             raise_on_failure, compiled=True) -> RRTResult:
-    """The lazy PRM loop of :func:`prm` on validated arguments; raises _OutOfTime."""
+             raise_on_failure, compiled=True, checker=None) -> RRTResult:
+    """The lazy PRM loop of :func:`prm` on validated arguments; raises _OutOfTime. A user's
+    ``checker`` (:class:`rapp.validity.UserValidity`) runs it in numpy."""
+    compiled = compiled and checker is None  # the compiled loops cannot call Python
     rng = np.random.default_rng(seed)
     nodes = arm.wrap(np.vstack((start, goals)))
     goal_ids = np.arange(1, len(goals) + 1)
-    edges = CandidateEdges(arm, obstacles, neighbours, compiled=compiled)
+    edges = CandidateEdges(arm, obstacles, neighbours, compiled=compiled, checker=checker)
     parent, hit = np.full(len(nodes), -1), -1
     grow, full = True, False
     while True:
@@ -288,7 +302,7 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
                 full = True
                 break
             first_new = len(nodes)
-            nodes = grow_roadmap(arm, rng, nodes, samples, obstacles, budget)
+            nodes = grow_roadmap(arm, rng, nodes, samples, obstacles, budget, checker)
             edges.add(nodes, 0 if first_new <= 1 + len(goals) else first_new, budget)
         parent, hit, used, found = edges.search(nodes, rounds, [0], goal_ids, budget)
         budget.iterations += used
@@ -331,8 +345,8 @@ def heuristic(arm, nodes, targets) -> np.ndarray:
     Examples
     --------
     >>> from rapp import Arm
-    >>> heuristic(Arm([1.0, 1.0]), np.array([[0.0, 0.0], [3.0, 4.0]]), [1]).round(9).tolist()
-    [5.0, 0.0]
+    >>> heuristic(Arm([1.0, 1.0]), np.array([[0.0, 0.0], [0.3, 0.4]]), [1]).round(9).tolist()
+    [0.5, 0.0]
     """
     d = arm.joint_delta(nodes[:, None, :], nodes[np.asarray(targets, dtype=np.int64)][None])
     # Scaled down by far more than rounding, so that the bound stays below every path's length
@@ -350,7 +364,8 @@ class CandidateEdges:
     own nodes, found last); ``state()`` and ``restore(...)`` give and take ``(ij, w, done)``.
     The compiled loops (arrays, :func:`_lazy_searches`) when numba is there and the arm has no
     self-collision, the numpy loop (a dict) otherwise; both keep the same edges in the same
-    order and search alike. With ``fallback`` an edge beyond the compiled certificate's limit
+    order and search alike. A user's ``checker`` (:class:`rapp.validity.UserValidity`) also
+    judges every edge (sampled, numpy loop). With ``fallback`` an edge beyond the compiled certificate's limit
     moves the edges to the numpy loop, which says so; without it, the search raises _Limit.
 
     Examples
@@ -365,16 +380,17 @@ class CandidateEdges:
     (2, True, [True, True])
     """
 
-    def __init__(self, arm, obstacles, neighbours, compiled=True, fallback=False):
+    def __init__(self, arm, obstacles, neighbours, compiled=True, fallback=False, checker=None):
         self.arm, self.obstacles, self.neighbours = arm, list(obstacles), neighbours
         self.fallback = fallback
-        # The compiled loops know obstacles only: an arm with self-collision searches in numpy.
+        # The compiled loops know obstacles only: an arm with self-collision, or a user's
+        # checker (Python), searches in numpy.
         loops = (sampling_kernel.kernels() if compiled and self.obstacles and not arm.self_collision
-                 else None)
+                 and checker is None else None)
         lazy = _compiled_lazy() if loops is not None else None
         self.impl = (_ArrayEdges(arm, neighbours, loops, lazy) if lazy is not None
                      else _DictEdges(arm, neighbours))
-        self.certify = EdgeCertifier(arm, self.obstacles)
+        self.certify = EdgeCertifier(arm, self.obstacles, checker)
 
     def add(self, nodes, first_new, budget=None) -> None:
         self.impl.add(nodes, first_new, budget)
@@ -541,8 +557,9 @@ class _ArrayEdges:
         return parent, int(hit), int(used), status == _FOUND
 
 
-def grow_roadmap(arm, rng, nodes, k, obstacles, budget=None) -> np.ndarray:
-    """``nodes`` with ``k`` free uniform samples appended (drawn until that many are free).
+def grow_roadmap(arm, rng, nodes, k, obstacles, budget=None, checker=None) -> np.ndarray:
+    """``nodes`` with ``k`` free uniform samples appended (drawn until that many are free;
+    with a user's ``checker``, also allowed by it).
 
     Examples
     --------
@@ -557,6 +574,8 @@ def grow_roadmap(arm, rng, nodes, k, obstacles, budget=None) -> np.ndarray:
         q = uniform_samples(arm, rng, k)
         if obstacles or arm.self_collision:
             q = q[~collides(arm, q, obstacles)]
+        if checker is not None:
+            q = q[checker.points(q, arm)]
         new.append(q)
         have += len(q)
         if have >= k:

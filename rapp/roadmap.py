@@ -39,6 +39,7 @@ from rapp.paths import NODE_CAP, TIME_BUDGET_SPENT, PlannerResult, tree_result
 from rapp.prm import (MEMORY_BUDGET, SEARCHES, CandidateEdges, OutOfTime, grow_roadmap, path_of,
                       roadmap_bytes)
 from rapp.sampling import Budget, check_start_and_goals
+from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
 
 __all__ = ["Roadmap", "FORMAT", "VERSION"]
 
@@ -69,6 +70,10 @@ class Roadmap:
         Largest roadmap (default ``20 * samples``).
     margin : float
         Safety margin (metres, >= 0) every link keeps beyond its radius.
+    validity, validity_resolution
+        A user's checker and its sampling step, as :func:`rapp.prm.prm`: samples it rejects
+        are not added, every edge is also sampled by it (numpy loop), and a query's result
+        says its path was sampled. Such a roadmap cannot be saved (the checker is code).
 
     Examples
     --------
@@ -83,7 +88,9 @@ class Roadmap:
 
     def __init__(self, arm: Arm, obstacles: Iterable[Circle | Polygon] = (), *,
                  samples: int = 500, neighbours: int = 10, seed: int = 0,
-                 max_samples: int | None = None, margin: float = 0.0) -> None:
+                 max_samples: int | None = None, margin: float = 0.0, validity=None,
+                 validity_resolution: float = DEFAULT_RESOLUTION) -> None:
+        self.checker = user_validity(validity, validity_resolution)
         self._setup(arm, list(obstacles), margin, samples, neighbours, max_samples)
         self.rng = np.random.default_rng(seed)
         self.nodes = np.empty((0, arm.n))
@@ -105,11 +112,13 @@ class Roadmap:
                 f"a roadmap of up to {self.max_samples} nodes with {self.neighbours} neighbours "
                 f"each would need about {peak / 1e9:.3g} GB, over the {MEMORY_BUDGET / 1e9:g} GB "
                 "budget: lower samples, max_samples or neighbours", "max_samples")
-        self.edges = CandidateEdges(self._arm0, self._pieces, self.neighbours, fallback=True)
+        self.edges = CandidateEdges(self._arm0, self._pieces, self.neighbours, fallback=True,
+                                    checker=self.checker)
 
     def _grow(self, budget=None) -> None:
         """``samples`` more free nodes and their candidate edges (all or nothing)."""
-        nodes = grow_roadmap(self._arm0, self.rng, self.nodes, self.samples, self._pieces, budget)
+        nodes = grow_roadmap(self._arm0, self.rng, self.nodes, self.samples, self._pieces, budget,
+                             self.checker)
         m = self.edges.count
         try:
             self.edges.add(nodes, len(self.nodes), budget)
@@ -126,14 +135,15 @@ class Roadmap:
         the last search's tree; ``iterations`` the searches this query ran.
         """
         budget = Budget(max_iterations, time_budget)
-        start, goals = check_start_and_goals(self._arm0, start, goal, self._pieces)
+        start, goals = check_start_and_goals(self._arm0, start, goal, self._pieces, self.checker)
         ends = self._arm0.wrap(np.vstack((start, goals)))
         nodes, parent, status = self.nodes, np.full(len(self.nodes), -1), None
         try:
             while status is None:
                 path, nodes, parent, status = self._search(start, ends, budget)
                 if path is not None:
-                    return tree_result(self.arm, path, nodes, parent, budget.iterations)
+                    return mark_sampled(tree_result(self.arm, path, nodes, parent,
+                                                    budget.iterations), self.checker)
                 if status is None and len(self.nodes) >= self.max_samples:
                     budget.iterations += 1  # this search was counted before the roadmap was full
                     status = NODE_CAP
@@ -152,7 +162,8 @@ class Roadmap:
             msg = budget.stopped("Roadmap query", outcome, unit="searches")
         if raise_on_failure:
             raise NoPathFound(msg)
-        return tree_result(self.arm, None, nodes, parent, budget.iterations, status)
+        return mark_sampled(tree_result(self.arm, None, nodes, parent, budget.iterations, status),
+                            self.checker)
 
     def _search(self, start, ends, budget):
         """Searches with the query's ends joined: ``(path, nodes, parent, status)``; ``path``
@@ -180,6 +191,9 @@ class Roadmap:
         """Write the roadmap to ``path`` as a numpy archive (atomically; never over the file
         it was loaded from)."""
         path = os.fspath(path)
+        if self.checker is not None:
+            raise InvalidSetting("a roadmap built with a validity checker cannot be saved (the "
+                                 "checker is Python code)", "validity")
         source = getattr(self, "source", None)
         if source is not None and os.path.exists(path) and os.path.samefile(path, source):
             raise InvalidSetting(f"{path} is the file this roadmap was loaded from: save it "
@@ -213,6 +227,7 @@ class Roadmap:
     def _from(cls, fields, path) -> "Roadmap":
         meta = fields["meta"]
         self = cls.__new__(cls)
+        self.checker = None
         try:
             arm = Arm(**meta["arm"])
             obstacles = [_obstacle(o) for o in meta["obstacles"]]

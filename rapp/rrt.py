@@ -83,7 +83,8 @@ from rapp.errors import InvalidSetting, NoPathFound
 from rapp.ik import jacobian
 from rapp.paths import ITERATION_CAP, NO_PATH, TIME_BUDGET_SPENT, PlannerResult, tree_result
 from rapp.sampling import warms
-from rapp.sampling import Budget, Tree
+from rapp.sampling import Budget, EdgeCertifier, Tree
+from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
 
 __all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "check_reachable", "Grower", "MIN_STEP", "MAX_STEP"]
 
@@ -169,6 +170,8 @@ def rrt(
     trace: list | None = None,
     time_budget: float | None = None,
     margin: float = 0.0,
+    validity=None,
+    validity_resolution: float = DEFAULT_RESOLUTION,
 ) -> PlannerResult:
     """Grow an RRT in joint space from ``start`` until it reaches the goal.
 
@@ -207,6 +210,14 @@ def rrt(
     margin : float
         Safety margin (metres, >= 0) every link keeps beyond its radius
         (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
+    validity : callable, optional
+        A user's checker, ``(m, n)`` configurations -> ``m`` booleans (True: allowed), on top
+        of rapp's certified obstacles: every edge is also sampled at ``validity_resolution``
+        (:mod:`rapp.validity`), and a start it rejects is refused. The result says its path
+        was sampled (``certified`` False, ``checked_by``). RRT has no compiled loop: nothing
+        else changes.
+    validity_resolution : float
+        Largest joint-space step (rad) between two samples of an edge for ``validity``.
 
     Returns
     -------
@@ -239,12 +250,14 @@ def rrt(
     obstacles = list(obstacles)
     start, goals, gxy, step = _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias,
                                                    goal_threshold, steer)
+    checker = user_validity(validity, validity_resolution)
     tree = _Tree(arm, arm.wrap(start))
 
     def fail(msg, it, status):
         if raise_on_failure:
             raise NoPathFound(msg)
-        return tree_result(arm, None, tree.nodes.copy(), tree.parent.copy(), it, status)
+        return mark_sampled(tree_result(arm, None, tree.nodes.copy(), tree.parent.copy(), it,
+                                        status), checker)
 
     if obstacles:  # thousands of checks follow: the compiled kernel (rapp._kernels.collision_numba)
         collision_backend.kernels()
@@ -258,6 +271,14 @@ def rrt(
             return fail("every goal configuration collides", 0, NO_PATH)
     if gxy is not None and np.linalg.norm(gxy) > arm.reach[1] + goal_threshold:
         return fail("goal_xy is beyond the arm's reach", 0, NO_PATH)
+    if checker is not None:
+        if not checker.points(start, arm)[0]:
+            return fail("the start configuration is rejected by validity", 0, NO_PATH)
+        if goals is not None and gxy is None:
+            goals = goals[checker.points(goals, arm)]
+            if len(goals) == 0:
+                return fail("every goal configuration is rejected by validity", 0, NO_PATH)
+    free = _edge_test(arm, obstacles, checker)
 
     def reached(q, p):
         if gxy is not None:
@@ -273,12 +294,12 @@ def rrt(
         if not reached(tree.nodes[i], tree.xy[i]):
             return -1
         if goals is not None and gxy is None:
-            return _join_goal(arm, obstacles, tree, i, goals, trace, grow.iteration)
+            return _join_goal(arm, free, tree, i, goals, trace, grow.iteration)
         return i
 
     budget = Budget(max_iterations, time_budget)  # validates both
     rng = np.random.default_rng(seed)
-    grow = Grower(arm, obstacles, tree, goals, gxy, step, steer, goal_bias, trace)
+    grow = Grower(arm, obstacles, tree, goals, gxy, step, steer, goal_bias, trace, free)
     hit = arrive(0)
     it = 0
     while hit < 0 and it < max_iterations:
@@ -297,7 +318,15 @@ def rrt(
         return fail(f"RRT stopped: max_iterations {max_iterations} reached, no goal reached", it,
                     ITERATION_CAP)
     path = _unwrapped_path(arm, tree, hit, start)
-    return tree_result(arm, path, tree.nodes.copy(), tree.parent.copy(), it)
+    return mark_sampled(tree_result(arm, path, tree.nodes.copy(), tree.parent.copy(), it), checker)
+
+
+def _edge_test(arm, obstacles, checker):
+    """Free or not for edges ``(a, b) -> (m,)``: certified (:func:`segment_collision_free`), and
+    with a user's checker also sampled by it (:class:`rapp.sampling.EdgeCertifier`)."""
+    if checker is None:
+        return lambda a, b: segment_collision_free(arm, a, b, obstacles)
+    return EdgeCertifier(arm, obstacles, checker)
 
 
 def _check_rrt_arguments(arm, start, goal, goal_xy, step, goal_bias, goal_threshold, steer):
@@ -355,8 +384,11 @@ class Grower:
     edge by edge.
     """
 
-    def __init__(self, arm, obstacles, tree, goals, gxy, step, steer, goal_bias, trace=None):
+    def __init__(self, arm, obstacles, tree, goals, gxy, step, steer, goal_bias, trace=None,
+                 free=None):
         self.arm, self.obstacles, self.tree = arm, obstacles, tree
+        #: The edge test ``(a, b) -> (m,) bool``; by default certified against ``obstacles``.
+        self.free = _edge_test(arm, obstacles, None) if free is None else free
         self.goals, self.gxy, self.step, self.steer, self.goal_bias = goals, gxy, step, steer, goal_bias
         self.newton_goal = goals is None
         self.trace = trace
@@ -394,7 +426,7 @@ class Grower:
             ok = d_s > 0
             spec_free_s = np.zeros(i_s.shape, dtype=bool)
             if ok.any():
-                spec_free_s[ok] = segment_collision_free(arm, nodes[i_s[ok]], q_s[ok], self.obstacles)
+                spec_free_s[ok] = self.free(nodes[i_s[ok]], q_s[ok])
             spec_i[spec], spec_free[spec] = i_s, spec_free_s
         return targets, to_goal, spec_i, spec_free, m0
 
@@ -419,7 +451,7 @@ class Grower:
         if i == spec_i[k] and i < m0:
             edge_free = spec_free[k]
         else:
-            edge_free = bool(segment_collision_free(arm, tree.nodes[i], q_new, self.obstacles))
+            edge_free = bool(np.asarray(self.free(tree.nodes[i][None], q_new[None])).reshape(-1)[0])
         if not edge_free:
             self.record(target, to_goal[k], i, q_new, "blocked")
             return False
@@ -434,14 +466,15 @@ class Grower:
                                       self.tree.m - 1 if status == "added" else -1))
 
 
-def _join_goal(arm, obstacles, tree, hit, goals, trace=None, iteration=0) -> int:
-    """Join node ``hit`` to its nearest goal by a certified edge: the goal's node index, or -1."""
+def _join_goal(arm, edge_free, tree, hit, goals, trace=None, iteration=0) -> int:
+    """Join node ``hit`` to its nearest goal by an edge ``edge_free`` passes (:func:`_edge_test`):
+    the goal's node index, or -1."""
     gd = arm.joint_delta(tree.nodes[hit], goals)
     g = int(np.argmin(np.einsum("ij,ij->i", gd, gd)))
     if not np.any(gd[g] != 0):
         return hit
     end = tree.nodes[hit] + gd[g]
-    free = bool(segment_collision_free(arm, tree.nodes[hit], end, obstacles))
+    free = bool(np.asarray(edge_free(tree.nodes[hit][None], end[None])).reshape(-1)[0])
     if free:
         tree.add(goals[g], hit)
     if trace is not None:

@@ -41,6 +41,7 @@ from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import NODE_CAP, PlannerResult, tree_result
 from rapp.rrt import MAX_STEP, MIN_STEP
 from rapp.sampling import warms
+from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
 from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals,
                            endpoint_certified, motion_bounds_of, squared_norms, uniform_samples,
                            unwrapped_chain)
@@ -163,12 +164,18 @@ def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reac
     free = np.zeros(reach_k, dtype=bool)
     if reach_k:
         c0 = np.vstack((tree.clear[i], clear[: reach_k - 1]))
-        bounds = motion_bounds_of(points[:reach_k] - prev[:reach_k], reach)
-        free = (np.zeros(reach_k, bool) if arm.self_collision  # ends say nothing of link pairs
-                else endpoint_certified(c0, clear[:reach_k], bounds, touch))
-        todo = np.flatnonzero(~free)
-        if todo.size:  # the rest are bisected, as every edge was before
-            free[todo] = certify(prev[todo], points[todo])
+        if getattr(certify, "validity", None) is not None:
+            # A user's checker samples every edge (rapp.validity): all of them through certify,
+            # in one call, which still proves most of them free of obstacles by their ends.
+            ends = () if arm.self_collision else (c0, clear[:reach_k])
+            free = certify(prev[:reach_k], points[:reach_k], *ends)
+        else:
+            bounds = motion_bounds_of(points[:reach_k] - prev[:reach_k], reach)
+            free = (np.zeros(reach_k, bool) if arm.self_collision  # ends say nothing of link pairs
+                    else endpoint_certified(c0, clear[:reach_k], bounds, touch))
+            todo = np.flatnonzero(~free)
+            if todo.size:  # the rest are bisected, as every edge was before
+                free[todo] = certify(prev[todo], points[todo])
     ok = int(np.argmin(free)) if not free.all() else reach_k  # the free prefix
     last = -1
     parent = i
@@ -183,7 +190,8 @@ def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reac
 def rrt_connect(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle | Polygon] = (), *,
                 step: float = 0.1, seed: int | np.random.SeedSequence = 0,
                 max_iterations: int = 20000, time_budget: float | None = None,
-                raise_on_failure: bool = True, margin: float = 0.0) -> PlannerResult:
+                raise_on_failure: bool = True, margin: float = 0.0, validity=None,
+                validity_resolution: float = DEFAULT_RESOLUTION) -> PlannerResult:
     """Plan from ``start`` to a goal configuration with two trees that grow toward each other.
 
     Parameters
@@ -206,6 +214,14 @@ def rrt_connect(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable
     margin : float
         Safety margin (metres, >= 0) every link keeps beyond its radius
         (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
+    validity : callable, optional
+        A user's checker, ``(m, n)`` configurations -> ``m`` booleans (True: allowed), on top
+        of rapp's certified obstacles: every edge is also sampled at ``validity_resolution``
+        (:mod:`rapp.validity`). The planner then runs its numpy loop (compiled loops cannot
+        call Python), and the result says its path was sampled (``certified`` False,
+        ``checked_by``).
+    validity_resolution : float
+        Largest joint-space step (rad) between two samples of an edge for ``validity``.
 
     Returns
     -------
@@ -228,7 +244,8 @@ def rrt_connect(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable
     if not MIN_STEP <= step <= MAX_STEP:
         raise InvalidSetting(f"step must lie in [{MIN_STEP:g}, pi] rad, got {step:g}", "step")
     budget = Budget(max_iterations, time_budget)
-    start, goals = check_start_and_goals(arm, start, goal, obstacles)
+    checker = user_validity(validity, validity_resolution)
+    start, goals = check_start_and_goals(arm, start, goal, obstacles, checker)
     gaps = arm.joint_delta(start, goals)
     gap = float(np.sqrt((gaps * gaps).sum(axis=-1)).min())
     if step < smallest_step(gap):
@@ -242,9 +259,10 @@ def rrt_connect(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable
     reach = reach_matrix(arm)
     # Clearances this small cannot be told from touching (as in segment_collision_free).
     touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
-    # The compiled loops know obstacles only: an arm with self-collision grows in numpy.
+    # The compiled loops know obstacles only: an arm with self-collision, or a user's checker
+    # (Python), grows in numpy.
     loops = (sampling_kernel.kernels() if collision_backend.loaded() is not None
-             and not arm.self_collision else None)
+             and not arm.self_collision and checker is None else None)
     grown = None
     if loops is not None:
         grown = _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach,
@@ -252,7 +270,8 @@ def rrt_connect(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable
     if grown is None:  # no numba, or an edge beyond the kernel's interval limit (numpy raises)
         rng = np.random.default_rng(seed)
         budget = Budget(max_iterations, time_budget)
-        grown = _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_room)
+        grown = _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_room,
+                      checker)
     trees, meet, full = grown
     nodes = np.vstack((trees[0].nodes, trees[1].nodes))
     parent = np.concatenate((trees[0].parent, np.where(trees[1].parent >= 0,
@@ -264,17 +283,18 @@ def rrt_connect(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable
                                   f"after {budget.iterations} iterations (each node advances at "
                                   f"most step = {step:g} rad), no goal joined")
             raise NoPathFound(budget.stopped("RRT-Connect", "no goal joined"))
-        return tree_result(arm, None, nodes, parent, budget.iterations,
-                           NODE_CAP if full else budget.status())
+        return mark_sampled(tree_result(arm, None, nodes, parent, budget.iterations,
+                                        NODE_CAP if full else budget.status()), checker)
     walk = _root_chain(trees[0], meet[0])[::-1] + _root_chain(trees[1], meet[1])[1:]
     path = unwrapped_chain(arm, np.array(walk), start)
-    return tree_result(arm, path, nodes, parent, budget.iterations)
+    return mark_sampled(tree_result(arm, path, nodes, parent, budget.iterations), checker)
 
 
-def _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_room):
+def _grow(arm, start, goals, obstacles, step, rng, budget, reach, touch, chain_room,
+          checker=None):
     """The numpy loop: ``(trees, meet, full)``, ``meet`` the two nodes that met or None."""
     clearance = _Clearance(arm, obstacles, touch)
-    certify = EdgeCertifier(arm, obstacles)
+    certify = EdgeCertifier(arm, obstacles, checker)
     trees = [ClearanceTree(arm, [start], clearance), ClearanceTree(arm, goals, clearance)]
     meet = None
     # The start may already see a goal along one straight chain.

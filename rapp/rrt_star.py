@@ -39,6 +39,7 @@ from rapp._kernels.collision import pack
 from rapp.errors import NoPathFound
 from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import warms
+from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
 from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals, squared_norms,
                            uniform_samples, unwrapped_chain)
 
@@ -107,7 +108,8 @@ def rrt_star(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Ci
              goal_threshold: float = 0.01, seed: int | np.random.SeedSequence = 0, max_iterations: int = 3000,
              time_budget: float | None = None, gamma: float | None = None,
              radius: float | None = None, raise_on_failure: bool = True,
-             margin: float = 0.0) -> PlannerResult:
+             margin: float = 0.0, validity=None,
+             validity_resolution: float = DEFAULT_RESOLUTION) -> PlannerResult:
     """Plan with RRT*: the best path found to a goal configuration within the budget.
 
     It runs for the whole budget (an anytime planner), so ``max_iterations`` sets how good the
@@ -136,6 +138,14 @@ def rrt_star(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Ci
     margin : float
         Safety margin (metres, >= 0) every link keeps beyond its radius
         (``arm.link_radius``) from every obstacle (:func:`rapp.collision.scene`).
+    validity : callable, optional
+        A user's checker, ``(m, n)`` configurations -> ``m`` booleans (True: allowed), on top
+        of rapp's certified obstacles: every edge is also sampled at ``validity_resolution``
+        (:mod:`rapp.validity`). The planner then runs its numpy loop (compiled loops cannot
+        call Python), and the result says its path was sampled (``certified`` False,
+        ``checked_by``).
+    validity_resolution : float
+        Largest joint-space step (rad) between two samples of an edge for ``validity``.
 
     Examples
     --------
@@ -152,16 +162,18 @@ def rrt_star(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Ci
     if not 0.0 <= goal_bias <= 1.0:
         raise ValueError(f"goal_bias must lie in [0, 1], got {goal_bias!r}")
     budget = Budget(max_iterations, time_budget)
-    start, goals = check_start_and_goals(arm, start, goal, obstacles)
+    checker = user_validity(validity, validity_resolution)
+    start, goals = check_start_and_goals(arm, start, goal, obstacles, checker)
     n = arm.n
     volume = float(np.prod(arm.upper - arm.lower))
     if gamma is None:
         unit_ball = math.pi ** (n / 2) / math.gamma(n / 2 + 1)
         gamma = 2.0 * ((1 + 1 / n) * volume / unit_ball) ** (1 / n)
     rng = np.random.default_rng(seed)
-    # The compiled loops know obstacles only: an arm with self-collision grows in numpy.
+    # The compiled loops know obstacles only: an arm with self-collision, or a user's checker
+    # (Python), grows in numpy.
     loops = (sampling_kernel.kernels() if collision_backend.loaded() is not None
-             and not arm.self_collision else None)
+             and not arm.self_collision and checker is None else None)
     grown = None
     if loops is not None:
         grown = _grow_compiled(loops, arm, goals, obstacles, step, radius, goal_bias,
@@ -169,18 +181,19 @@ def rrt_star(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Ci
     if grown is None:  # no numba, or an edge beyond the kernel's interval limit (numpy raises)
         rng, budget = np.random.default_rng(seed), Budget(max_iterations, time_budget)
         grown = _grow(arm, goals, obstacles, step, radius, goal_bias, goal_threshold, gamma, rng,
-                      budget, start)
+                      budget, start, checker)
     nodes, parent, best_goal = grown
     if best_goal < 0:
         if raise_on_failure:
             raise NoPathFound(budget.stopped("RRT*", "no goal reached"))
-        return tree_result(arm, None, nodes, parent, budget.iterations, budget.status())
+        return mark_sampled(tree_result(arm, None, nodes, parent, budget.iterations,
+                                        budget.status()), checker)
     # Rewiring may have improved the goal's branch since it was found: walk the parent map now.
     chain = [best_goal]
     while parent[chain[-1]] >= 0:
         chain.append(int(parent[chain[-1]]))
     path = unwrapped_chain(arm, nodes[chain[::-1]], start)
-    return tree_result(arm, path, nodes, parent, budget.iterations)
+    return mark_sampled(tree_result(arm, path, nodes, parent, budget.iterations), checker)
 
 
 def _targets(arm, goals, goal_bias, rng, k) -> np.ndarray:
@@ -192,10 +205,12 @@ def _targets(arm, goals, goal_bias, rng, k) -> np.ndarray:
     return out
 
 
-def _grow(arm, goals, obstacles, step, cap, goal_bias, goal_threshold, gamma, rng, budget, start):
-    """The numpy loop: ``(nodes, parent, best goal node or -1)``."""
+def _grow(arm, goals, obstacles, step, cap, goal_bias, goal_threshold, gamma, rng, budget, start,
+          checker=None):
+    """The numpy loop: ``(nodes, parent, best goal node or -1)``; every edge through one
+    :class:`rapp.sampling.EdgeCertifier`, with the user's ``checker`` if any."""
     n = arm.n
-    certify = EdgeCertifier(arm, obstacles)
+    certify = EdgeCertifier(arm, obstacles, checker)
     clearance = lambda q: link_clearances(arm, q, obstacles)  # noqa: E731
     tree = ClearanceTree(arm, [start], clearance)
     goal_clear = clearance(goals)

@@ -108,8 +108,11 @@ class EdgeCertifier:
     #: Pending intervals of the first, compiled try (the answer does not depend on it).
     FIRST_CAP = 64
 
-    def __init__(self, arm, obstacles):
+    def __init__(self, arm, obstacles, validity=None):
         self.arm, self.obstacles = arm, list(obstacles)
+        #: A user's checker (:class:`rapp.validity.UserValidity`) or None: with one, an edge is
+        #: free when rapp certifies it and the checker allows every sample of it.
+        self.validity = validity
         # Self-collision (arm.self_collision) is certified only by segment_collision_free.
         self.kernel = (collision_backend.loaded() if self.obstacles and not arm.self_collision
                        else None)
@@ -123,8 +126,19 @@ class EdgeCertifier:
 
         With the link clearances ``c0``, ``c1`` of both ends, an edge whose ends certify it
         (:func:`endpoint_certified`) is free and one with an end within touching distance is
-        not, without a bisection: the answers the bisection gives.
+        not, without a bisection: the answers the bisection gives. With a user's checker
+        (``validity``), an edge rapp certifies is then sampled at its resolution
+        (:meth:`rapp.validity.UserValidity.edges`, one call for all of them).
         """
+        free = self.certified(q0, q1, c0, c1)
+        if self.validity is not None and free.any():
+            free = np.array(free, dtype=bool)
+            q0, q1 = np.atleast_2d(q0), np.atleast_2d(q1)
+            free[free] = self.validity.edges(q0[free], q1[free], self.arm)
+        return free
+
+    def certified(self, q0, q1, c0=None, c1=None) -> np.ndarray:
+        """:meth:`__call__` for rapp's obstacles alone (the user's checker left out)."""
         if self.kernel is None:
             return segment_collision_free(self.arm, q0, q1, self.obstacles)
         q0 = np.ascontiguousarray(q0, dtype=float)
@@ -135,7 +149,7 @@ class EdgeCertifier:
             hit = ((c0 <= self.touch) | (c1 <= self.touch)).any(axis=-1)
             rest = np.flatnonzero(~free & ~hit)
             if rest.size:
-                free[rest] = self(q0[rest], q1[rest])
+                free[rest] = self.certified(q0[rest], q1[rest])
             return free
         code = self.kernel.certify(self.arm.lengths, q0, dq, bounds, *self.packed, 1e-9,
                                    self.FIRST_CAP, self.touch)
@@ -356,8 +370,11 @@ class Budget:
         return min(int(k), left)
 
 
-def check_start_and_goals(arm, start, goal, obstacles):
+def check_start_and_goals(arm, start, goal, obstacles, validity=None):
     """Validated start ``(n,)`` and goals ``(g, n)``; NoPathFound if the start or every goal collides.
+
+    With a user's checker (``validity``, a :class:`rapp.validity.UserValidity`), a start it
+    rejects is refused the same way, and goals it rejects are dropped.
 
     Examples
     --------
@@ -380,6 +397,12 @@ def check_start_and_goals(arm, start, goal, obstacles):
         goals = goals[~collides(arm, goals, obstacles)]
         if len(goals) == 0:
             raise NoPathFound("every goal configuration collides")
+    if validity is not None:
+        if not validity.points(start, arm)[0]:
+            raise NoPathFound("the start configuration is rejected by validity")
+        goals = goals[validity.points(goals, arm)]
+        if len(goals) == 0:
+            raise NoPathFound("every goal configuration is rejected by validity")
     return start, goals
 
 

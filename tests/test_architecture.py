@@ -107,7 +107,7 @@ def test_the_new_homes_are_documented(module):
 LAYERS = {
     "core": {"arm", "obstacles", "collision", "_kernels", "motion", "cspace", "search", "ik", "ik_kernel", "symbolic", "trajectory",
              "heap", "jit", "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
-             "reference"},
+             "reference", "validity"},
     # and every planner's own module, which the planner table names (planner_modules below)
     "planners": {"sampling", "sampling_kernel", "planners", "progress", "roadmap"},
     "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts",
