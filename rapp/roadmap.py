@@ -24,6 +24,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import zipfile
 from typing import Iterable
 
 import numpy as np
@@ -48,6 +49,8 @@ FORMAT = "rapp.Roadmap"
 #: The archive's ``version`` entry: the layout :meth:`Roadmap.load` reads.
 VERSION = 1
 _ARRAYS = ("nodes", "ij", "w", "done")
+#: What reading a damaged archive raises.
+_UNREADABLE = (OSError, ValueError, EOFError, zipfile.BadZipFile)
 _ARM_FIELDS = ("link_lengths", "joint_limits", "link_radius", "self_collision", "joint_names",
                "base", "joint_offsets")
 
@@ -217,7 +220,7 @@ class Roadmap:
             archive = np.load(path, allow_pickle=False)
         except FileNotFoundError:
             raise FileNotFound(f"no roadmap file {path}", "path") from None
-        except (OSError, ValueError) as e:
+        except _UNREADABLE as e:
             raise InvalidFormat(f"{path} is not a numpy archive ({e})", "path") from None
         with archive:
             fields = _read_fields(archive, path)
@@ -264,7 +267,7 @@ def _read_fields(archive, path) -> dict:
             raise InvalidFormat(f"{path} has no {key!r} entry: not a saved rapp.Roadmap", key)
         try:
             fields[key] = archive[key]
-        except (OSError, ValueError) as e:
+        except _UNREADABLE as e:
             raise InvalidFormat(f"{path}: entry {key!r} is unreadable ({e})", key) from None
     if str(fields["format"]) != FORMAT:
         raise InvalidFormat(f"{path} is a {str(fields['format'])!r} file, not a {FORMAT}",
