@@ -118,6 +118,11 @@ class Roadmap:
         self.edges = CandidateEdges(self._arm0, self._pieces, self.neighbours, fallback=True,
                                     checker=self.checker)
 
+    @property
+    def certified(self) -> int:
+        """How many of the roadmap's edges the queries so far have certified free."""
+        return int(self.edges.state()[2].sum())
+
     def _grow(self, budget=None) -> None:
         """``samples`` more free nodes and their candidate edges (all or nothing)."""
         nodes = grow_roadmap(self._arm0, self.rng, self.nodes, self.samples, self._pieces, budget,
