@@ -109,8 +109,8 @@ LAYERS = {
              "heap", "jit", "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
              "reference", "validity"},
     # and every planner's own module, which the planner table names (planner_modules below)
-    "planners": {"sampling", "sampling_kernel", "planners", "progress", "roadmap"},
-    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts",
+    "planners": {"sampling", "sampling_kernel", "planners", "progress"},
+    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts", "roadmap",
                  "recorded", "baseline", "traceability", "schema"},
     "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live"},
     "interface": {"cli", "__main__", "__init__"},
