@@ -34,7 +34,7 @@ from rapp.obstacles import Circle
 from rapp.paths import (GRID_TOO_COARSE, ITERATION_CAP, NO_PATH, PlannerResult, path_length,
                         unwrap_near, unwrap_path)
 from rapp.search import astar_search, bfs_distances
-from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
+from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, mark_sampled, user_validity
 
 __all__ = ["default_cells", "edge_test", "anchor_cell", "grid_route", "grid_step_motion", "obstacle_size",
            "self_collision_cells"]
@@ -270,7 +270,7 @@ def default_cells(n: int) -> int:
 
 def grid_route(arm: Arm, start, goal, obstacles=(), *, cells=None, heuristic_weight: float = 1.0,
                max_expansions=None, raise_on_failure: bool = True,
-               margin: float = 0.0, validity=None,
+               margin: float = 0.0, validity: ValidityFunction | None = None,
                validity_resolution: float = DEFAULT_RESOLUTION) -> PlannerResult:
     """A certified polyline from ``start`` to the nearest reachable of ``goal``, by A* on a grid.
 

@@ -174,6 +174,10 @@ PLANNERS = planner_table.PLANNERS
 def plan(scenario: Scenario | str | os.PathLike | Mapping[str, Any]) -> Plan:
     """Plan, time and verify a collision-free trajectory.
 
+    It plans against the scenario's obstacles only, every segment certified. A user's own
+    checker (``validity=``, :mod:`rapp.validity`) is a keyword of the planner functions, not a
+    scenario key: a scenario file cannot carry a Python callable.
+
     Parameters
     ----------
     scenario : Scenario, or anything :func:`rapp.load_scenario` accepts

@@ -45,7 +45,7 @@ from rapp.rrt import RRTResult
 from rapp.sampling import warms
 from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared_norms, uniform_samples,
                            unwrapped_chain)
-from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
+from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, mark_sampled, user_validity
 
 __all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE", "CandidateEdges", "grow_roadmap",
            "heuristic", "path_of", "SEARCHES", "OutOfTime"]
@@ -196,7 +196,8 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
         samples: int = 500, neighbours: int = 10, seed: int | np.random.SeedSequence = 0,
         max_iterations: int = 500, time_budget: float | None = None,
         max_samples: int | None = None, raise_on_failure: bool = True,
-        neighbors: int | None = None, margin: float = 0.0, validity=None,
+        neighbors: int | None = None, margin: float = 0.0,
+        validity: ValidityFunction | None = None,
         validity_resolution: float = DEFAULT_RESOLUTION) -> PlannerResult:
     """Plan with a lazy probabilistic roadmap from ``start`` to a goal configuration.
 

@@ -84,7 +84,7 @@ from rapp.ik import jacobian
 from rapp.paths import ITERATION_CAP, NO_PATH, TIME_BUDGET_SPENT, PlannerResult, tree_result
 from rapp.sampling import warms
 from rapp.sampling import Budget, EdgeCertifier, Tree
-from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
+from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, mark_sampled, user_validity
 
 __all__ = ["RRTResult", "RRTStep", "rrt", "plan_rrt", "check_reachable", "Grower", "MIN_STEP", "MAX_STEP"]
 
@@ -170,7 +170,7 @@ def rrt(
     trace: list | None = None,
     time_budget: float | None = None,
     margin: float = 0.0,
-    validity=None,
+    validity: ValidityFunction | None = None,
     validity_resolution: float = DEFAULT_RESOLUTION,
 ) -> PlannerResult:
     """Grow an RRT in joint space from ``start`` until it reaches the goal.

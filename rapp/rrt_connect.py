@@ -41,7 +41,7 @@ from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import NODE_CAP, PlannerResult, tree_result
 from rapp.rrt import MAX_STEP, MIN_STEP
 from rapp.sampling import warms
-from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
+from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, mark_sampled, user_validity
 from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals,
                            endpoint_certified, motion_bounds_of, squared_norms, uniform_samples,
                            unwrapped_chain)
@@ -190,7 +190,8 @@ def _extend(tree: ClearanceTree, target, step: float, certify, chain: bool, reac
 def rrt_connect(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle | Polygon] = (), *,
                 step: float = 0.1, seed: int | np.random.SeedSequence = 0,
                 max_iterations: int = 20000, time_budget: float | None = None,
-                raise_on_failure: bool = True, margin: float = 0.0, validity=None,
+                raise_on_failure: bool = True, margin: float = 0.0,
+                validity: ValidityFunction | None = None,
                 validity_resolution: float = DEFAULT_RESOLUTION) -> PlannerResult:
     """Plan from ``start`` to a goal configuration with two trees that grow toward each other.
 

@@ -39,7 +39,7 @@ from rapp._kernels.collision import pack
 from rapp.errors import NoPathFound
 from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import warms
-from rapp.validity import DEFAULT_RESOLUTION, mark_sampled, user_validity
+from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, mark_sampled, user_validity
 from rapp.sampling import (Budget, ClearanceTree, EdgeCertifier, Tree, check_start_and_goals, squared_norms,
                            uniform_samples, unwrapped_chain)
 
@@ -108,7 +108,7 @@ def rrt_star(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Ci
              goal_threshold: float = 0.01, seed: int | np.random.SeedSequence = 0, max_iterations: int = 3000,
              time_budget: float | None = None, gamma: float | None = None,
              radius: float | None = None, raise_on_failure: bool = True,
-             margin: float = 0.0, validity=None,
+             margin: float = 0.0, validity: ValidityFunction | None = None,
              validity_resolution: float = DEFAULT_RESOLUTION) -> PlannerResult:
     """Plan with RRT*: the best path found to a goal configuration within the budget.
 

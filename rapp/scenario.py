@@ -956,6 +956,12 @@ def _grid_cells(d, n: int) -> tuple:
 def _planner(v, n: int, warnings: list) -> PlannerSettings:
     """The ``planner`` object, checked against the planner table (:mod:`rapp.planners`)."""
     table = planner_table.all_settings()
+    if isinstance(v, dict):
+        for key in planner_table.USER_CHECK:   # keywords of the planner functions only
+            if key.key in v:
+                raise InvalidValue(f"a scenario file cannot carry a user's checker: pass "
+                                   f"{key.key}= to the planner function in Python "
+                                   "(rapp.validity)", field=f"planner.{key.key}")
     d = _object(v, "planner", optional=("algorithm",) + tuple(table))
     # A* by default; RRT for arms whose grid would not fit (said in the echo).
     fallback = "astar" if n <= GRID_DEFAULT_MAX_JOINTS or "cells" in d else "rrt"

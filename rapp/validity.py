@@ -49,15 +49,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
 from rapp.errors import InvalidSetting
 
-__all__ = ["DEFAULT_RESOLUTION", "MIN_RESOLUTION", "MAX_RESOLUTION", "MAX_BATCH", "UserValidity",
+__all__ = ["ValidityFunction", "DEFAULT_RESOLUTION", "MIN_RESOLUTION", "MAX_RESOLUTION", "MAX_BATCH", "UserValidity",
            "user_validity", "check_configurations", "motion_samples", "edges_valid",
            "sampled_text", "mark_sampled", "end_effector_travel"]
+
+#: A user's checker: an ``(m, n)`` array of configurations -> ``m`` booleans (True: allowed).
+ValidityFunction = Callable[[np.ndarray], Any]
 
 #: The default ``validity_resolution`` (rad): 0.01 rad, the joint accuracy the SRS asks of a
 #: plan (NFR1). OMPL's default is a fraction (1 %) of its space's extent; here it is a step.

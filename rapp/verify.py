@@ -37,7 +37,11 @@ passing report is evidence and a failing one says by how much:
   distance at 17 even points of the chord plus the curvature term ``K / 2048``,
   the bound of :func:`rapp.cartesian.edge_deviation_bound` on 16 intervals
   instead of 4), at most 1 mm. The bound covers the motion itself when the arm
-  moves along each chord between samples, as a plan of a line goal does.
+  moves along each chord between samples, as a plan of a line goal does;
+* ``validity (sampled at r rad, not certified)`` (only when :func:`verify` is given a user's
+  ``validity`` checker, :mod:`rapp.validity`): the checker at points at most
+  ``validity_resolution`` rad apart along each chord between samples, both ends included. A
+  sampled check, not a proof: the check's very name says so, never "certified".
 
 References
 ----------
@@ -64,6 +68,7 @@ from rapp.collision import (clearance, collides, scene, segment_collision_free, 
 from rapp.motion import certify_motion
 from rapp.time_scaling import peak_rates
 from rapp.trajectory import PiecewisePolynomial
+from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, user_validity
 
 __all__ = ["Check", "Report", "verify", "JOINT_TOL", "POSITION_TOL", "FK_TOL", "RATE_TOL",
            "MOTION_TOL", "CLEARANCE_RTOL"]
@@ -387,13 +392,32 @@ def _check_line(arm, q, xy, scenario) -> Check:
                  f"between samples along each joint-space chord ({sampled:.3g} m at the samples)")
 
 
-def verify(plan: Plan, scenario: Scenario) -> Report:
+def _check_validity(arm, q, checker) -> Check:
+    """The user's checker along every chord between samples, at its resolution (sampled)."""
+    chords = max(len(q) - 1, 1)
+    ok = (checker.edges(q[:-1], q[1:], arm) if len(q) >= 2 else checker.points(q, arm))
+    bad = int((~ok).sum())
+    return Check(f"validity ({checker.text})", bad == 0, bad, 0, "chords",
+                 f"the user's validity checker at points at most {checker.resolution:g} rad apart "
+                 f"along each of the {chords} chords between samples, ends included: "
+                 f"{checker.text}")
+
+
+def verify(plan: Plan, scenario: Scenario, *, validity: ValidityFunction | None = None,
+           validity_resolution: float = DEFAULT_RESOLUTION) -> Report:
     """Check a plan's timed trajectory against the scenario.
 
     Parameters
     ----------
     plan : Plan or any object with ``t`` (k,), ``q``, ``qd``, ``qdd`` (k, n) and ``xy`` (k, 2)
     scenario : Scenario
+    validity : callable, optional
+        A user's checker (:mod:`rapp.validity`), ``(m, n)`` configurations -> ``m`` booleans;
+        a scenario cannot carry one, so it is given here. Adds the check
+        ``validity (sampled at r rad, not certified)``: the checker at points at most
+        ``validity_resolution`` rad apart along each chord between samples.
+    validity_resolution : float
+        That step (rad).
 
     Returns
     -------
@@ -406,7 +430,11 @@ def verify(plan: Plan, scenario: Scenario) -> Report:
     >>> r = verify(plan(s), s)
     >>> r.ok, r["goal reached"].unit
     (True, 'm')
+    >>> away = lambda q: np.hypot(*s.arm.end_effector(q).T) > 0.1   # the tip keeps off the base
+    >>> verify(plan(s), s, validity=away, validity_resolution=0.05).checks[-1].name
+    'validity (sampled at 0.05 rad, not certified)'
     """
+    checker = user_validity(validity, validity_resolution)
     arm, obs = scenario.arm, scenario.obstacles
     t = np.asarray(plan.t, dtype=float)
     q = np.asarray(plan.q, dtype=float)
@@ -443,4 +471,6 @@ def verify(plan: Plan, scenario: Scenario) -> Report:
     if getattr(scenario, "goal_path", None) == "line":
         checks.append(_check_line(arm, q, xy, scenario))
     checks.extend(_check_rates(plan, qd, qdd, tr))
+    if checker is not None:
+        checks.append(_check_validity(arm, q, checker))
     return Report.from_checks(checks)
