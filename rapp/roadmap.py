@@ -89,6 +89,9 @@ class Roadmap:
     (True, True, 200)
     """
 
+    #: The file the roadmap was loaded from (:meth:`load`), never written over; None if built.
+    source: str | None = None
+
     def __init__(self, arm: Arm, obstacles: Iterable[Circle | Polygon] = (), *,
                  samples: int = 500, neighbours: int = 10, seed: int = 0,
                  max_samples: int | None = None, margin: float = 0.0, validity=None,
@@ -202,7 +205,7 @@ class Roadmap:
         if self.checker is not None:
             raise InvalidSetting("a roadmap built with a validity checker cannot be saved (the "
                                  "checker is Python code)", "validity")
-        source = getattr(self, "source", None)
+        source = self.source
         if source is not None and os.path.exists(path) and os.path.samefile(path, source):
             raise InvalidSetting(f"{path} is the file this roadmap was loaded from: save it "
                                  "under another name", "path")
