@@ -91,11 +91,22 @@ RRT_STAR_STEP, RRT_STAR_ITERATIONS = 0.2, 5000
 #: rapp's largest rewiring radius (rad): two steps.
 RRT_STAR_RADIUS = 2 * RRT_STAR_STEP
 TIME_LIMIT = 30.0
+#: rapp's PRM batch in the ``prm_small`` row: the median vertex count of OMPL's roadmap at its
+#: first path on this problem (10, recorded as ``median_vertices``).
+PRM_SMALL_SAMPLES = 10
+#: Only these rows are measured (RAPP_BENCH_PLANNERS=prm,prm_small); the others stay as
+#: recorded.
+ONLY = [x for x in os.environ.get("RAPP_BENCH_PLANNERS", "").split(",") if x]
 
 RAPP = {
     "rrt_connect": lambda arm, obs, seed: rrt_connect(arm, START, GOAL, obs, step=STEP, seed=seed,
                                                       raise_on_failure=False),
     "prm": lambda arm, obs, seed: prm(arm, START, GOAL, obs, seed=seed, raise_on_failure=False),
+    # rapp's PRM grows its roadmap in batches of ``samples`` (500 by default), OMPL's one
+    # sample at a time until it holds a path: this row gives rapp batches of the size of the
+    # roadmap OMPL ends with here (its median vertex count is recorded, ``median_vertices``).
+    "prm_small": lambda arm, obs, seed: prm(arm, START, GOAL, obs, seed=seed,
+                                            samples=PRM_SMALL_SAMPLES, raise_on_failure=False),
     "rrt_star": lambda arm, obs, seed, radius=RRT_STAR_RADIUS: rrt_star(
         arm, START, GOAL, obs, step=RRT_STAR_STEP, radius=radius, seed=seed,
         max_iterations=RRT_STAR_ITERATIONS, raise_on_failure=False),
@@ -148,7 +159,7 @@ def run_ompl(name, arm, obstacles, seed, factor=RANGE_FACTOR, rrt_star_range=RRT
     if name == "rrt_connect":
         planner = og.RRTConnect(si)
         planner.setRange(factor * STEP)
-    elif name == "prm":
+    elif name.startswith("prm"):
         planner = og.PRM(si)
     else:
         planner = og.RRTstar(si)
@@ -167,11 +178,18 @@ def run_ompl(name, arm, obstacles, seed, factor=RANGE_FACTOR, rrt_star_range=RRT
         solved = ss.solve(TIME_LIMIT)
     elapsed = time.process_time() - t0
     calls = valid.calls[0]
+    data = ob.PlannerData(si)
+    planner.getPlannerData(data)
+    VERTICES.append(data.numVertices())
     if not (solved and ss.haveExactSolutionPath()):
         return elapsed, False, np.nan, False, calls
     path = unwrap_path(arm, path_of(ss, arm.n))
     return (elapsed, True, path_length(path), bool(rapp.path_collision_free(arm, path, obstacles)),
             calls)
+
+
+#: The vertex count of OMPL's roadmap or tree at the end of each run (of the last planner).
+VERTICES: list = []
 
 
 def summary(runs):
@@ -248,10 +266,11 @@ def callback_cost(arm, obstacles, k=1000, repeats=20, rounds=5):
 
 def compare(arm, obstacles, excess_us):
     out = {}
-    for name in RAPP:
+    for name in ONLY or RAPP:
         run_rapp(name, arm, obstacles, 0)  # load the compiled loops (numba's disk cache)
         run_ompl(name, arm, obstacles, 0)
         runs = {"rapp": [], "ompl": []}
+        VERTICES.clear()
         for seed in range(SEEDS):
             # Alternate who goes first, so neither side always runs on a warm or cold cache.
             order = ("rapp", "ompl") if seed % 2 == 0 else ("ompl", "rapp")
@@ -259,6 +278,7 @@ def compare(arm, obstacles, excess_us):
                 run = run_rapp if side == "rapp" else run_ompl
                 runs[side].append(run(name, arm, obstacles, seed))
         out[name] = {side: summary(r) for side, r in runs.items()}
+        out[name]["ompl"]["median_vertices"] = float(np.median(VERTICES))
         rapp_s = out[name]["rapp"]["median_cpu_s"]
         out[name]["ompl"]["median_cpu_s_callback_corrected"] = corrected(runs["ompl"], excess_us)
         out[name]["ratio_ompl_over_rapp_cpu"] = out[name]["ompl"]["median_cpu_s"] / rapp_s
@@ -321,8 +341,11 @@ def main() -> None:
         print(f"{name:12s} OMPL / rapp, median CPU time: {sides['ratio_ompl_over_rapp_cpu']:.2f}x "
               f"measured, {sides['ratio_ompl_corrected_over_rapp_cpu']:.2f}x callback-corrected")
     name = sys.argv[1] if len(sys.argv) > 1 else "planners_cpu.json"
-    (Path(__file__).resolve().parent.parent / "rapp" / "recorded" / name).write_text(
-        json.dumps(result, indent=2) + "\n")
+    target = Path(__file__).resolve().parent.parent / "rapp" / "recorded" / name
+    if ONLY and target.exists():  # the rows not measured keep their recording
+        result["planners"] = {**json.loads(target.read_text())["planners"], **planners}
+        result["rows_measured"] = {"date": result["date"], "planners": ONLY}
+    target.write_text(json.dumps(result, indent=2) + "\n")
 
 
 if __name__ == "__main__":

@@ -62,7 +62,7 @@ __all__ = [
     # the application
     "Scenario", "load_scenario", "list_scenarios", "echo",
     "plan", "Plan", "verify", "Report", "save_result", "load_result",
-    "rrt", "rrt_connect", "rrt_star", "prm", "RRTResult",
+    "rrt", "rrt_connect", "rrt_star", "prm", "Roadmap", "RRTResult",
 ]
 
 #: The package version (``rapp --version``); pyproject.toml holds the same (a test compares).
@@ -89,6 +89,7 @@ _LAZY = {
     "rrt_connect": ("rrt_connect",),
     "rrt_star": ("rrt_star",),
     "prm": ("prm",),
+    "roadmap": ("Roadmap",),
     "planner": ("plan",),
 }
 _HOME = {name: module for module, names in _LAZY.items() for name in names}

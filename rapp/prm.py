@@ -1,15 +1,15 @@
 """Lazy PRM: a probabilistic roadmap whose edges are certified only when a path needs them.
 
 Free configurations are sampled uniformly and each is joined to its ``neighbours`` nearest
-(wrap-aware distance) by a *candidate* edge. Dijkstra's algorithm finds the shortest candidate
-path from the start to a goal; only that path's uncertified edges are then certified
-(:func:`rapp.collision.segment_collision_free`, all in one call). Edges that fail are removed
-and the search is repeated; when the roadmap holds no path, it grows by as many samples again.
+(wrap-aware distance) by a *candidate* edge. A* (Dijkstra's algorithm guided by the distance to
+the nearest goal, a lower bound) finds the shortest candidate path from the start to a goal; only that path's uncertified edges are then certified
+(:func:`rapp.collision.segment_collision_free`, all in one call). Edges that fail are refuted
+(never taken again) and the search is repeated; when the roadmap holds no path, it grows by as many samples again.
 Most candidate edges are never checked, which is where the time of a PRM goes.
 
 With numba the candidate edges are found by a compiled nearest-k scan and kept as arrays, and the
 rounds of search, certification and removal run in one compiled loop (:func:`_lazy_searches`,
-calling the compiled Dijkstra); the roadmaps, searches and paths are those of the dict-based
+calling the compiled A*); the roadmaps, searches and paths are those of the dict-based
 numpy loop, which is the fallback.
 
 References
@@ -48,7 +48,8 @@ from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared
                            unwrapped_chain)
 from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, mark_sampled, user_validity
 
-__all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE"]
+__all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE", "CandidateEdges", "grow_roadmap",
+           "heuristic", "path_of", "SEARCHES", "OutOfTime"]
 
 #: Peak bytes the roadmap may take (as the grid planner's budget, rapp.scenario.MEMORY_BUDGET).
 MEMORY_BUDGET = 1.5e9
@@ -60,10 +61,11 @@ BYTES_PER_EDGE = 400
 BLOCK_BYTES = 64_000_000
 
 
-def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target):
-    """Dijkstra over a CSR graph (node u's neighbours ``dst[start[u]:stop[u]]``), for numba.
+def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target, h):
+    """A* over a CSR graph (node u's neighbours ``dst[start[u]:stop[u]]``), for numba.
 
-    The heap (:mod:`rapp.heap`) holds ``(distance, node)`` pairs compared as heapq compares
+    ``h`` is a consistent lower bound of each node's distance to the targets (zeros: Dijkstra).
+    The heap (:mod:`rapp.heap`) holds ``(distance + h, node)`` pairs compared as heapq compares
     the tuples of :func:`_dijkstra`, and every neighbour list is in the order :func:`_dijkstra`
     builds, so both pop the same nodes in the same order and return the same parents.
     """
@@ -75,20 +77,21 @@ def _dijkstra_kernel(n, start, stop, dst, wt, sources, is_target):
     size = 0
     for s in sources:
         dist[s] = 0.0
-        size = heap.push(hd, hu, size, 0.0, s)
+        size = heap.push(hd, hu, size, 0.0 + h[s], s)
     while size:
-        d, u, size = heap.pop(hd, hu, size)
-        if d > dist[u]:
+        f, u, size = heap.pop(hd, hu, size)
+        if f > dist[u] + h[u]:
             continue
         if is_target[u]:
             return parent, u
+        d = dist[u]
         for e in range(start[u], stop[u]):
             v = dst[e]
             nd = d + wt[e]
             if nd < dist[v]:
                 dist[v] = nd
                 parent[v] = u
-                size = heap.push(hd, hu, size, nd, v)
+                size = heap.push(hd, hu, size, nd + h[v], v)
     return parent, -1
 
 
@@ -98,11 +101,11 @@ def _compiled_dijkstra():
     return jit(_dijkstra_kernel) if heap.compiled() else None  # heap's functions first
 
 
-def _shortest(nodes_n: int, edges: dict, sources, targets, budget=None):
+def _shortest(nodes_n: int, edges: dict, sources, targets, budget=None, h=None):
     """:func:`_dijkstra`, compiled when numba is there: the same parents and the same target."""
     kernel = _compiled_dijkstra()
     if kernel is None or not edges:
-        return _dijkstra(nodes_n, edges, sources, targets, budget)
+        return _dijkstra(nodes_n, edges, sources, targets, budget, h)
     _check_time(budget)  # compiled, the search itself takes a small fraction of a batch
     m = len(edges)
     ij = np.fromiter(itertools.chain.from_iterable(edges), dtype=np.int64, count=2 * m)
@@ -118,7 +121,8 @@ def _shortest(nodes_n: int, edges: dict, sources, targets, budget=None):
     is_target = np.zeros(nodes_n, dtype=np.bool_)
     is_target[np.asarray(targets, dtype=np.int64)] = True
     parent, hit = kernel(nodes_n, stop - counts, stop, dst, wt,
-                         np.asarray(sources, dtype=np.int64), is_target)
+                         np.asarray(sources, dtype=np.int64), is_target,
+                         np.zeros(nodes_n) if h is None else h)
     return parent, int(hit)
 
 
@@ -133,8 +137,11 @@ def roadmap_bytes(n: int, nodes: int, neighbours: int) -> float:
     return nodes * neighbours * BYTES_PER_EDGE + BLOCK_BYTES + nodes * n * 8
 
 
-class _OutOfTime(Exception):
-    """The time budget ran out inside a roadmap batch."""
+class OutOfTime(Exception):
+    """The time budget ran out inside a roadmap's growth or search (the planner says so)."""
+
+
+_OutOfTime = OutOfTime
 
 
 class _Limit(Exception):
@@ -147,8 +154,12 @@ def _check_time(budget) -> None:
         raise _OutOfTime
 
 
-def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None):
-    """Shortest path on an undirected weighted graph {(i, j): w}; parent map and the target hit."""
+def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None, h=None):
+    """Shortest path on an undirected weighted graph {(i, j): w}; parent map and the target hit.
+
+    With ``h`` (each node's consistent lower bound on its distance to the targets) it is A*:
+    the same shortest paths, fewer nodes popped. An edge of length ``inf`` is never taken."""
+    h = np.zeros(nodes_n) if h is None else h
     adj = [[] for _ in range(nodes_n)]
     for count, ((i, j), w) in enumerate(edges.items()):
         adj[i].append((j, w))
@@ -160,7 +171,7 @@ def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None):
     heap = []
     for s in sources:
         dist[s] = 0.0
-        heap.append((0.0, s))
+        heap.append((0.0 + h[s], s))
     heapq.heapify(heap)
     goal_set = set(int(t) for t in targets)
     pops = 0
@@ -168,16 +179,17 @@ def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None):
         pops += 1
         if pops % 16384 == 0:
             _check_time(budget)
-        d, u = heapq.heappop(heap)
-        if d > dist[u]:
+        f, u = heapq.heappop(heap)
+        if f > dist[u] + h[u]:
             continue
         if u in goal_set:
             return parent, u
+        d = dist[u]
         for v, w in adj[u]:
             nd = d + w
             if nd < dist[v]:
                 dist[v], parent[v] = nd, u
-                heapq.heappush(heap, (nd, v))
+                heapq.heappush(heap, (nd + h[v], v))
     return parent, -1
 
 
@@ -279,14 +291,7 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
     rng = np.random.default_rng(seed)
     nodes = arm.wrap(np.vstack((start, goals)))
     goal_ids = np.arange(1, len(goals) + 1)
-    # The compiled loops know obstacles only: an arm with self-collision searches in numpy.
-    loops = sampling_backend.kernels() if compiled and obstacles and not arm.self_collision else None
-    lazy = _compiled_lazy() if loops is not None else None
-    if lazy is not None:
-        edges = _ArrayEdges(arm, neighbours, loops, lazy, goal_ids)
-    else:
-        edges = _DictEdges(arm, neighbours, goal_ids)
-    certify = EdgeCertifier(arm, obstacles, checker)
+    edges = CandidateEdges(arm, obstacles, neighbours, compiled=compiled, checker=checker)
     parent, hit = np.full(len(nodes), -1), -1
     grow, full = True, False
     while True:
@@ -299,16 +304,13 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
                 full = True
                 break
             first_new = len(nodes)
-            nodes = _grow(arm, rng, nodes, samples, obstacles, budget, checker)
+            nodes = grow_roadmap(arm, rng, nodes, samples, obstacles, budget, checker)
             edges.add(nodes, 0 if first_new <= 1 + len(goals) else first_new, budget)
-        parent, hit, used, found = edges.search(nodes, rounds, certify, budget)
+        parent, hit, used, found = edges.search(nodes, rounds, [0], goal_ids, budget)
         budget.iterations += used
         if found:
-            chain = [hit]
-            while parent[chain[-1]] >= 0:
-                chain.append(int(parent[chain[-1]]))
-            path = unwrapped_chain(arm, nodes[chain[::-1]], start)
-            return tree_result(arm, path, nodes, parent, budget.iterations)
+            return tree_result(arm, path_of(arm, nodes, parent, hit, start), nodes, parent,
+                               budget.iterations)
         grow = hit < 0
     outcome = f"the roadmap of {len(nodes)} nodes joined no goal"
     if full:
@@ -321,30 +323,136 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
     return tree_result(arm, None, nodes, parent, budget.iterations, status)
 
 
-class _DictEdges:
-    """Candidate edges as a dict ``{(i, j): length}`` (``i < j``) in the order they were found,
-    the certified ones in a set; Dijkstra by :func:`_shortest`. The path without numba."""
+def path_of(arm, nodes, parent, hit, start) -> np.ndarray:
+    """The path a search's ``parent`` tree holds from its source to node ``hit``, unwrapped
+    from ``start``: ``(k, n)``.
 
-    def __init__(self, arm, neighbours, goal_ids):
-        self.arm, self.neighbours, self.goal_ids = arm, neighbours, goal_ids
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> path_of(Arm([1.0, 1.0]), np.array([[0.0, 0.0], [1.0, 0.0], [3.0, 0.0]]),
+    ...         np.array([-1, 0, 1]), 2, np.zeros(2)).tolist()
+    [[0.0, 0.0], [1.0, 0.0], [3.0, 0.0]]
+    """
+    chain = [int(hit)]
+    while parent[chain[-1]] >= 0:
+        chain.append(int(parent[chain[-1]]))
+    return unwrapped_chain(arm, nodes[chain[::-1]], start)
+
+
+def heuristic(arm, nodes, targets) -> np.ndarray:
+    """Each node's distance to its nearest target node (wrap-aware), a hair under: the lower
+    bound that makes a roadmap's shortest-path search A* (:func:`_dijkstra`), ``(m,)``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> heuristic(Arm([1.0, 1.0]), np.array([[0.0, 0.0], [0.3, 0.4]]), [1]).round(9).tolist()
+    [0.5, 0.0]
+    """
+    d = arm.joint_delta(nodes[:, None, :], nodes[np.asarray(targets, dtype=np.int64)][None])
+    # Scaled down by far more than rounding, so that the bound stays below every path's length
+    # as the kernels sum it (the edge lengths come from the compiled scan).
+    return np.sqrt(squared_norms(d)).min(axis=1) * (1 - 1e-9)
+
+
+class CandidateEdges:
+    """A lazy roadmap's candidate edges and what is known of them: certified free (``done``),
+    refuted (length ``inf``, never taken) or not yet checked.
+
+    ``add`` joins new nodes to their nearest; ``search`` runs shortest-path searches from
+    ``sources`` to ``targets``, certifying each path's unchecked edges until one path is free;
+    ``keep(nodes_n, m)`` forgets nodes from ``nodes_n`` on and edges from ``m`` on (a query's
+    own nodes, found last); ``state()`` and ``restore(...)`` give and take ``(ij, w, done)``.
+    The compiled loops (arrays, :func:`_lazy_searches`) when numba is there and the arm has no
+    self-collision, the numpy loop (a dict) otherwise; both keep the same edges in the same
+    order and search alike. A user's ``checker`` (:class:`rapp.validity.UserValidity`) also
+    judges every edge (sampled, numpy loop). With ``fallback`` an edge beyond the compiled certificate's limit
+    moves the edges to the numpy loop, which says so; without it, the search raises _Limit.
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle
+    >>> arm = Arm([1.0, 1.0])
+    >>> edges = CandidateEdges(arm, [Circle((0.0, 1.5), 0.3)], neighbours=1)
+    >>> nodes = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0]])
+    >>> edges.add(nodes, 0)
+    >>> parent, hit, used, found = edges.search(nodes, 4, [0], [2])
+    >>> int(hit), bool(found), edges.state()[2].tolist()
+    (2, True, [True, True])
+    """
+
+    def __init__(self, arm, obstacles, neighbours, compiled=True, fallback=False, checker=None):
+        self.arm, self.obstacles, self.neighbours = arm, list(obstacles), neighbours
+        self.fallback = fallback
+        # The compiled loops know obstacles only: an arm with self-collision, or a user's
+        # checker (Python), searches in numpy.
+        loops = (sampling_backend.kernels() if compiled and self.obstacles and not arm.self_collision
+                 and checker is None else None)
+        lazy = _compiled_lazy() if loops is not None else None
+        self.impl = (_ArrayEdges(arm, neighbours, loops, lazy) if lazy is not None
+                     else _DictEdges(arm, neighbours))
+        self.certify = EdgeCertifier(arm, self.obstacles, checker)
+
+    def add(self, nodes, first_new, budget=None) -> None:
+        self.impl.add(nodes, first_new, budget)
+
+    def search(self, nodes, rounds, sources, targets, budget=None):
+        """Up to ``rounds`` searches: ``(parent, hit, searches, found)``; it stops at a
+        certified path to ``hit`` (``found``) or when the roadmap holds none (``hit < 0``)."""
+        h = heuristic(self.arm, nodes, targets)
+        sources = np.asarray(sources, dtype=np.int64)
+        targets = np.asarray(targets, dtype=np.int64)
+        try:
+            return self.impl.search(nodes, rounds, self.certify, budget, sources, targets, h)
+        except _Limit:
+            if not self.fallback:
+                raise
+            state = self.state()
+            self.impl = _DictEdges(self.arm, self.neighbours)
+            self.impl.restore(*state, len(nodes))
+            return self.impl.search(nodes, rounds, self.certify, budget, sources, targets, h)
+
+    @property
+    def count(self) -> int:
+        """How many candidate edges there are."""
+        return len(self.impl.w) if isinstance(self.impl, _ArrayEdges) else len(self.impl.edges)
+
+    def keep(self, nodes_n, m) -> None:
+        if isinstance(self.impl, _ArrayEdges):
+            return self.impl.keep(nodes_n, m)
+        self.impl.restore(*(a[:m] for a in self.impl.state()), nodes_n)
+
+    def state(self):
+        """``(ij, w, done)``: the edges' node pairs, lengths (``inf`` refuted) and certified
+        flags, in the order they were found (copies)."""
+        return tuple(a.copy() for a in self.impl.state())
+
+    def restore(self, ij, w, done, nodes_n) -> None:
+        self.impl.restore(np.array(ij, dtype=np.int64).reshape(-1, 2),
+                          np.array(w, dtype=float), np.array(done, dtype=bool), nodes_n)
+
+
+class _DictEdges:
+    """Candidate edges as a dict ``{(i, j): length}`` (``i < j``) in the order they were found
+    (a refuted edge's length ``inf``), the certified ones in a set; A* by :func:`_shortest`.
+    The path without numba."""
+
+    def __init__(self, arm, neighbours):
+        self.arm, self.neighbours = arm, neighbours
         self.edges: dict = {}
         self.done: set = set()
 
     def add(self, nodes, first_new, budget):
         _add_candidate_edges(self.arm, nodes, self.neighbours, self.edges, first_new, budget)
 
-    def shortest(self, nodes_n, budget):
-        return _shortest(nodes_n, self.edges, [0], self.goal_ids, budget)
-
     def certified(self, pairs):
         return np.array([(int(a), int(b)) in self.done for a, b in pairs], dtype=bool)
 
-    def search(self, nodes, rounds, certify, budget):
-        """Up to ``rounds`` searches, each certifying its path's new edges (dropping those not
-        free): ``(parent, hit, searches, found)``; it stops at a certified path (``found``) or
-        when the roadmap holds none (``hit < 0``)."""
+    def search(self, nodes, rounds, certify, budget, sources, targets, h):
+        """:meth:`CandidateEdges.search`."""
         for used in range(1, rounds + 1):
-            parent, hit = self.shortest(len(nodes), budget)
+            parent, hit = _shortest(len(nodes), self.edges, sources, targets, budget, h)
             if hit < 0:
                 return parent, hit, used, False
             chain = [hit]
@@ -363,26 +471,33 @@ class _DictEdges:
         return parent, hit, rounds, False
 
     def settle(self, pairs, free):
-        """Keep the certified edges of ``pairs`` (``free``), drop the others."""
+        """Keep the certified edges of ``pairs`` (``free``), refute the others."""
         for (a, b), ok in zip(pairs, free):
             if ok:
                 self.done.add((int(a), int(b)))
             else:
-                del self.edges[(int(a), int(b))]
+                self.edges[(int(a), int(b))] = np.inf
+
+    def state(self):
+        m = len(self.edges)
+        ij = np.array(list(self.edges), dtype=np.int64).reshape(m, 2)
+        w = np.fromiter(self.edges.values(), dtype=float, count=m)
+        return ij, w, self.certified(ij)
+
+    def restore(self, ij, w, done, nodes_n):
+        self.edges = {(int(a), int(b)): float(x) for (a, b), x in zip(ij, w)}
+        self.done = {(int(a), int(b)) for (a, b), ok in zip(ij, done) if ok}
 
 
 class _ArrayEdges:
     """:class:`_DictEdges` as arrays, for the compiled loops: the same edges in the same order,
     found by the compiled nearest-neighbour scan, and one CSR graph per roadmap size in which a
-    dropped edge weighs ``inf`` (Dijkstra never relaxes it: the same search as without it)."""
+    refuted edge weighs ``inf`` (A* never relaxes it: the same search as without it)."""
 
-    def __init__(self, arm, neighbours, loops, lazy, goal_ids):
+    def __init__(self, arm, neighbours, loops, lazy):
         self.arm, self.neighbours, self.loops, self.lazy = arm, neighbours, loops, lazy
-        self.goal_ids = goal_ids
         self.limited = np.asarray(arm.limited, dtype=np.bool_)
-        self.ij = np.empty((0, 2), dtype=np.int64)
-        self.w = np.empty(0)
-        self.done = np.empty(0, dtype=bool)
+        self.restore(np.empty((0, 2), dtype=np.int64), np.empty(0), np.empty(0, dtype=bool), 0)
 
     def add(self, nodes, first_new, budget):
         k = min(self.neighbours, len(nodes) - 1)
@@ -396,45 +511,64 @@ class _ArrayEdges:
         ij = np.sort(np.stack((i, near.ravel()), axis=-1), axis=-1)
         # The first time each edge is met, in the order the dict of _DictEdges fills.
         first = np.sort(np.unique(ij[:, 0] * len(nodes) + ij[:, 1], return_index=True)[1])
-        self.ij = np.concatenate((self.ij, ij[first]))
-        self.w = np.concatenate((self.w, dist.ravel()[first]))
-        self.done = np.concatenate((self.done, np.zeros(len(first), dtype=bool)))
-        self._graph(len(nodes))
+        # The graph before, for keep() to return to without rebuilding it (only wt changes).
+        self.before = (first_new, len(self.w), self.start, self.stop, self.dst, self.order,
+                       self.slot)
+        self.restore(np.concatenate((self.ij, ij[first])),
+                     np.concatenate((self.w, dist.ravel()[first])),
+                     np.concatenate((self.done, np.zeros(len(first), dtype=bool))), len(nodes))
 
-    def _graph(self, nodes_n):
+    def state(self):
+        return self.ij, self.w, self.done
+
+    def keep(self, nodes_n, m):
+        """:meth:`CandidateEdges.keep`; back to the graph before the last ``add`` when it was
+        of this size (a query's ends), its lengths from ``w`` (a refuted edge's ``inf``)."""
+        before = getattr(self, "before", None)
+        if before is None or before[:2] != (nodes_n, m):
+            return self.restore(self.ij[:m], self.w[:m], self.done[:m], nodes_n)
+        self.ij, self.w, self.done = self.ij[:m], self.w[:m].copy(), self.done[:m].copy()
+        _, _, self.start, self.stop, self.dst, self.order, self.slot = before
+        self.wt = self.w[self.order >> 1]
+        self.before = None
+
+    def restore(self, ij, w, done, nodes_n):
+        """These edges, and their CSR graph over ``nodes_n`` nodes (:func:`_csr_kernel`)."""
+        self.ij, self.w, self.done = ij, np.ascontiguousarray(w, dtype=float), done
         m = len(self.w)
-        src = self.ij.ravel()
-        order = np.argsort(src, kind="stable")  # as _shortest orders its neighbour lists
-        self.dst = self.ij[:, ::-1].ravel()[order]
-        self.wt = np.repeat(self.w, 2)[order]  # a dropped edge's length is inf already
-        self.slot = np.empty(2 * m, dtype=np.int64)  # where each edge's two entries went
-        self.slot[order] = np.arange(2 * m)
-        counts = np.bincount(src, minlength=nodes_n)
-        self.stop = np.cumsum(counts)
-        self.start = self.stop - counts
-        self.is_target = np.zeros(nodes_n, dtype=np.bool_)
-        self.is_target[self.goal_ids] = True
-        self.order = order
-        self.sources = np.zeros(1, dtype=np.int64)
+        self.start, self.stop = np.zeros(nodes_n, dtype=np.int64), np.empty(nodes_n, dtype=np.int64)
+        self.dst, self.order, self.slot = (np.empty(2 * m, dtype=np.int64) for _ in range(3))
+        self.wt = np.empty(2 * m)
+        self.lazy.csr(np.ascontiguousarray(ij, dtype=np.int64), self.w,
+                      _Csr(self.start, self.stop, self.dst, self.wt, self.order, self.slot))
 
-    def search(self, nodes, rounds, certify, budget):
+    def search(self, nodes, rounds, certify, budget, sources, targets, h):
         """:meth:`_DictEdges.search` in one compiled loop (:func:`_lazy_searches`)."""
         _check_time(budget)
         c = certify
-        status, used, hit, parent = self.lazy(
+        is_target = np.zeros(len(nodes), dtype=np.bool_)
+        is_target[targets] = True
+        status, used, hit, parent = self.lazy.searches(
             rounds, len(nodes),
             _Roadmap(self.start, self.stop, self.dst, self.wt, self.order, self.slot, self.w,
-                    self.done, self.sources, self.is_target),
+                     self.done, sources, is_target, h),
             _Scene(nodes, self.limited, self.arm.lengths, c.reach, *c.packed, c.touch, 1e-9,
-                  MAX_PENDING_INTERVALS))
+                   MAX_PENDING_INTERVALS))
         if status == _LIMIT:  # an edge beyond the kernel's interval limit: numpy says so
             raise _Limit
         return parent, int(hit), int(used), status == _FOUND
 
 
-def _grow(arm, rng, nodes, k, obstacles, budget=None, checker=None):
+def grow_roadmap(arm, rng, nodes, k, obstacles, budget=None, checker=None) -> np.ndarray:
     """``nodes`` with ``k`` free uniform samples appended (drawn until that many are free;
-    with a user's ``checker``, also allowed by it)."""
+    with a user's ``checker``, also allowed by it).
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> grow_roadmap(Arm([1.0, 1.0]), np.random.default_rng(0), np.zeros((1, 2)), 3, []).shape
+    (4, 2)
+    """
     new = []
     have = 0
     for _ in range(100):
@@ -482,10 +616,39 @@ SEARCHES = 16
 _NO_PATH, _FOUND, _MORE, _LIMIT = 0, 1, 2, 3
 
 
+#: A CSR graph as :func:`_csr_kernel` fills it (see :data:`_Roadmap`).
+_Csr = namedtuple("_Csr", "start stop dst wt order slot")
+
+
+def _csr_kernel(ij, w, csr):
+    """The CSR graph of the edges ``ij`` (lengths ``w``) into ``csr`` (:data:`_Csr`; ``start``
+    zeros): node u's neighbours ``dst[start[u]:stop[u]]`` in edge order, entry ``p`` edge
+    ``order[p] >> 1``'s (``2e`` its first end's, ``2e + 1`` its second's), ``slot`` the
+    inverse of ``order``: the stable sort by source of :func:`_shortest`, by counting."""
+    start, stop, dst, wt, order, slot = csr
+    m = ij.shape[0]
+    for e in range(m):
+        start[ij[e, 0]] += 1
+        start[ij[e, 1]] += 1
+    total = 0
+    for u in range(start.shape[0]):
+        count = start[u]
+        start[u] = total
+        stop[u] = total
+        total += count
+    for e in range(m):
+        for end in range(2):
+            u, v = ij[e, end], ij[e, 1 - end]
+            p = stop[u]
+            stop[u] += 1
+            dst[p], wt[p], order[p], slot[2 * e + end] = v, w[e], 2 * e + end, p
+
+
 #: The roadmap as :func:`_lazy_searches` reads it: the CSR graph of :class:`_ArrayEdges`
 #: (``start``/``stop`` per node into ``dst``, ``wt``, ``order`` and ``slot``; the edges' weights
-#: ``w`` and certified flags ``done``) and the search's ``sources`` and ``is_target``.
-_Roadmap = namedtuple("_Roadmap", "start stop dst wt order slot w done sources is_target")
+#: ``w`` and certified flags ``done``) and the search's ``sources``, ``is_target`` and A*'s
+#: lower bounds ``h``.
+_Roadmap = namedtuple("_Roadmap", "start stop dst wt order slot w done sources is_target h")
 #: What certifying an edge needs: the ``nodes``, the arm (``limited``, ``lengths``, ``reach``),
 #: the packed obstacles (``circles pv pn pr offsets``) and the certificate's limits.
 _Scene = namedtuple("_Scene", "nodes limited lengths reach circles pv pn pr offsets touch "
@@ -501,7 +664,7 @@ def _lazy_searches(rounds, nodes_n, roadmap, scene):
     Returns ``(status, searches, hit, parent)``: _FOUND a certified path to ``hit``, _NO_PATH
     none in the roadmap, _MORE the rounds ran out, _LIMIT an edge over ``cap`` intervals.
     """
-    start, stop, dst, wt, order, slot, w, done, sources, is_target = roadmap
+    start, stop, dst, wt, order, slot, w, done, sources, is_target, h = roadmap
     nodes, limited, lengths, reach, circles, pv, pn, pr, offsets, touch, min_interval, cap = scene
     n = nodes.shape[1]
     scratch = np.empty((3, n))
@@ -510,7 +673,7 @@ def _lazy_searches(rounds, nodes_n, roadmap, scene):
     parent = np.full(nodes_n, -1, dtype=np.int64)
     hit = -1
     for used in range(1, rounds + 1):
-        parent, hit = _dijkstra_compiled(nodes_n, start, stop, dst, wt, sources, is_target)
+        parent, hit = _dijkstra_compiled(nodes_n, start, stop, dst, wt, sources, is_target, h)
         if hit < 0:
             return _NO_PATH, used, hit, parent
         size = 0
@@ -554,6 +717,8 @@ def _dijkstra_compiled(*args):
 
 
 _bisect_compiled = _wrap_compiled = _dijkstra_compiled
+#: The compiled loops of :class:`_ArrayEdges`: the searches and the CSR builder.
+_Lazy = namedtuple("_Lazy", "searches csr")
 
 
 @functools.cache
@@ -566,7 +731,7 @@ def _compiled_lazy():
     g = globals()
     g["_dijkstra_compiled"], g["_bisect_compiled"], g["_wrap_compiled"] = (
         dijkstra, loops.bisect, loops.wrap)
-    return jit(_lazy_searches)
+    return _Lazy(jit(_lazy_searches), jit(_csr_kernel))
 
 
 # Its kernels are compiled before a time budget of it starts (rapp.sampling.prepare_kernels).

@@ -110,7 +110,7 @@ LAYERS = {
              "reference", "validity"},
     # and every planner's own module, which the planner table names (planner_modules below)
     "planners": {"sampling", "planners", "progress"},
-    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts",
+    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts", "roadmap",
                  "recorded", "baseline", "traceability", "schema"},
     "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live", "plot_arms", "plot_benchmark",
                 "plot_cspace_views", "plot_ik", "plot_motion", "plot_search"},

@@ -8,7 +8,7 @@ load, platform) and the date beside the timings; the scripts rewrite them
 Examples
 --------
 >>> names()
-['astar_cpp', 'cli', 'collides', 'core', 'ik', 'kernel', 'live', 'memory', 'motion', 'occupancy', 'planners', 'planners_cpu', 'planners_ompl', 'planners_ompl_kernel', 'search', 'time_scaling']
+['astar_cpp', 'cli', 'collides', 'core', 'ik', 'kernel', 'live', 'memory', 'motion', 'occupancy', 'planners', 'planners_cpu', 'planners_ompl', 'planners_ompl_kernel', 'roadmap', 'search', 'time_scaling']
 >>> core = load("core")
 >>> core["machine"]["cpu_count"], sorted(core["results"])[:2]
 (2, ['2link_M100', '2link_M360'])
