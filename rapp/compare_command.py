@@ -77,7 +77,7 @@ def _positive(text, field: str, *, zero: bool = False) -> int:
     return value
 
 
-def _planners(text) -> list | None:
+def _planners(text, extra=()) -> list | None:
     """The chosen run names' prefixes, each checked against the table."""
     if text is None:
         return None
@@ -86,7 +86,7 @@ def _planners(text) -> list | None:
         raise InvalidValue("names no planner", field="--planners")
     every = {p for n in compare.ASTAR_CELLS for p in compare.planners_for(n)}
     for name in chosen:
-        if name not in planner_table.PLANNERS and name not in every:
+        if name not in planner_table.PLANNERS and name not in every and name not in extra:
             raise InvalidValue(f"unknown planner {name!r} (the table's: "
                                f"{', '.join(planner_table.PLANNERS)})", field="--planners")
     return chosen
@@ -119,14 +119,24 @@ def _inside_package(path: str) -> bool:
     return os.path.commonpath([package, os.path.abspath(path)]) == package
 
 
-def _check_out(path: str, field: str) -> None:
-    if _inside_package(path):
+def _check_out(path: str, field: str, *, package_ok: bool = False) -> None:
+    if not package_ok and _inside_package(path):
         raise InvalidValue(f"{path!r} is inside the rapp package; write elsewhere", field=field)
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise InvalidValue(f"folder {folder!r} does not exist", field=field)
     if os.path.isdir(path):
         raise InvalidValue(f"{path!r} is a folder", field=field)
+
+
+def _dask():
+    """Dask's ``Client`` and ``LocalCluster``, imported only for ``--scheduler``."""
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise InvalidValue("needs Dask's distributed scheduler: pip install 'rapp[dask]'",
+                           field="--scheduler") from None
+    return Client, LocalCluster
 
 
 @contextmanager
@@ -148,11 +158,7 @@ def _executor(args, workers: int):
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
         return
-    try:
-        from dask.distributed import Client, LocalCluster
-    except ImportError:
-        raise InvalidValue("needs Dask's distributed scheduler: pip install 'rapp[dask]'",
-                           field="--scheduler") from None
+    Client, LocalCluster = _dask()
     cluster = None
     try:
         if args.scheduler == "local":
@@ -199,12 +205,15 @@ def run(args, out, err, *, runner=None, extra=()) -> int:
     benchmark adds its own planners with them)."""
     workers = _positive(os.cpu_count() or 1 if args.workers is None else args.workers, "--workers")
     seeds = _positive(args.seeds, "--seeds")
-    chosen = _planners(args.planners)
+    chosen = _planners(args.planners, extra)
     _check_out(args.out, "--out")
     if args.summary:
-        _check_out(args.summary, "--summary")
+        # The recorded comparison the book reads is a summary written into the package.
+        _check_out(args.summary, "--summary", package_ok=True)
         if os.path.abspath(args.summary) == os.path.abspath(args.out):
             raise InvalidValue("is the same file as --out", field="--summary")
+    if args.scheduler is not None:
+        _dask()  # before any file is touched
     scenarios, seed = _scenarios(args)
     settings = compare.settings_record(scenarios, seeds, seed, chosen)
     if extra:
