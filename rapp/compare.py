@@ -12,9 +12,10 @@ core; on a cluster, pass a Dask distributed client's executor unchanged::
     from dask.distributed import Client
     summary = run(executor=Client("scheduler:8786").get_executor())
 
-``benchmarks/compare_planners.py`` is its command line (it adds OMPL's planners where ``ompl``
-is installed). The recorded run, 30 scenarios x 20 seeds, ships with the package:
-:func:`recorded_results` reads it (chapter 14 does), wherever rapp is installed.
+``python -m rapp compare`` is its command line (:mod:`rapp.compare_command`: resumable,
+parallel, with progress); ``benchmarks/compare_planners.py`` is the same command with OMPL's
+planners added. The recorded run, 30 scenarios x 2 seeds with OMPL's planners, ships with the
+package: :func:`recorded_results` reads it (chapter 14 does), wherever rapp is installed.
 
 Examples
 --------
@@ -22,7 +23,7 @@ Examples
 [0.839, 1.0]
 >>> results = recorded_results()
 >>> results["settings"]["scenarios"], len(results["records"])
-(30, 3690)
+(30, 450)
 >>> scenario_class(results["scenarios"][3])
 '2 links, narrow'
 """
@@ -424,7 +425,8 @@ def run(scenarios: int = 30, seeds: int = 20, executor: Executor | None = None, 
 
 
 def recorded_results() -> dict:
-    """The recorded comparison (30 scenarios x 20 seeds, every planner), from the package data."""
+    """The recorded comparison (30 scenarios x 2 seeds, every planner and OMPL's two), from the
+    package data."""
     from rapp.recorded import load
 
     return load("planners")

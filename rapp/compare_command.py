@@ -107,7 +107,7 @@ def _scenarios(args) -> tuple[list[dict], object]:
                 data = json.loads(f.read())
         else:  # an embedded name (load_scenario found it)
             data = json.loads(resources.files("rapp").joinpath(
-                "scenarios", f"{source}.json").read_bytes())
+                f"scenarios/{source}.json").read_bytes())
         data.setdefault("name", s.name)
         data.setdefault("description", s.description)
         out.append(data)

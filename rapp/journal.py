@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import json
 import os
+from typing import Any
 
 from rapp.errors import InvalidFormat, InvalidValue
 
@@ -76,7 +77,7 @@ class Journal:
 
     def __init__(self, path, header: dict, *, field: str = "journal"):
         self.path, self.header, self.field = os.fspath(path), header, field
-        self._file = None
+        self._file: Any = None
 
     def __enter__(self):
         lines, end = _whole_lines(self.path) if os.path.exists(self.path) else ([], 0)

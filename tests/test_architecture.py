@@ -107,13 +107,13 @@ def test_the_new_homes_are_documented(module):
 LAYERS = {
     "core": {"arm", "obstacles", "collision", "_kernels", "motion", "cspace", "search", "ik", "ik_kernel", "symbolic", "trajectory",
              "heap", "jit", "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
-             "reference"},
+             "reference", "student_t"},
     # and every planner's own module, which the planner table names (planner_modules below)
     "planners": {"sampling", "sampling_kernel", "planners", "progress"},
-    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "files", "interrupts",
+    "pipeline": {"scenario", "planner", "timing", "verify", "results", "compare", "journal", "files", "interrupts",
                  "recorded", "baseline", "traceability", "schema"},
     "drawing": {"plotting", "widgets", "view_stack", "palette", "raster", "live"},
-    "interface": {"cli", "__main__", "__init__"},
+    "interface": {"cli", "compare_command", "__main__", "__init__"},
     "teaching": {"exercises", "cases", "grading"},
 }
 DRAWING_LIBRARIES = {"matplotlib", "ipywidgets", "PIL", "IPython", "anywidget"}

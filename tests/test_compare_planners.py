@@ -81,5 +81,13 @@ def test_the_benchmark_runs_rapps_planners_through_the_package(capsys, tmp_path)
 
 def test_the_recorded_results_ship_with_the_package():
     results = cp.recorded_results()
-    assert len(results["records"]) == 3690 and len(results["scenarios"]) == results["settings"]["scenarios"]
-    assert results["scenarios"] == cp.make_scenarios(30, results["settings"]["scenario_seed"])
+    settings = results["settings"]
+    assert len(results["scenarios"]) == settings["scenarios"] == 30
+    assert results["scenarios"] == cp.make_scenarios(30, settings["scenario_seed"])
+    # Every (scenario, seed, planner) of the protocol exactly once, OMPL's planners included.
+    todo = cp.tasks(results["scenarios"], settings["seeds"], settings["planners"], settings["extra"])
+    assert sorted(cp.task_key(r) for r in results["records"]) == sorted(cp.task_key(t) for t in todo)
+    # Its intervals are those of the records, with the exact t quantile.
+    for planner, by_class in results["summary"].items():
+        times = [r["time_s"] for r in results["records"] if r["planner"] == planner and r["success"]]
+        assert by_class["all"]["time_s"] == pytest.approx(cp.mean_interval(times), nan_ok=True)
