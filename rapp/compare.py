@@ -23,7 +23,7 @@ Examples
 [0.839, 1.0]
 >>> results = recorded_results()
 >>> results["settings"]["scenarios"], len(results["records"])
-(30, 450)
+(30, 990)
 >>> scenario_class(results["scenarios"][3])
 '2 links, narrow'
 """
