@@ -35,7 +35,7 @@ import os
 import platform
 import time
 import signal
-from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, as_completed
 from dataclasses import asdict, dataclass
 from datetime import date
 
@@ -255,7 +255,9 @@ def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float]:
     p = successes / n
     centre = (p + z * z / (2 * n)) / (1 + z * z / n)
     half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return (max(0.0, centre - half), min(1.0, centre + half))
+    # The interval contains p in exact arithmetic; rounding must not put p outside it (at
+    # p = 1 the upper end would come out as 1 - 1e-16).
+    return (max(0.0, min(p, centre - half)), min(1.0, max(p, centre + half)))
 
 
 def mean_interval(values, level: float = 0.95) -> dict:
@@ -413,6 +415,8 @@ def run(scenarios: int = 30, seeds: int = 20, executor: Executor | None = None, 
     todo = tasks(chosen, seeds, planners, extra)
     own = executor is None
     if own:
+        from concurrent.futures import ProcessPoolExecutor  # multiprocessing: only when used
+
         executor = ProcessPoolExecutor(max_workers=os.cpu_count(), initializer=start_worker)
     try:
         t0 = time.perf_counter()

@@ -17,7 +17,6 @@ import json
 import os
 import time
 from importlib import resources
-from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
 from dataclasses import asdict
 
@@ -146,6 +145,8 @@ def _executor(args, workers: int):
         if workers == 1:
             yield None
             return
+        from concurrent.futures import ProcessPoolExecutor  # multiprocessing: only when used
+
         pool = ProcessPoolExecutor(max_workers=workers, initializer=compare.start_worker)
         try:
             yield pool

@@ -62,6 +62,10 @@ def test_intervals():
     assert lo == 0.0 and hi == pytest.approx(0.1611, abs=1e-4)
     lo, hi = cp.wilson(10, 20)
     assert (lo, hi) == pytest.approx((0.2993, 0.7007), abs=1e-4)
+    for n in range(1, 400):  # the interval always holds the rate, to the last bit
+        for k in {0, 1, n // 2, n - 1, n}:
+            lo, hi = cp.wilson(k, n)
+            assert 0.0 <= lo <= k / n <= hi <= 1.0
     m = cp.mean_interval([1.0, 2.0, 3.0, math.nan])
     assert m["mean"] == 2.0 and m["n"] == 3
     t = 0.95 * math.sqrt(2 / (4 * 0.975 * 0.025))  # Student's t, 97.5 %, 2 degrees of freedom
