@@ -195,3 +195,21 @@ def test_intervals_use_the_exact_t_quantile_for_every_size():
         mean = sum(values) / n
         sd = math.sqrt(sum((x - mean) ** 2 for x in values) / df)
         assert m["high"] - m["mean"] == pytest.approx(float(t) * sd / math.sqrt(n), rel=1e-9)
+
+
+@pytest.mark.slow
+def test_the_users_scenario_files_and_embedded_names(capsys, tmp_path):
+    mine = tmp_path / "mine.json"
+    mine.write_text(json.dumps({"arm": {"link_lengths": [1, 1]}, "start": [0, 0],
+                                "goal": {"joints": [90, 45]}, "units": {"angle": "deg"}}))
+    out = tmp_path / "r.jsonl"
+    code, text, err = run(capsys, "compare", str(mine), "rectangles", "--planners", "astar_24,rrt_connect",
+                          "--seeds", "2", "--workers", "1", "--out", str(out), "-q")
+    assert code == 0, err
+    header, records = read_journal(out)
+    assert [s.get("units", {}).get("angle") for s in header["scenarios"]][0] == "deg"  # as written
+    # Both are 2-link arms: A* at 24 cells once, RRT-Connect with seeds 0 and 1.
+    assert sorted(keys(records)) == [(i, p, k) for i in (0, 1) for p, k in
+                                     (("astar_24", 0), ("rrt_connect", 0), ("rrt_connect", 1))]
+    assert all(r["success"] for r in records if r["scenario_index"] == 0)
+    assert "6 runs (6 new) on 2 scenarios" in text
