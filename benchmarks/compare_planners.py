@@ -86,7 +86,8 @@ def main(argv=None) -> int:
     :data:`OMPL_PLANNERS` where OMPL is installed."""
     extra = OMPL_PLANNERS if ompl_available() else ()
     cli.COMMANDS["compare"] = lambda args, out, err, caught: compare_command.run(
-        args, out, err, runner=run_task, extra=extra)
+        args, out, err, say=lambda stream, text: print(cli.printable(text), file=stream),
+        runner=run_task, extra=extra)
     return cli.main(["compare", *(sys.argv[1:] if argv is None else argv)])
 
 

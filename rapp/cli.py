@@ -496,7 +496,7 @@ COMMANDS = {
     "check": lambda args, out, err, caught: _cmd_check(args, out, caught),
     "list": lambda args, out, err, caught: _cmd_list(out),
     "schema": lambda args, out, err, caught: _cmd_schema(args, out),
-    "compare": lambda args, out, err, caught: compare_command.run(args, out, err),
+    "compare": lambda args, out, err, caught: compare_command.run(args, out, err, say=_say),
     "grade": lambda args, out, err, caught: _grading().run(args, out, err),
     "assign": lambda args, out, err, caught: _grading().run_assign(args, out, err),
 }

@@ -201,9 +201,11 @@ def _progress(args, err, total: int):
     return None, plain
 
 
-def run(args, out, err, *, runner=None, extra=()) -> int:
-    """The ``compare`` command; ``runner`` and ``extra`` as in :func:`rapp.compare.run` (a
-    benchmark adds its own planners with them)."""
+def run(args, out, err, *, say, runner=None, extra=()) -> int:
+    """The ``compare`` command; ``say(stream, text)`` prints a line (the command line's, which
+    escapes what a terminal must not see); ``runner`` and ``extra`` as in
+    :func:`rapp.compare.run` (a benchmark adds its own planners with them). The summary's ``wall_s`` is this session's
+    wall-clock time (a resumed run's covers only what it ran)."""
     workers = _positive(os.cpu_count() or 1 if args.workers is None else args.workers, "--workers")
     seeds = _positive(args.seeds, "--seeds")
     chosen = _planners(args.planners, extra)
@@ -245,15 +247,15 @@ def run(args, out, err, *, runner=None, extra=()) -> int:
     if args.summary:
         with atomic_output(args.summary, ".json") as tmp, open(tmp, "w", encoding="utf-8") as f:
             f.write(json.dumps(result, indent=1, allow_nan=True) + "\n")
-    print(f"{len(done)} runs ({len(left)} new) on {len(scenarios)} scenarios, journal "
-          f"{args.out}", file=out)
+    say(out, f"{len(done)} runs ({len(left)} new) on {len(scenarios)} scenario{"s" if len(scenarios) != 1 else ""}, journal "
+             f"{args.out}")
     for planner, by_class in result["summary"].items():
         a = by_class["all"]
         lo, hi = a["success_interval"]
         t, length = a["time_s"], a["length_rad"]
-        print(f"{planner:18s} success {a['success_rate']:6.1%} [{lo:.2f}, {hi:.2f}]  "
-              f"time {t['mean']:.3f} s [{t['low']:.3f}, {t['high']:.3f}]  length "
-              f"{length['mean']:.2f} -> {a['shortcut_length_rad']['mean']:.2f} rad", file=out)
+        say(out, f"{planner:18s} success {a['success_rate']:6.1%} [{lo:.2f}, {hi:.2f}]  "
+                 f"time {t['mean']:.3f} s [{t['low']:.3f}, {t['high']:.3f}]  length "
+                 f"{length['mean']:.2f} -> {a['shortcut_length_rad']['mean']:.2f} rad")
     return 0
 
 
