@@ -247,8 +247,9 @@ def run(args, out, err, *, say, runner=None, extra=()) -> int:
     if args.summary:
         with atomic_output(args.summary, ".json") as tmp, open(tmp, "w", encoding="utf-8") as f:
             f.write(json.dumps(result, indent=1, allow_nan=True) + "\n")
-    say(out, f"{len(done)} runs ({len(left)} new) on {len(scenarios)} scenario{'s' if len(scenarios) != 1 else ''}, journal "
-             f"{args.out}")
+    plural = "" if len(scenarios) == 1 else "s"
+    say(out, f"{len(done)} runs ({len(left)} new) on {len(scenarios)} scenario{plural}, "
+             f"journal {args.out}")
     for planner, by_class in result["summary"].items():
         a = by_class["all"]
         lo, hi = a["success_interval"]
