@@ -204,8 +204,8 @@ def _progress(args, err, total: int):
 def run(args, out, err, *, say, runner=None, extra=()) -> int:
     """The ``compare`` command; ``say(stream, text)`` prints a line (the command line's, which
     escapes what a terminal must not see); ``runner`` and ``extra`` as in
-    :func:`rapp.compare.run` (a benchmark adds its own planners with them). The summary's ``wall_s`` is this session's
-    wall-clock time (a resumed run's covers only what it ran)."""
+    :func:`rapp.compare.run` (a benchmark adds its own planners with them). The summary's
+    ``wall_s`` is this session's wall-clock time (a resumed run's covers only what it ran)."""
     workers = _positive(os.cpu_count() or 1 if args.workers is None else args.workers, "--workers")
     seeds = _positive(args.seeds, "--seeds")
     chosen = _planners(args.planners, extra)
