@@ -1,27 +1,20 @@
-"""Command line of the planner comparison (:mod:`rapp.compare`), with OMPL's planners where installed.
+"""``python -m rapp compare`` with OMPL's planners added, where ``ompl`` is installed.
 
-The harness itself, its scenarios and its statistics are :mod:`rapp.compare`; this script adds
-OMPL's RRTConnect and RRT* (``benchmarks/requirements.txt``), with ``rapp.collides`` as their
+The command is rapp's (:mod:`rapp.compare_command`: scenarios, seeds, ``--workers``,
+``--scheduler``, the resumable ``--out`` journal, ``--summary``); this script adds OMPL's
+RRTConnect and RRT* (``benchmarks/requirements.txt``), with ``rapp.collides`` as their
 validity checker and ``rapp.shortcut`` applied to their paths, so "after shortcutting" means the
-same for all, and writes the result.
+same for all. It takes the same options::
 
-Usage, from the repository root::
+    python benchmarks/compare_planners.py --random 4 --seeds 3 --out /tmp/small.jsonl
 
-    python benchmarks/compare_planners.py                   # 30 scenarios x 20 seeds, all cores
-    python benchmarks/compare_planners.py --scenarios 4 --seeds 3 --out /tmp/small.json
-
-Writes ``rapp/recorded/planners.json`` (package data, which chapter 14 reads through
-:func:`rapp.compare.recorded_results`): one record per run, and per planner (overall and per
-scenario class) the success rate with its Wilson 95 % interval, and the mean time to a solution
-and path lengths with Student-t 95 % intervals over the successful runs.
+The recorded comparison the book reads (``rapp/recorded/planners.json``) is a ``--summary``
+of such a run (``benchmarks/README.md`` gives the command).
 """
 
 from __future__ import annotations
 
-import argparse
-import json
 import math
-import os
 import sys
 import time
 from pathlib import Path
@@ -29,8 +22,8 @@ from pathlib import Path
 import numpy as np
 
 import rapp
-from rapp.compare import (RRT_STAR_BUDGET, STEP, TIME_BUDGET, Record, Task, run,
-                          run_task as run_rapp_task)
+from rapp import cli, compare_command
+from rapp.compare import RRT_STAR_BUDGET, STEP, TIME_BUDGET, Record, Task, run_task as run_rapp_task
 from rapp.ik import free_ik_solutions
 from rapp.paths import path_length, shortcut, unwrap_path
 
@@ -38,7 +31,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ompl_torus import path_of, state, torus_setup  # noqa: E402  OMPL's side, shared
 
 OMPL_PLANNERS = ("ompl_rrt_connect", "ompl_rrt_star")
-RECORDED = Path(__file__).resolve().parent.parent / "rapp" / "recorded" / "planners.json"
 
 
 def ompl_available() -> bool:
@@ -89,26 +81,15 @@ def _run_ompl(task: Task) -> Record:
                   path_length(path), path_length(short))
 
 
-def main(argv=None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--scenarios", type=int, default=30)
-    ap.add_argument("--seeds", type=int, default=20)
-    ap.add_argument("--planners", nargs="*", default=None, help="name prefixes, e.g. astar rrt_connect")
-    ap.add_argument("--out", type=Path, default=RECORDED)
-    args = ap.parse_args(argv)
+def main(argv=None) -> int:
+    """``python -m rapp compare`` (same options, exit codes and one-line errors), with
+    :data:`OMPL_PLANNERS` where OMPL is installed."""
     extra = OMPL_PLANNERS if ompl_available() else ()
-    result = run(args.scenarios, args.seeds, planners=args.planners, runner=run_task, extra=extra)
-    result["machine"]["ompl"] = ompl_available()
-    tmp = args.out.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(result, indent=1, allow_nan=True) + "\n")
-    os.replace(tmp, args.out)  # atomic: a half-written file never replaces the last results
-    for planner, by_class in result["summary"].items():
-        a = by_class["all"]
-        lo, hi = a["success_interval"]
-        print(f"{planner:18s} success {a['success_rate']:6.1%} [{lo:.2f}, {hi:.2f}]  "
-              f"time {a['time_s']['median']:.3f} s  length {a['length_rad']['mean']:.2f} -> "
-              f"{a['shortcut_length_rad']['mean']:.2f} rad", file=sys.stderr)
+    cli.COMMANDS["compare"] = lambda args, out, err, caught: compare_command.run(
+        args, out, err, say=lambda stream, text: print(cli.printable(text), file=stream),
+        runner=run_task, extra=extra)
+    return cli.main(["compare", *(sys.argv[1:] if argv is None else argv)])
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

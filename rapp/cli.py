@@ -1,4 +1,4 @@
-"""Command line: ``python -m rapp plan|check|list|schema`` (and ``grade``, ``assign``, ``--version``).
+"""Command line: ``python -m rapp plan|check|list|schema|compare`` (and ``grade``, ``assign``, ``--version``).
 
 Exit codes: 0 done; 1 a planning answer (no path, no IK solution, a straight
 line the end effector cannot follow), said in one line; 2 bad input, one line on stderr naming the field or option and what is
@@ -43,7 +43,7 @@ import numpy as np
 from rapp.errors import (InvalidValue, NoIKSolution, NoPathFound, PathNotFollowable, RappError,
                          ScenarioError)
 from rapp.files import OutputBatch
-from rapp import interrupts, planner, progress, results, scenario
+from rapp import compare_command, interrupts, planner, progress, results, scenario
 
 # matplotlib and rapp.plotting (about 1 s to import, twice a whole plan) are imported only when
 # --plot or --animate is given: `check`, `list` and a plan without a figure start fast. A figure
@@ -136,7 +136,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = _Parser(prog="rapp", description="2D robot-arm path planning (2D-RAPP).")
     p.add_argument("--version", action="version", version=f"rapp {rapp.__version__}")
-    sub = p.add_subparsers(dest="command", metavar="{plan,check,list,schema,grade,assign}", parser_class=_Parser)
+    sub = p.add_subparsers(dest="command", metavar="{plan,check,list,schema,compare,grade,assign}", parser_class=_Parser)
     sub.required = True
     pp = sub.add_parser("plan", help="plan, time and verify a trajectory",
                         description="Plan a collision-free trajectory for SCENARIO (a JSON file "
@@ -178,6 +178,7 @@ def build_parser() -> argparse.ArgumentParser:
                         description="Print the JSON Schema (draft 2020-12) of a scenario file "
                         "or of a result file, as the package ships it (rapp/schemas/).")
     ps.add_argument("which", choices=("scenario", "result"), help="which file's schema")
+    compare_command.add_parser(sub)
     _grading().add_parser(sub)  # the instructors' subcommands live with their logic
     return p
 
@@ -495,6 +496,7 @@ COMMANDS = {
     "check": lambda args, out, err, caught: _cmd_check(args, out, caught),
     "list": lambda args, out, err, caught: _cmd_list(out),
     "schema": lambda args, out, err, caught: _cmd_schema(args, out),
+    "compare": lambda args, out, err, caught: compare_command.run(args, out, err, say=_say),
     "grade": lambda args, out, err, caught: _grading().run(args, out, err),
     "assign": lambda args, out, err, caught: _grading().run_assign(args, out, err),
 }

@@ -12,9 +12,10 @@ core; on a cluster, pass a Dask distributed client's executor unchanged::
     from dask.distributed import Client
     summary = run(executor=Client("scheduler:8786").get_executor())
 
-``benchmarks/compare_planners.py`` is its command line (it adds OMPL's planners where ``ompl``
-is installed). The recorded run, 30 scenarios x 20 seeds, ships with the package:
-:func:`recorded_results` reads it (chapter 14 does), wherever rapp is installed.
+``python -m rapp compare`` is its command line (:mod:`rapp.compare_command`: resumable,
+parallel, with progress); ``benchmarks/compare_planners.py`` is the same command with OMPL's
+planners added. The recorded run, 30 scenarios x 2 seeds with OMPL's planners, ships with the
+package: :func:`recorded_results` reads it (chapter 14 does), wherever rapp is installed.
 
 Examples
 --------
@@ -22,7 +23,7 @@ Examples
 [0.839, 1.0]
 >>> results = recorded_results()
 >>> results["settings"]["scenarios"], len(results["records"])
-(30, 3690)
+(30, 990)
 >>> scenario_class(results["scenarios"][3])
 '2 links, narrow'
 """
@@ -33,7 +34,8 @@ import math
 import os
 import platform
 import time
-from concurrent.futures import Executor, ProcessPoolExecutor
+import signal
+from concurrent.futures import Executor, as_completed
 from dataclasses import asdict, dataclass
 from datetime import date
 
@@ -45,10 +47,13 @@ from rapp.collision import collides
 from rapp.errors import NoIKSolution, NoPathFound, RappError
 from rapp.obstacles import Circle, Polygon
 from rapp.planner import plan as plan_scenario
+from rapp.sampling import prepare_kernels
 from rapp.scenario import load_scenario
+from rapp.student_t import t_quantile
 
 __all__ = ["make_scenarios", "scenario_class", "Task", "Record", "planners_for", "settings_for", "run_task",
-           "wilson", "mean_interval", "summarize", "tasks", "run", "recorded_results",
+           "wilson", "mean_interval", "summarize", "tasks", "run", "recorded_results", "task_key",
+           "warm", "start_worker", "run_tasks", "settings_record", "result",
            "RESULTS_FILE", "ASTAR_CELLS", "SAMPLING", "TIME_BUDGET", "RRT_STAR_BUDGET", "STEP",
            "FAMILY_NAMES", "RunGroups", "family_of", "group_runs"]
 
@@ -192,8 +197,8 @@ def planners_for(n: int, extra=()) -> list[str]:
     >>> planners_for(2)
     ['astar_24', 'astar_48', 'astar_96', 'rrt', 'rrt_connect', 'rrt_star', 'prm']
     """
-    grid = [f"{name}_{c}" for name, p in planner_table.PLANNERS.items() if p.grid
-            for c in ASTAR_CELLS[n]]
+    cells = ASTAR_CELLS[min(max(n, 2), 4)]  # beyond 4 joints, the 4-joint grids (may be refused)
+    grid = [f"{name}_{c}" for name, p in planner_table.PLANNERS.items() if p.grid for c in cells]
     return grid + list(SAMPLING) + list(extra)
 
 
@@ -251,25 +256,29 @@ def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float]:
     p = successes / n
     centre = (p + z * z / (2 * n)) / (1 + z * z / n)
     half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return (max(0.0, centre - half), min(1.0, centre + half))
+    # The interval contains p in exact arithmetic; rounding must not put p outside it (at
+    # p = 1 the upper end would come out as 1 - 1e-16).
+    return (max(0.0, min(p, centre - half)), min(1.0, max(p, centre + half)))
 
 
-def mean_interval(values) -> dict:
-    """Mean, Student-t 95 % interval and median of ``values`` (NaN when there are none)."""
+def mean_interval(values, level: float = 0.95) -> dict:
+    """Mean, Student-t interval (``level``, 95 % by default) and median of ``values`` (NaN
+    when there are none); the t quantile is :func:`rapp.student_t.t_quantile`, exact for every
+    sample size.
+
+    >>> m = mean_interval([1.0, 2.0, 3.0])
+    >>> round(m["low"], 6), round(m["high"], 6)
+    (-0.484138, 4.484138)
+    """
     v = np.asarray([x for x in values if math.isfinite(x)], float)
     if v.size == 0:
         return {"mean": math.nan, "low": math.nan, "high": math.nan, "median": math.nan, "n": 0}
     if v.size == 1:
         return {"mean": float(v[0]), "low": math.nan, "high": math.nan, "median": float(v[0]), "n": 1}
-    from statistics import NormalDist  # t quantile: a table for small n, the normal beyond
-    t = _T975.get(v.size - 1, NormalDist().inv_cdf(0.975))
+    t = t_quantile(0.5 + level / 2, v.size - 1)
     half = t * v.std(ddof=1) / math.sqrt(v.size)
     return {"mean": float(v.mean()), "low": float(v.mean() - half), "high": float(v.mean() + half),
             "median": float(np.median(v)), "n": int(v.size)}
-
-
-_T975 = {1: 12.706, 2: 4.303, 3: 3.182, 4: 2.776, 5: 2.571, 6: 2.447, 7: 2.365, 8: 2.306, 9: 2.262,
-         10: 2.228, 12: 2.179, 15: 2.131, 19: 2.093, 20: 2.086, 25: 2.060, 29: 2.045, 30: 2.042}
 
 
 def summarize(records: list[Record], scenarios: list[dict]) -> dict:
@@ -309,43 +318,120 @@ def tasks(scenarios: list[dict], seeds: int, planners=None, extra=()) -> list[Ta
     return out
 
 
+def task_key(item) -> tuple:
+    """``(scenario_index, planner, seed)``: what names one run, of a :class:`Task`, a
+    :class:`Record` or a record's dict.
+
+    >>> task_key({"scenario_index": 2, "planner": "rrt", "seed": 4, "success": True})
+    (2, 'rrt', 4)
+    """
+    get = item.get if isinstance(item, dict) else lambda k: getattr(item, k)
+    return (int(get("scenario_index")), str(get("planner")), int(get("seed")))
+
+
+def warm() -> float:
+    """Compile (or load from numba's cache) every kernel a run uses, in this process, before
+    any run is timed; returns the seconds it took.
+
+    :func:`rapp.sampling.prepare_kernels` compiles the sampling planners'; one grid run on a
+    2-link joint goal and one on a 3-link Cartesian goal compile the C-space, search and IK
+    kernels. A worker calls it once as it starts (:func:`start_worker`), so no run's time
+    includes a compilation.
+    """
+    t0 = time.perf_counter()
+    prepare_kernels()
+    two, three = make_scenarios(2, seed=1)
+    run_task(Task(0, planners_for(2)[0], 0, two))
+    run_task(Task(1, planners_for(3)[0], 0, three))
+    return time.perf_counter() - t0
+
+
+def start_worker() -> None:
+    """A process pool's initializer: leave Ctrl-C to the parent (it stops the pool and keeps
+    what is done), die quietly when the parent terminates the worker, then :func:`warm`."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not a command line's handler, if forked
+    warm()
+
+
+def run_tasks(todo, executor: Executor | None = None, runner=None):
+    """Yield the :class:`Record` of each task of ``todo`` as it completes (in completion order).
+
+    ``executor``: any :class:`concurrent.futures.Executor` (a process pool, a Dask client's
+    executor, ...) whose workers are warmed (:func:`warm`); None runs the tasks here, one by
+    one, after warming this process. Closing the generator early (an interrupt) cancels the
+    tasks not yet started.
+    """
+    runner = run_task if runner is None else runner
+    if executor is None:
+        warm()
+        for task in todo:
+            yield runner(task)
+        return
+    futures = [executor.submit(runner, task) for task in todo]
+    try:
+        for future in as_completed(futures):
+            yield future.result()
+    finally:
+        for future in futures:
+            future.cancel()
+
+
+def settings_record(scenarios: list[dict], seeds: int, seed, planners) -> dict:
+    """What a comparison's records are records of: its scenarios and settings (a journal's
+    header, the ``settings`` of a result)."""
+    return {"scenarios": len(scenarios), "seeds": seeds, "scenario_seed": seed,
+            "planners": None if planners is None else list(planners), "step": STEP,
+            "time_budget_s": TIME_BUDGET, "rrt_star_budget_s": RRT_STAR_BUDGET,
+            "astar_cells": ASTAR_CELLS}
+
+
+def result(scenarios: list[dict], settings: dict, records, wall: float) -> dict:
+    """The JSON-ready result of a comparison: its records in task order and their summary."""
+    rs = sorted((r if isinstance(r, Record) else Record(**r) for r in records), key=task_key)
+    return {
+        "date": date.today().isoformat(),
+        "machine": {"cpus": os.cpu_count(), "platform": platform.platform(),
+                    "python": platform.python_version()},
+        "settings": settings,
+        "wall_s": wall,
+        "scenarios": scenarios,
+        "summary": summarize(rs, scenarios),
+        "records": [asdict(r) for r in rs],
+    }
+
+
 def run(scenarios: int = 30, seeds: int = 20, executor: Executor | None = None, planners=None,
         seed: int = 2026, *, runner=None, extra=()) -> dict:
     """Run the comparison; returns the JSON-ready result (records and summary).
 
     ``executor``: any :class:`concurrent.futures.Executor` (default: a process pool over all
-    cores). ``planners``: name prefixes to keep (default: all). ``runner``: the function that
-    runs one :class:`Task` (default :func:`run_task`; a benchmark passes its own to add the
-    planners named in ``extra``); it must be importable by the executor's workers.
+    cores, each worker warmed by :func:`start_worker`). ``planners``: name prefixes to keep
+    (default: all). ``runner``: the function that runs one :class:`Task` (default
+    :func:`run_task`; a benchmark passes its own to add the planners named in ``extra``); it
+    must be importable by the executor's workers. ``python -m rapp compare`` is the same run
+    with a journal (resumable) and progress.
     """
-    runner = run_task if runner is None else runner
     chosen = make_scenarios(scenarios, seed)
     todo = tasks(chosen, seeds, planners, extra)
     own = executor is None
-    executor = executor or ProcessPoolExecutor(max_workers=os.cpu_count())
+    if own:
+        from concurrent.futures import ProcessPoolExecutor  # multiprocessing: only when used
+
+        executor = ProcessPoolExecutor(max_workers=os.cpu_count(), initializer=start_worker)
     try:
         t0 = time.perf_counter()
-        records = list(executor.map(runner, todo, chunksize=4) if isinstance(executor, ProcessPoolExecutor)
-                       else executor.map(runner, todo))
+        records = list(run_tasks(todo, executor, runner))
         wall = time.perf_counter() - t0
     finally:
         if own:
             executor.shutdown()
-    return {
-        "date": date.today().isoformat(),
-        "machine": {"cpus": os.cpu_count(), "platform": platform.platform(),
-                    "python": platform.python_version()},
-        "settings": {"scenarios": scenarios, "seeds": seeds, "scenario_seed": seed, "step": STEP,
-                     "time_budget_s": TIME_BUDGET, "rrt_star_budget_s": RRT_STAR_BUDGET, "astar_cells": ASTAR_CELLS},
-        "wall_s": wall,
-        "scenarios": chosen,
-        "summary": summarize(records, chosen),
-        "records": [asdict(r) for r in records],
-    }
+    return result(chosen, settings_record(chosen, seeds, seed, planners), records, wall)
 
 
 def recorded_results() -> dict:
-    """The recorded comparison (30 scenarios x 20 seeds, every planner), from the package data."""
+    """The recorded comparison (30 scenarios x 2 seeds, every planner and OMPL's two), from the
+    package data."""
     from rapp.recorded import load
 
     return load("planners")

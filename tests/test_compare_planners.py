@@ -1,4 +1,4 @@
-"""The planner comparison harness (rapp.compare, run by benchmarks/compare_planners.py) on a few scenarios.
+"""The planner comparison harness (rapp.compare, run by ``python -m rapp compare``) on a few scenarios.
 
 The full run (30 scenarios x 20 seeds) is a benchmark, not a test; here a small run proves the
 harness: scenarios are valid and reproducible, every run of every planner gives a record, a
@@ -62,21 +62,36 @@ def test_intervals():
     assert lo == 0.0 and hi == pytest.approx(0.1611, abs=1e-4)
     lo, hi = cp.wilson(10, 20)
     assert (lo, hi) == pytest.approx((0.2993, 0.7007), abs=1e-4)
+    for n in range(1, 400):  # the interval always holds the rate, to the last bit
+        for k in {0, 1, n // 2, n - 1, n}:
+            lo, hi = cp.wilson(k, n)
+            assert 0.0 <= lo <= k / n <= hi <= 1.0
     m = cp.mean_interval([1.0, 2.0, 3.0, math.nan])
     assert m["mean"] == 2.0 and m["n"] == 3
-    assert (m["low"], m["high"]) == pytest.approx((2.0 - 4.303 / math.sqrt(3), 2.0 + 4.303 / math.sqrt(3)))
+    t = 0.95 * math.sqrt(2 / (4 * 0.975 * 0.025))  # Student's t, 97.5 %, 2 degrees of freedom
+    assert (m["low"], m["high"]) == pytest.approx((2.0 - t / math.sqrt(3), 2.0 + t / math.sqrt(3)), rel=1e-12)
     assert math.isnan(cp.mean_interval([])["mean"])
 
 
-def test_the_command_line_runs_rapps_planners_through_the_package():
+def test_the_benchmark_runs_rapps_planners_through_the_package(capsys, tmp_path):
     task = cp.tasks(cp.make_scenarios(1), seeds=1, planners=["astar_24"])[0]
     a, b = cli.run_task(task), cp.run_task(task)
     assert a.success and (a.planner, a.length_rad, a.shortcut_length_rad) == (
         b.planner, b.length_rad, b.shortcut_length_rad)
-    assert cli.RECORDED.is_file() and cli.RECORDED.parent.name == "recorded"
+    # It is python -m rapp compare: the same options and one-line refusals.
+    assert cli.main(["--workers", "0", "--out", str(tmp_path / "r.jsonl")]) == 2
+    assert "--workers" in capsys.readouterr().err
 
 
 def test_the_recorded_results_ship_with_the_package():
     results = cp.recorded_results()
-    assert len(results["records"]) == 3690 and len(results["scenarios"]) == results["settings"]["scenarios"]
-    assert results["scenarios"] == cp.make_scenarios(30, results["settings"]["scenario_seed"])
+    settings = results["settings"]
+    assert len(results["scenarios"]) == settings["scenarios"] == 30
+    assert results["scenarios"] == cp.make_scenarios(30, settings["scenario_seed"])
+    # Every (scenario, seed, planner) of the protocol exactly once, OMPL's planners included.
+    todo = cp.tasks(results["scenarios"], settings["seeds"], settings["planners"], settings["extra"])
+    assert sorted(cp.task_key(r) for r in results["records"]) == sorted(cp.task_key(t) for t in todo)
+    # Its intervals are those of the records, with the exact t quantile.
+    for planner, by_class in results["summary"].items():
+        times = [r["time_s"] for r in results["records"] if r["planner"] == planner and r["success"]]
+        assert by_class["all"]["time_s"] == pytest.approx(cp.mean_interval(times), nan_ok=True)
