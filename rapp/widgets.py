@@ -310,9 +310,10 @@ def playground_status(metrics, report, *, weight=1.0, shaded=True):
                                    "expansions" if weight > 1 else ""))
     verdict = ("the verification passed" if report.ok else "the verification failed ("
                + ", ".join(c.name for c in report.failed) + ")")
+    short, grid_path = f"{m['shortcut_length_rad']:.2f}", f"{m['waypoint_length_rad']:.2f}"
     motion = (f"Shortcutting leaves {int(m['shortcut_waypoints'])} waypoints, "
-              f"{m['shortcut_length_rad']:.2f} rad of joint motion instead of "
-              f"{m['waypoint_length_rad']:.2f} rad, and {verdict}.")
+              + (f"{short} rad of joint motion instead of {grid_path} rad" if short != grid_path
+                 else f"the same {short} rad of joint motion") + f", and {verdict}.")
     return f"{search} and found {length}. {motion}"
 
 
@@ -384,7 +385,8 @@ def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0,
         closed = p.expanded if np.ndim(p.occupancy) == 2 else None
         plotting.plot_plan(p, s, expanded=closed, axes=(ax_c, ax_w))
         return _badge(True, "planned", "") + " &nbsp; " + html.escape(
-            playground_status(p.metrics, p.report, weight=weight, shaded=closed is not None))
+            playground_status(p.metrics, p.report, weight=weight, shaded=closed is not None),
+            quote=False)
 
     return view_stack(fig, controls, view, title="Planner playground")
 

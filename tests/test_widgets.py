@@ -120,7 +120,7 @@ def test_planner_playground_weights_expand_fewer_cells_and_failures_are_shown():
     svg, text = selected(w)
     ref = plan(dataclasses.replace(s, planner=dataclasses.replace(s.planner, cells=(90, 90))))
     assert "planned" in text and f"a path of {ref.metrics['path_cells']} steps" in text
-    assert "_" not in text.split("</span>", 1)[1]  # sentences, not metric names
+    assert "_" not in text.split("</span>", 1)[1] and "&#x27;" not in text  # sentences, plain
 
     def expanded():
         return int(selected(w)[1].split("A* expanded ")[1].split(" of")[0].replace(",", ""))
@@ -166,6 +166,8 @@ def test_playground_status_says_each_number_once_in_sentences(repairs, steps, we
     assert text.endswith("the verification passed.") == (not failed)
     assert ("the verification failed (goal reached)" in text) == bool(failed)
     assert "shaded" not in W.playground_status(m, _Report(), shaded=False)
+    same = W.playground_status(dict(m, shortcut_length_rad=5.8174), _Report())
+    assert "3 waypoints, the same 5.82 rad of joint motion, and" in same and "instead" not in same
 
 
 def test_plan_expanded_is_the_search_closed_set():
