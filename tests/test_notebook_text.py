@@ -67,8 +67,9 @@ def test_a_chapter_main_path_is_read_in_one_sitting(stats, name, most):
 
 
 def test_the_main_path_stops_at_going_further_and_skips_folds():
-    sys.path.insert(0, str(ROOT / "scripts"))
-    from notebook_stats import main_path_words
+    from tests.helpers import load_script
+
+    main_path_words = load_script("scripts/notebook_stats.py").main_path_words
 
     def md(text, tags=()):
         return {"cell_type": "markdown", "source": text, "metadata": {"tags": list(tags)}}
