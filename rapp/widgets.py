@@ -261,6 +261,63 @@ def _failure_cspace(scenario, cells, ax):
             f"{where}{limits}.")
 
 
+def playground_status(metrics, report, *, weight=1.0, shaded=True):
+    """What a plan did, in two sentences a student reads: the search, then the motion.
+
+    Parameters
+    ----------
+    metrics : dict
+        A plan's ``metrics`` (:func:`rapp.plan`): ``expansions``, ``expansions_total``,
+        ``grid_cells``, ``path_cells``, ``bfs_optimum_cells``, ``certification_repairs``,
+        ``shortcut_waypoints``, ``waypoint_length_rad`` and ``shortcut_length_rad``.
+    report : rapp.verify.Report
+        The plan's verification report.
+    weight : float
+        The heuristic weight the search ran with; above 1 a longer path is put down to it.
+    shaded : bool
+        Whether the figure shades the expanded cells (2-joint grids).
+
+    Returns
+    -------
+    str
+        Plain text (no markup): how many of the grid's cells A* expanded and how long its path
+        is against the fewest steps possible, the repairs when a move between two free cells
+        could not be certified, then the shortcut and the verification's verdict.
+
+    Examples
+    --------
+    >>> m = {"expansions": 779, "expansions_total": 779, "grid_cells": 10000, "path_cells": 92,
+    ...      "bfs_optimum_cells": 92, "certification_repairs": 0, "shortcut_waypoints": 4,
+    ...      "waypoint_length_rad": 5.817, "shortcut_length_rad": 4.442}
+    >>> class Passed:
+    ...     ok, failed = True, ()
+    >>> print(playground_status(m, Passed()))
+    A* expanded 779 of the grid's 10,000 cells (shaded blue) and found a path of 92 steps, the fewest possible on this grid. Shortcutting leaves 4 waypoints, 4.44 rad of joint motion instead of 5.82 rad, and the verification passed.
+    """
+    m = metrics
+    steps, fewest = int(m["path_cells"]), int(m["bfs_optimum_cells"])
+    search = (f"A* expanded {int(m['expansions']):,} of the grid's {int(m['grid_cells']):,} cells"
+              + (" (shaded blue)" if shaded else ""))
+    repairs = int(m.get("certification_repairs", 0))
+    if repairs:
+        search += (f" in its last search ({int(m['expansions_total']):,} in all: {repairs} "
+                   f"{'move' if repairs == 1 else 'moves'} between free cells could not be certified, "
+                   f"so A* blocked {'its cell' if repairs == 1 else 'their cells'} and searched again)")
+    if steps == fewest:
+        length = f"a path of {steps} steps, the fewest possible on this grid"
+    else:
+        length = (f"a path of {steps} steps, {steps - fewest} more than the fewest possible "
+                  f"({fewest})" + (f": the heuristic weight {weight:g} trades length for fewer "
+                                   "expansions" if weight > 1 else ""))
+    verdict = ("the verification passed" if report.ok else "the verification failed ("
+               + ", ".join(c.name for c in report.failed) + ")")
+    short, grid_path = f"{m['shortcut_length_rad']:.2f}", f"{m['waypoint_length_rad']:.2f}"
+    motion = (f"Shortcutting leaves {int(m['shortcut_waypoints'])} waypoints, "
+              + (f"{short} rad of joint motion instead of {grid_path} rad" if short != grid_path
+                 else f"the same {short} rad of joint motion") + f", and {verdict}.")
+    return f"{search} and found {length}. {motion}"
+
+
 @_book_style
 def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0, 3.0, 5.0)):
     """Plan scenarios at several grid sizes and heuristic weights, and compare.
@@ -287,7 +344,7 @@ def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0,
     --------
     >>> from rapp import load_scenario
     >>> w = planner_playground(load_scenario("default"), cells=(40,), weights=(1.0, 3.0))
-    >>> list(sliders_of(w)), "cells expanded" in selected(w)[1]
+    >>> list(sliders_of(w)), "A* expanded" in selected(w)[1]
     (['cells / joint', 'heuristic w'], True)
     """
     named = dict(scenarios) if hasattr(scenarios, "items") else {"scenario": scenarios}
@@ -328,12 +385,9 @@ def planner_playground(scenarios, *, cells=(30, 60, 90), weights=(1.0, 1.5, 2.0,
                     + ("<br>" + told if told else ""))
         closed = p.expanded if np.ndim(p.occupancy) == 2 else None
         plotting.plot_plan(p, s, expanded=closed, axes=(ax_c, ax_w))
-        shown = [f"{k} {v:.4g}" for k, v in p.metrics.items()
-                 if isinstance(v, (int, float, np.number)) and not isinstance(v, bool)
-                 and not (closed is not None and k == "expansions")][:6]
-        if closed is not None:
-            shown.insert(0, f"<b>{int(closed.sum())} cells expanded</b> (blue)")
-        return _badge(True, "planned", "") + " &nbsp; " + ", ".join(shown)
+        return _badge(True, "planned", "") + " &nbsp; " + html.escape(
+            playground_status(p.metrics, p.report, weight=weight, shaded=closed is not None),
+            quote=False)
 
     return view_stack(fig, controls, view, title="Planner playground")
 

@@ -20,7 +20,8 @@ would see it. Each slider, of a widget or of an animation player, is pressed wit
 the page fails when the figure the slider belongs to does not change. Every live explorer (rapp.live,
 `data-rapp-live`) is dragged by a handle and must recompute and redraw. Measured and reported per
 page: the seconds until the first slider responds and until every widget view rendered, the
-HTML weight, the height at both widths, and the smallest figure text as displayed (the PNG's
+HTML weight, the height at both widths, the seconds the main thread was busy until the first
+slider responded (the work, which a loaded machine inflates less than the wait), and the smallest figure text as displayed (the PNG's
 recorded ``rapp:text-px`` times its displayed over its natural width). The page fails when
 
 - an element of the article reaches past the screen's right edge at 390 px (a box that scrolls
@@ -353,6 +354,15 @@ def _press_changes(page, handle) -> bool:
     return False
 
 
+def main_thread_busy(cdp) -> float | None:
+    """Seconds the page's main thread has spent running tasks (Chrome's ``TaskDuration``)."""
+    try:
+        metrics = cdp.send("Performance.getMetrics")["metrics"]
+    except Exception:  # a browser without the metric: nothing to report
+        return None
+    return next((m["value"] for m in metrics if m["name"] == "TaskDuration"), None)
+
+
 def check_in_browser(base_url: str, pages: list[tuple[str, int]],
                      live_only: frozenset = frozenset(),
                      axe_source: str | None = None) -> dict[str, tuple[list[str], dict]]:
@@ -384,6 +394,11 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]],
             page.on("console", lambda msg, errors=errors: errors.append(
                 f"console error: {msg.text.splitlines()[0][:160]}") if msg.type == "error"
                 and not msg.location.get("url", "").endswith("favicon.ico") else None)
+            # The main thread's busy time (Chrome's TaskDuration) says how much work the page did
+            # before its first slider answered; on a loaded machine the wall time grows, the work
+            # much less. Reported, not bounded (issue 33: usable within 3 s on an idle machine).
+            cdp = page.context.new_cdp_session(page)
+            cdp.send("Performance.enable")
             t0 = time.monotonic()
             page.goto(base_url + rel, wait_until="domcontentloaded")
             try:  # a redirect stub (the root index.html) has nothing to measure
@@ -403,6 +418,7 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]],
                     first.first.scroll_into_view_if_needed()
                     if _press_changes(page, first.first):
                         measured["first_slider_s"] = time.monotonic() - t0
+                        measured["first_slider_busy_s"] = main_thread_busy(cdp)
                         break
                 page.wait_for_timeout(150)
             page.wait_for_load_state("load")
@@ -669,6 +685,8 @@ def main(argv: list[str] | None = None) -> int:
             summary += f", {axe_serious} critical/serious axe findings"
         if "first_slider_s" in measured:
             summary += f", first slider responds in {measured['first_slider_s']:.1f} s"
+            if measured.get("first_slider_busy_s") is not None:
+                summary += f" (main thread busy {measured['first_slider_busy_s']:.1f} s)"
         if rel in live:
             summary += f", {live[rel][1]['live']} live explorers dragged"
         if "ready_s" in measured:

@@ -11,6 +11,11 @@ plumbing that only nbval runs (the book's budget: 1,200 book-wide, ARCHITECTURE.
 anything: markdown outside ``{dropdown}`` blocks and ``:class: dropdown`` admonitions, and the
 source of visible code cells (a random generator's ``seed=`` is not a source document). The budget
 is 15 for each of chapters 1 to 8.
+
+*Main-path words* count the words of the markdown a reader sees without unfolding anything (as
+for the audit mentions, hidden cells left out), from the top of the page to its optional
+``## Going further`` section, if it has one: what a first reading reads. Code and its output are
+not counted.
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 HIDDEN = {"remove-input", "hide-input", "remove-cell"}
 MENTION = re.compile(r"\b(?:[Ss]eed(?:s|'s)?|SRS|MIS)\b")
+OPTIONAL = re.compile(r"^#{1,3}\s+Going further\b", re.M)
 FENCE = re.compile(r"^\s*(:{3,}|`{3,})\{([\w-]+)\}")
 
 
@@ -101,13 +107,36 @@ def audit_mentions(nb: dict) -> int:
     return n
 
 
+def main_path_words(nb: dict) -> int:
+    r"""Words of the markdown a reader sees unfolded, up to the optional "Going further" section.
+
+    >>> md = lambda text: {"cell_type": "markdown", "source": text}
+    >>> main_path_words({"cells": [md("# A title\n\nfour words of text"),
+    ...     md(":::{dropdown} Folded\nnot counted here\n:::\nTwo more."),
+    ...     md("## Going further\n\noptional words"), md("after it")]})
+    9
+    """
+    n = 0
+    for cell in nb["cells"]:
+        tags = set(cell.get("metadata", {}).get("tags", []))
+        if cell["cell_type"] != "markdown" or "remove-cell" in tags:
+            continue
+        text = unfolded(_source(cell))
+        stop = OPTIONAL.search(text)
+        n += len(text[:stop.start()].split()) if stop else len(text.split())
+        if stop:
+            break
+    return n
+
+
 def stats(root: Path = ROOT) -> dict:
-    """``{notebook name: {"hidden_non_assert": int, "audit_mentions": int}}`` for notebooks/."""
+    """``{notebook name: {"hidden_non_assert", "audit_mentions", "main_path_words": int}}``."""
     out = {}
     for path in sorted((root / "notebooks").glob("*.ipynb")):
         nb = json.loads(path.read_text(encoding="utf-8"))
         out[path.name] = {"hidden_non_assert": hidden_non_assert_lines(nb),
-                          "audit_mentions": audit_mentions(nb)}
+                          "audit_mentions": audit_mentions(nb),
+                          "main_path_words": main_path_words(nb)}
     return out
 
 
@@ -117,7 +146,8 @@ def main(argv: list[str]) -> int:
         print(json.dumps(s))
         return 0
     for name, v in s.items():
-        print(f"{name:42s} hidden non-assert {v['hidden_non_assert']:5d}   audit mentions {v['audit_mentions']:4d}")
+        print(f"{name:42s} hidden non-assert {v['hidden_non_assert']:5d}   audit mentions "
+              f"{v['audit_mentions']:4d}   main-path words {v['main_path_words']:6,d}")
     print(f"{'book':42s} hidden non-assert {sum(v['hidden_non_assert'] for v in s.values()):5d}")
     return 0
 

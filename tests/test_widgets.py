@@ -119,20 +119,55 @@ def test_planner_playground_weights_expand_fewer_cells_and_failures_are_shown():
     assert list(W.sliders_of(w)) == ["scenario", "cells / joint", "heuristic w"]
     svg, text = selected(w)
     ref = plan(dataclasses.replace(s, planner=dataclasses.replace(s.planner, cells=(90, 90))))
-    assert "planned" in text and f"path_cells {ref.metrics['path_cells']}" in text
+    assert "planned" in text and f"a path of {ref.metrics['path_cells']} steps" in text
+    assert "_" not in text.split("</span>", 1)[1] and "&#x27;" not in text  # sentences, plain
 
     def expanded():
-        return int(selected(w)[1].split(" cells expanded")[0].rsplit(">", 1)[1])
+        return int(selected(w)[1].split("A* expanded ")[1].split(" of")[0].replace(",", ""))
 
     before = expanded()
     move(w, "weight", 3.0)
     assert 0 < expanded() < before and selected(w)[0] != svg
     move(w, "cells", 12)  # a coarser grid re-plans: another path
-    assert f"path_cells {ref.metrics['path_cells']}" not in selected(w)[1]
+    assert f"a path of {ref.metrics['path_cells']} steps" not in selected(w)[1]
     # An unreachable goal is a planning answer, shown with its figure.
     W.sliders_of(w)["scenario"].index = 1
     svg3, text3 = selected(w)
     assert "planned" not in text3 and "NoIKSolution" in text3 and svg3.startswith("<svg")
+
+
+class _Report:
+    def __init__(self, failed=()):
+        self.failed = tuple(type("Check", (), {"name": n}) for n in failed)
+        self.ok = not failed
+
+
+_METRICS = {"expansions": 422, "expansions_total": 845, "grid_cells": 1600, "path_cells": 43,
+            "bfs_optimum_cells": 43, "certification_repairs": 1, "shortcut_waypoints": 3,
+            "waypoint_length_rad": 5.8174, "shortcut_length_rad": 4.4419}
+
+
+@pytest.mark.parametrize("repairs,steps,weight,failed", [
+    (0, 43, 1.0, ()), (1, 43, 1.0, ()), (2, 47, 3.0, ()), (0, 45, 1.0, ("goal reached",))])
+def test_playground_status_says_each_number_once_in_sentences(repairs, steps, weight, failed):
+    m = dict(_METRICS, certification_repairs=repairs, path_cells=steps)
+    text = W.playground_status(m, _Report(failed), weight=weight)
+    assert "_" not in text and "<" not in text                    # no metric names, no markup
+    assert text.count(". ") == 1 and text.endswith(".")         # two sentences
+    assert text.startswith("A* expanded 422 of the grid's 1,600 cells (shaded blue)")
+    assert f"a path of {steps} steps" in text
+    assert ("the fewest possible on this grid" in text) == (steps == 43)
+    assert (f"{steps - 43} more than the fewest possible (43)" in text) == (steps > 43)
+    assert ("heuristic weight 3 trades length" in text) == (weight > 1 and steps > 43)
+    assert ("845 in all" in text) == (repairs > 0)
+    assert ("1 move between free cells" in text) == (repairs == 1)
+    assert ("2 moves between free cells" in text) == (repairs == 2)
+    assert "3 waypoints, 4.44 rad of joint motion instead of 5.82 rad" in text
+    assert text.endswith("the verification passed.") == (not failed)
+    assert ("the verification failed (goal reached)" in text) == bool(failed)
+    assert "shaded" not in W.playground_status(m, _Report(), shaded=False)
+    same = W.playground_status(dict(m, shortcut_length_rad=5.8174), _Report())
+    assert "3 waypoints, the same 5.82 rad of joint motion, and" in same and "instead" not in same
 
 
 def test_plan_expanded_is_the_search_closed_set():
