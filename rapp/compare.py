@@ -495,7 +495,7 @@ def group_runs(results: dict) -> RunGroups:
     --------
     >>> g = group_runs(recorded_results())
     >>> g.families[:3], g.stats["RRT", "all"]["runs"], sum(g.size.values())
-    (['A* coarse', 'A* medium', 'A* fine'], 600, 30)
+    (['A* coarse', 'A* medium', 'A* fine'], 150, 30)
     """
     cfg, scenarios = results["settings"], results["scenarios"]
     runs: dict = {}

@@ -407,11 +407,25 @@ class SampledTrajectory(Protocol):
     """What :func:`verify` reads of a plan: a :class:`rapp.results.Plan`, or any object with
     these arrays (and, optionally, the ``motion`` it certified)."""
 
-    t: np.ndarray  #: (k,) times
-    q: np.ndarray  #: (k, n) joint angles
-    qd: np.ndarray  #: (k, n) joint velocities
-    qdd: np.ndarray  #: (k, n) joint accelerations
-    xy: np.ndarray  #: (k, 2) end-effector positions
+    @property
+    def t(self) -> np.ndarray:
+        """(k,) times."""
+
+    @property
+    def q(self) -> np.ndarray:
+        """(k, n) joint angles."""
+
+    @property
+    def qd(self) -> np.ndarray:
+        """(k, n) joint velocities."""
+
+    @property
+    def qdd(self) -> np.ndarray:
+        """(k, n) joint accelerations."""
+
+    @property
+    def xy(self) -> np.ndarray:
+        """(k, 2) end-effector positions."""
 
 
 def verify(plan: SampledTrajectory, scenario: Scenario, *, validity: ValidityFunction | None = None,
