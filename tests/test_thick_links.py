@@ -18,6 +18,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import rapp
+from rapp.errors import CertificationLimit
 from rapp import reference
 from rapp.collision import collides, link_clearances, scene, segment_collision_free
 from rapp.cspace import JointGrid, certified_free, grid_q, occupancy, occupancy_numpy
@@ -135,10 +136,19 @@ def test_certified_segments_keep_the_gap_on_dense_samples(world, seed):
     rng = np.random.default_rng(seed)
     q0 = rng.uniform(-np.pi, np.pi, (8, arm.n))
     q1 = q0 + rng.uniform(-0.6, 0.6, q0.shape)
-    free = segment_collision_free(arm, q0, q1, obstacles, margin=margin)
     t = np.linspace(0.0, 1.0, 101)[:, None]
-    for a, b in zip(q0[free], q1[free]):
-        assert (_gaps(arm, a + t * (b - a), obstacles) > margin).all()
+    reach = float(np.sum(arm.lengths))
+    for a, b in zip(q0, q1):
+        try:
+            free = segment_collision_free(arm, a[None], b[None], obstacles, margin=margin)[0]
+        except CertificationLimit:
+            # The documented answer where the motion grazes an obstacle closer than the
+            # bisection's interval limit can resolve (found by hypothesis: a box 2.4e-9 from
+            # the base). Only there.
+            assert _gaps(arm, a + t * (b - a), obstacles).min() - margin < 1e-6 * reach
+            continue
+        if free:
+            assert (_gaps(arm, a + t * (b - a), obstacles) > margin).all()
 
 
 def test_margin_and_radius_are_checked():
