@@ -413,6 +413,18 @@ class CandidateEdges:
             self.impl.restore(*state, len(nodes))
             return self.impl.search(nodes, rounds, self.certify, budget, sources, targets, h)
 
+    def certify_all(self, nodes, budget=None) -> None:
+        """Certify every edge not yet checked, in one call (a roadmap built for many queries
+        pays for its edges once, at the build): each becomes certified free or refuted."""
+        _check_time(budget)
+        ij, w, done = self.impl.state()
+        todo = np.flatnonzero(~done & np.isfinite(w))
+        if not len(todo):
+            return
+        a = nodes[ij[todo, 0]]
+        free = self.certify(a, a + self.arm.joint_delta(a, nodes[ij[todo, 1]]))
+        self.impl.settle_edges(todo, ij[todo], free)
+
     @property
     def count(self) -> int:
         """How many candidate edges there are."""
@@ -478,6 +490,10 @@ class _DictEdges:
             else:
                 self.edges[(int(a), int(b))] = np.inf
 
+    def settle_edges(self, index, pairs, free):
+        """:meth:`settle` (the edges' ``index`` unused: the dict is keyed by their ends)."""
+        self.settle(pairs, free)
+
     def state(self):
         m = len(self.edges)
         ij = np.array(list(self.edges), dtype=np.int64).reshape(m, 2)
@@ -520,6 +536,15 @@ class _ArrayEdges:
 
     def state(self):
         return self.ij, self.w, self.done
+
+    def settle_edges(self, index, pairs, free):
+        """Edges ``index`` certified free (``free``) or refuted, in place (their CSR entries
+        too)."""
+        self.done[index[free]] = True
+        bad = index[~free]
+        self.w[bad] = np.inf
+        self.wt[self.slot[2 * bad]] = np.inf
+        self.wt[self.slot[2 * bad + 1]] = np.inf
 
     def keep(self, nodes_n, m):
         """:meth:`CandidateEdges.keep`; back to the graph before the last ``add`` when it was
