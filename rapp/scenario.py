@@ -194,7 +194,7 @@ class PlannerSettings:
     goal_threshold: float = 0.01
     max_iterations: int = 20000
     time_budget: float | None = None
-    samples: int = 500
+    samples: int = 10
     neighbours: int = 10
     #: ``(key, value)`` pairs of settings that are not fields above: those of a planner added to
     #: the table with a setting of its own. Read as attributes too.
