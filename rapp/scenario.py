@@ -214,7 +214,7 @@ class PlannerSettings:
         Examples
         --------
         >>> PlannerSettings(algorithm="prm").values()
-        {'samples': 500, 'neighbours': 10, 'max_iterations': 20000, 'seed': 0, 'time_budget': None}
+        {'samples': 10, 'neighbours': 10, 'max_iterations': 20000, 'seed': 0, 'time_budget': None}
         """
         return {k: getattr(self, k) for k in planner_table.entry(self.algorithm).keys}
 
