@@ -91,8 +91,9 @@ RRT_STAR_STEP, RRT_STAR_ITERATIONS = 0.2, 5000
 #: rapp's largest rewiring radius (rad): two steps.
 RRT_STAR_RADIUS = 2 * RRT_STAR_STEP
 TIME_LIMIT = 30.0
-#: rapp's PRM batch in the ``prm_small`` row: the median vertex count of OMPL's roadmap at its
-#: first path on this problem (10, recorded as ``median_vertices``).
+#: rapp's PRM first batch in the ``prm_small`` row, given explicitly: the median vertex count
+#: of OMPL's roadmap at its first path on this problem (10, recorded as ``median_vertices``);
+#: rapp's default since its PRM doubles its roadmap after the first batch.
 PRM_SMALL_SAMPLES = 10
 #: Only these rows are measured (RAPP_BENCH_PLANNERS=prm,prm_small); the others stay as
 #: recorded.
@@ -102,9 +103,9 @@ RAPP = {
     "rrt_connect": lambda arm, obs, seed: rrt_connect(arm, START, GOAL, obs, step=STEP, seed=seed,
                                                       raise_on_failure=False),
     "prm": lambda arm, obs, seed: prm(arm, START, GOAL, obs, seed=seed, raise_on_failure=False),
-    # rapp's PRM grows its roadmap in batches of ``samples`` (500 by default), OMPL's one
-    # sample at a time until it holds a path: this row gives rapp batches of the size of the
-    # roadmap OMPL ends with here (its median vertex count is recorded, ``median_vertices``).
+    # rapp's PRM grows from a first batch of ``samples`` (10 by default), doubling, OMPL's one
+    # sample at a time until it holds a path: this row gives rapp a first batch of the size of
+    # the roadmap OMPL ends with here (``median_vertices``), explicitly; the default's now.
     "prm_small": lambda arm, obs, seed: prm(arm, START, GOAL, obs, seed=seed,
                                             samples=PRM_SMALL_SAMPLES, raise_on_failure=False),
     "rrt_star": lambda arm, obs, seed, radius=RRT_STAR_RADIUS: rrt_star(

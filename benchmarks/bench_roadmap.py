@@ -3,10 +3,10 @@
 Problem: the 3-link arm and obstacles of ``bench_core.py`` (the book's benchmark problem).
 ``rapp.Roadmap`` is built with its defaults (500 samples, 10 neighbours) for each of SEEDS seeds,
 then asked QUERIES queries in a row, each between two free configurations drawn uniformly (the
-same ends for every seed). Every path is checked by ``rapp.path_collision_free``. The lazy
-roadmap certifies an edge the first time a query's path needs it, so the first queries cost
-more than the later ones; each query's CPU time (``time.process_time``) is recorded with the
-edges it certified and the build's. A one-query ``rapp.prm`` on the same problem is timed too
+same ends for every seed). Every path is checked by ``rapp.path_collision_free``. The roadmap
+certifies all its edges at the build, so a query certifies only the edges joining its own ends;
+each query's CPU time (``time.process_time``) is recorded with the roadmap edges it certified
+(none unless it grew the roadmap) and the build's. A one-query ``rapp.prm`` on the same problem is timed too
 (what each query would cost without the roadmap).
 
 Run from the repository root::

@@ -221,7 +221,8 @@ GOAL_THRESHOLD = Setting(
     range_text=f"(0, {MAX_GOAL_THRESHOLD:g}] rad (a joint-space distance to a goal configuration)",
     unit="rad", label="goal thresh", description="a node this close to a goal has reached it")
 SAMPLES = Setting("samples", "integer", None, 10, 100_000, label="samples",
-                  description="free configurations added each time the roadmap holds no path")
+                  description="free configurations of the roadmap's first batch; each later "
+                              "batch doubles the roadmap")
 NEIGHBOURS = Setting("neighbours", "integer", None, 1, 100, label="neighbours",
                      description="candidate edges from each node to its nearest nodes")
 MAX_ITERATIONS = Setting("max_iterations", "integer", None, 1, 10_000_000, label="iterations",

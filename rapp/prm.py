@@ -4,7 +4,9 @@ Free configurations are sampled uniformly and each is joined to its ``neighbours
 (wrap-aware distance) by a *candidate* edge. A* (Dijkstra's algorithm guided by the distance to
 the nearest goal, a lower bound) finds the shortest candidate path from the start to a goal; only that path's uncertified edges are then certified
 (:func:`rapp.collision.segment_collision_free`, all in one call). Edges that fail are refuted
-(never taken again) and the search is repeated; when the roadmap holds no path, it grows by as many samples again.
+(never taken again) and the search is repeated; when the roadmap holds no path, it grows: the
+first batch is ``samples`` configurations, each later one doubles the roadmap, so that an easy
+query is answered by a small roadmap (as OMPL's PRM grows until its query is solved).
 Most candidate edges are never checked, which is where the time of a PRM goes.
 
 With numba the candidate edges are found by a compiled nearest-k scan and kept as arrays, and the
@@ -48,8 +50,23 @@ from rapp.sampling import (Budget, EdgeCertifier, check_start_and_goals, squared
                            unwrapped_chain)
 from rapp.validity import DEFAULT_RESOLUTION, ValidityFunction, mark_sampled, user_validity
 
-__all__ = ["prm", "roadmap_bytes", "MEMORY_BUDGET", "BYTES_PER_EDGE", "CandidateEdges", "grow_roadmap",
+__all__ = ["prm", "roadmap_bytes", "MAX_SAMPLES", "largest_roadmap", "MEMORY_BUDGET", "BYTES_PER_EDGE", "CandidateEdges", "grow_roadmap",
            "heuristic", "path_of", "SEARCHES", "OutOfTime"]
+
+#: The default largest roadmap (samples) of a PRM whose ``samples`` are few.
+MAX_SAMPLES = 10_000
+
+
+def largest_roadmap(samples: int) -> int:
+    """The default ``max_samples`` of :func:`prm` for a first batch of ``samples``.
+
+    Examples
+    --------
+    >>> largest_roadmap(10), largest_roadmap(1000)
+    (10000, 20000)
+    """
+    return max(MAX_SAMPLES, 20 * samples)
+
 
 #: Peak bytes the roadmap may take (as the grid planner's budget, rapp.scenario.MEMORY_BUDGET).
 MEMORY_BUDGET = 1.5e9
@@ -131,7 +148,7 @@ def roadmap_bytes(n: int, nodes: int, neighbours: int) -> float:
 
     Examples
     --------
-    >>> roadmap_bytes(2, 10_001, 10) / 1e6   # the default: 20 x 500 samples, start and goal
+    >>> roadmap_bytes(2, 10_001, 10) / 1e6   # the default: MAX_SAMPLES, start and goal
     104.164016
     """
     return nodes * neighbours * BYTES_PER_EDGE + BLOCK_BYTES + nodes * n * 8
@@ -194,7 +211,7 @@ def _dijkstra(nodes_n: int, edges: dict, sources, targets, budget=None, h=None):
 
 
 def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle | Polygon] = (), *,
-        samples: int = 500, neighbours: int = 10, seed: int | np.random.SeedSequence = 0,
+        samples: int = 10, neighbours: int = 10, seed: int | np.random.SeedSequence = 0,
         max_iterations: int = 500, time_budget: float | None = None,
         max_samples: int | None = None, raise_on_failure: bool = True,
         neighbors: int | None = None, margin: float = 0.0,
@@ -207,7 +224,8 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
     arm, start, goal, obstacles
         As :func:`rapp.rrt_connect.rrt_connect`.
     samples : int
-        Free configurations added to the roadmap each time it holds no path.
+        Free configurations of the roadmap's first batch; each time the roadmap holds no
+        path, it grows by as many samples as it holds (it doubles), up to ``max_samples``.
     neighbours : int
         Candidate edges from each node to its nearest nodes.
     neighbors : int, optional
@@ -215,8 +233,8 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
     max_iterations : int
         Path searches at most (each followed by certifying the path it found).
     max_samples : int, optional
-        Largest roadmap (default ``20 * samples``): when it holds no path, the answer is
-        failure.
+        Largest roadmap in samples (default :func:`largest_roadmap`, the larger of
+        :data:`MAX_SAMPLES` and ``20 * samples``): when it holds no path, the answer is failure.
     time_budget : float, optional
         Seconds at most.
     margin : float
@@ -255,7 +273,7 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
         neighbours = neighbors
     neighbours = positive_integer(neighbours, "neighbours")
     cap_name = "samples" if max_samples is None else "max_samples"
-    max_samples = 20 * samples if max_samples is None else positive_integer(max_samples, "max_samples")
+    max_samples = largest_roadmap(samples) if max_samples is None else positive_integer(max_samples, "max_samples")
     budget = Budget(max_iterations, time_budget)
     checker = user_validity(validity, validity_resolution)
     start, goals = check_start_and_goals(arm, start, goal, obstacles, checker)
@@ -263,7 +281,7 @@ def prm(arm: Arm, start: ArrayLike, goal: ArrayLike, obstacles: Iterable[Circle 
     if peak > MEMORY_BUDGET:
         raise InvalidSetting(
             f"a roadmap of up to {max_samples + 1 + len(goals)} nodes"
-            + (" (20 x samples)" if cap_name == "samples" else "")
+            + (f" (the larger of {MAX_SAMPLES} and 20 x samples)" if cap_name == "samples" else "")
             + f" with {neighbours} neighbours each would need about {peak / 1e9:.3g} GB, over "
             f"the {MEMORY_BUDGET / 1e9:g} GB budget: lower {cap_name} or neighbours", cap_name)
     try:
@@ -304,7 +322,12 @@ def _roadmap(arm, start, goals, obstacles, samples, neighbours, max_samples, bud
                 full = True
                 break
             first_new = len(nodes)
-            nodes = grow_roadmap(arm, rng, nodes, samples, obstacles, budget, checker)
+            have = first_new - 1 - len(goals)
+            # The first batch is ``samples``; each later one doubles the roadmap (never past
+            # max_samples): a query solved by a few samples pays for a few, a hard one
+            # grows in a handful of batches.
+            batch = min(max(samples, have), max_samples - have)
+            nodes = grow_roadmap(arm, rng, nodes, batch, obstacles, budget, checker)
             edges.add(nodes, 0 if first_new <= 1 + len(goals) else first_new, budget)
         parent, hit, used, found = edges.search(nodes, rounds, [0], goal_ids, budget)
         budget.iterations += used
@@ -334,9 +357,10 @@ def path_of(arm, nodes, parent, hit, start) -> np.ndarray:
     ...         np.array([-1, 0, 1]), 2, np.zeros(2)).tolist()
     [[0.0, 0.0], [1.0, 0.0], [3.0, 0.0]]
     """
+    up = parent.tolist()  # Python ints: the walk is a few list look-ups
     chain = [int(hit)]
-    while parent[chain[-1]] >= 0:
-        chain.append(int(parent[chain[-1]]))
+    while up[chain[-1]] >= 0:
+        chain.append(up[chain[-1]])
     return unwrapped_chain(arm, nodes[chain[::-1]], start)
 
 
@@ -350,7 +374,11 @@ def heuristic(arm, nodes, targets) -> np.ndarray:
     >>> heuristic(Arm([1.0, 1.0]), np.array([[0.0, 0.0], [0.3, 0.4]]), [1]).round(9).tolist()
     [0.5, 0.0]
     """
-    d = arm.joint_delta(nodes[:, None, :], nodes[np.asarray(targets, dtype=np.int64)][None])
+    targets = np.asarray(targets, dtype=np.int64)
+    if targets.size == 1:  # one goal, as most queries: no (m, 1, n) broadcast
+        d = arm.joint_delta(nodes, nodes[targets[0]])[:, None, :]
+    else:
+        d = arm.joint_delta(nodes[:, None, :], nodes[targets][None])
     # Scaled down by far more than rounding, so that the bound stays below every path's length
     # as the kernels sum it (the edge lengths come from the compiled scan).
     return np.sqrt(squared_norms(d)).min(axis=1) * (1 - 1e-9)
@@ -412,6 +440,18 @@ class CandidateEdges:
             self.impl = _DictEdges(self.arm, self.neighbours)
             self.impl.restore(*state, len(nodes))
             return self.impl.search(nodes, rounds, self.certify, budget, sources, targets, h)
+
+    def certify_all(self, nodes, budget=None) -> None:
+        """Certify every edge not yet checked, in one call (a roadmap built for many queries
+        pays for its edges once, at the build): each becomes certified free or refuted."""
+        _check_time(budget)
+        ij, w, done = self.impl.state()
+        todo = np.flatnonzero(~done & np.isfinite(w))
+        if not len(todo):
+            return
+        a = nodes[ij[todo, 0]]
+        free = self.certify(a, a + self.arm.joint_delta(a, nodes[ij[todo, 1]]))
+        self.impl.settle_edges(todo, ij[todo], free)
 
     @property
     def count(self) -> int:
@@ -478,6 +518,10 @@ class _DictEdges:
             else:
                 self.edges[(int(a), int(b))] = np.inf
 
+    def settle_edges(self, index, pairs, free):
+        """:meth:`settle` (the edges' ``index`` unused: the dict is keyed by their ends)."""
+        self.settle(pairs, free)
+
     def state(self):
         m = len(self.edges)
         ij = np.array(list(self.edges), dtype=np.int64).reshape(m, 2)
@@ -521,6 +565,15 @@ class _ArrayEdges:
     def state(self):
         return self.ij, self.w, self.done
 
+    def settle_edges(self, index, pairs, free):
+        """Edges ``index`` certified free (``free``) or refuted, in place (their CSR entries
+        too)."""
+        self.done[index[free]] = True
+        bad = index[~free]
+        self.w[bad] = np.inf
+        self.wt[self.slot[2 * bad]] = np.inf
+        self.wt[self.slot[2 * bad + 1]] = np.inf
+
     def keep(self, nodes_n, m):
         """:meth:`CandidateEdges.keep`; back to the graph before the last ``add`` when it was
         of this size (a query's ends), its lengths from ``w`` (a refuted edge's ``inf``)."""
@@ -559,6 +612,10 @@ class _ArrayEdges:
         return parent, int(hit), int(used), status == _FOUND
 
 
+#: Fewest configurations :func:`grow_roadmap` draws at a time.
+GROW_DRAWS = 32
+
+
 def grow_roadmap(arm, rng, nodes, k, obstacles, budget=None, checker=None) -> np.ndarray:
     """``nodes`` with ``k`` free uniform samples appended (drawn until that many are free;
     with a user's ``checker``, also allowed by it).
@@ -573,7 +630,8 @@ def grow_roadmap(arm, rng, nodes, k, obstacles, budget=None, checker=None) -> np
     have = 0
     for _ in range(100):
         _check_time(budget)
-        q = uniform_samples(arm, rng, k)
+        # Never fewer than GROW_DRAWS a round: a small batch is then drawn in one round.
+        q = uniform_samples(arm, rng, max(k - have, GROW_DRAWS))
         if obstacles or arm.self_collision:
             q = q[~collides(arm, q, obstacles)]
         if checker is not None:

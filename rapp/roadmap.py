@@ -1,12 +1,14 @@
-"""A probabilistic roadmap built once and queried many times.
+"""A probabilistic roadmap built once, its edges certified, and queried many times.
 
-:class:`Roadmap` samples free configurations and joins each to its nearest by *candidate*
-edges, as :func:`rapp.prm.prm` does, and keeps them. A query joins its start and goals to their
-nearest roadmap nodes, searches (A*) and certifies only the edges of the path it found, as the
-lazy PRM does (:class:`rapp.prm.CandidateEdges`); what it learns of the roadmap's own edges
-(certified free, or refuted) stays for the next queries, so later queries certify fewer edges.
-A query whose start and goals the roadmap does not join grows it by ``samples`` more free
-configurations (up to ``max_samples``). A query's own nodes and edges are forgotten after it.
+:class:`Roadmap` samples free configurations and joins each to its nearest by candidate
+edges, as :func:`rapp.prm.prm` does, and keeps them. Built for many queries, it certifies all its
+edges at the build, in one call (each certified free or refuted), so that a query does not: a
+query joins its start and goals to their nearest roadmap nodes, searches (A*) and certifies only
+the edges of the path it found that join its own ends (:class:`rapp.prm.CandidateEdges`). A
+query whose start and goals the roadmap does not join grows it by ``samples`` more free
+configurations (up to ``max_samples``), certified alike. A query's own nodes and edges are
+forgotten after it. (A roadmap loaded from a file that holds unchecked edges certifies them
+when a query's path needs them, as the lazy PRM does.)
 
 :meth:`Roadmap.save` writes a plain numpy archive (``.npz``, tagged with :data:`FORMAT` and
 :data:`VERSION`) and :meth:`Roadmap.load` reads it back: the same arm, obstacles, nodes, edges,
@@ -56,7 +58,7 @@ _ARM_FIELDS = ("link_lengths", "joint_limits", "link_radius", "self_collision", 
 
 
 class Roadmap:
-    """A lazy probabilistic roadmap of ``arm`` among ``obstacles``, for many queries.
+    """A probabilistic roadmap of ``arm`` among ``obstacles``, for many queries.
 
     Parameters
     ----------
@@ -64,7 +66,7 @@ class Roadmap:
         As :func:`rapp.prm.prm`.
     samples : int
         Free configurations the roadmap is built with, and added each time a query finds its
-        ends not joined.
+        ends not joined; their edges are certified when they are added.
     neighbours : int
         Candidate edges from each node to its nearest nodes.
     seed : int
@@ -123,7 +125,7 @@ class Roadmap:
 
     @property
     def certified(self) -> int:
-        """How many of the roadmap's edges the queries so far have certified free."""
+        """How many of the roadmap's edges are certified free."""
         return int(self.edges.state()[2].sum())
 
     def _grow(self, budget=None) -> None:
@@ -133,6 +135,9 @@ class Roadmap:
         m = self.edges.count
         try:
             self.edges.add(nodes, len(self.nodes), budget)
+            # Built for many queries, the roadmap certifies its edges now, all in one call:
+            # a query then certifies only the edges joining its own ends.
+            self.edges.certify_all(nodes, budget)
         except OutOfTime:
             self.edges.keep(len(self.nodes), m)
             raise

@@ -48,7 +48,7 @@ from rapp.cspace import check_extent
 from rapp.obstacles import Circle, Polygon
 from rapp import planners as planner_table
 from rapp.grid_route import default_cells
-from rapp.prm import MEMORY_BUDGET as PRM_MEMORY_BUDGET, roadmap_bytes
+from rapp.prm import MAX_SAMPLES, MEMORY_BUDGET as PRM_MEMORY_BUDGET, largest_roadmap, roadmap_bytes
 
 __all__ = [
     "Scenario",
@@ -194,7 +194,7 @@ class PlannerSettings:
     goal_threshold: float = 0.01
     max_iterations: int = 20000
     time_budget: float | None = None
-    samples: int = 500
+    samples: int = 10
     neighbours: int = 10
     #: ``(key, value)`` pairs of settings that are not fields above: those of a planner added to
     #: the table with a setting of its own. Read as attributes too.
@@ -214,7 +214,7 @@ class PlannerSettings:
         Examples
         --------
         >>> PlannerSettings(algorithm="prm").values()
-        {'samples': 500, 'neighbours': 10, 'max_iterations': 20000, 'seed': 0, 'time_budget': None}
+        {'samples': 10, 'neighbours': 10, 'max_iterations': 20000, 'seed': 0, 'time_budget': None}
         """
         return {k: getattr(self, k) for k in planner_table.entry(self.algorithm).keys}
 
@@ -974,11 +974,11 @@ def _planner(v, n: int, warnings: list) -> PlannerSettings:
         if key in d and key not in entry.keys and spec.warns_when_ignored:
             warnings.append(f"planner.{key} is not a setting of {algorithm} and is ignored")
     if algorithm == "prm":   # refused up front, as the grid is (rapp.prm checks it exactly)
-        nodes = 20 * values["samples"] + 1
+        nodes = largest_roadmap(values["samples"]) + 1
         peak = roadmap_bytes(n, nodes, values["neighbours"])
         if peak > PRM_MEMORY_BUDGET:
             raise InvalidValue(
-                f"a roadmap of up to {nodes} nodes (20 x samples) with {values['neighbours']} neighbours "
+                f"a roadmap of up to {nodes} nodes (the larger of {MAX_SAMPLES} and 20 x samples) with {values['neighbours']} neighbours "
                 f"each would need about {peak / 1e9:.3g} GB, over the "
                 f"{PRM_MEMORY_BUDGET / 1e9:g} GB budget: lower planner.samples or "
                 "planner.neighbours", field="planner.samples")

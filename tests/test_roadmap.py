@@ -75,6 +75,8 @@ def test_every_query_path_is_certified_and_what_it_learns_is_true(problem, seed)
     if refuted.any():
         assert not reference.segment_collision_free(arm, a[refuted], q1[refuted], obstacles).any()
     assert not (done & refuted).any()
+    # Built for many queries, the roadmap checked every edge of its own at the build.
+    assert (done | refuted).all()
 
 
 def three_link():
@@ -203,3 +205,13 @@ def test_twenty_queries_each_on_a_roadmap_built_once_on_the_benchmark_problem():
         res = roadmap.query(a, b)
         assert res.success
         assert_certified(arm, res, a, b, obs)
+
+
+def test_the_one_query_prm_doubles_its_roadmap_up_to_max_samples():
+    # No path whatever the samples (a limited joint cut in two by a disc): the roadmap grows
+    # 3, 6, 12, then the 8 that reach max_samples 20 exactly, and says it is full.
+    arm, obs = rapp.Arm([1.0], [(-1.0, 1.0)]), [rapp.Circle((0.8, 0.0), 0.1)]
+    res = rapp.prm(arm, [-0.5], [0.5], obs, samples=3, max_samples=20, raise_on_failure=False)
+    assert not res.success and res.status == "node cap" and len(res.nodes) == 2 + 20
+    from rapp.prm import MAX_SAMPLES, largest_roadmap
+    assert largest_roadmap(10) == MAX_SAMPLES and largest_roadmap(1000) == 20_000
