@@ -55,7 +55,7 @@ __all__ = ["make_scenarios", "scenario_class", "Task", "Record", "planners_for",
            "wilson", "mean_interval", "summarize", "tasks", "run", "recorded_results", "task_key",
            "warm", "start_worker", "run_tasks", "settings_record", "result",
            "RESULTS_FILE", "ASTAR_CELLS", "SAMPLING", "TIME_BUDGET", "RRT_STAR_BUDGET", "STEP",
-           "FAMILY_NAMES", "RunGroups", "family_of", "group_runs"]
+           "FAMILY_NAMES", "RunGroups", "Separations", "intervals_apart", "family_of", "group_runs"]
 
 #: The recorded comparison: package data, ``rapp/recorded/planners.json`` (:func:`rapp.recorded.load`).
 RESULTS_FILE = "recorded/planners.json"
@@ -472,6 +472,69 @@ class RunGroups:
             lines.append(f"{f:17s} {a['successes']:4d} of {a['runs']:4d} runs succeeded "
                          f"(rate {a['successes'] / a['runs']:.2f}, Wilson 95 % [{lo:.2f}, {hi:.2f}])")
         return "\n".join(lines)
+
+    def interval(self, family: str, quantity: str) -> tuple:
+        """``(low, high)`` of the 95 % interval of the mean ``quantity`` (``time_s``,
+        ``length_rad`` or ``shortcut_length_rad``) over every scenario."""
+        m = self.stats[family, "all"][quantity]
+        return (m["low"], m["high"])
+
+    def separated(self) -> "Separations":
+        """Which comparisons the intervals decide, over every scenario (class ``"all"``).
+
+        Two families differ only where their 95 % intervals lie apart: one's lower end above
+        the other's upper end. The success rates and the mean times to a path are compared for
+        every ordered pair of families; the mean path length before and after shortcutting,
+        within each family.
+
+        Examples
+        --------
+        >>> g = group_runs(recorded_results())
+        >>> s = g.separated()
+        >>> s.pairs == len(g.families) * (len(g.families) - 1) // 2, s.undecided <= s.pairs
+        (True, True)
+        """
+        ival = self.interval
+        fams = self.families
+        pairs = [(f, g) for f in fams for g in fams if f != g]
+        higher = [(f, g) for f, g in pairs
+                  if intervals_apart(self.stats[f, "all"]["interval"], self.stats[g, "all"]["interval"])]
+        faster = [(f, g) for f, g in pairs if intervals_apart(ival(g, "time_s"), ival(f, "time_s"))]
+        shorter = [f for f in fams
+                   if intervals_apart(ival(f, "length_rad"), ival(f, "shortcut_length_rad"))]
+        return Separations(higher, faster, shorter, len(pairs) // 2 - len(higher), len(pairs) // 2)
+
+
+def intervals_apart(x, y) -> bool:
+    """``x``'s interval lies entirely above ``y``'s (both ``(low, high)``).
+
+    >>> intervals_apart((0.5, 0.9), (0.1, 0.4)), intervals_apart((0.3, 0.9), (0.1, 0.4))
+    (True, False)
+    """
+    return bool(np.isfinite(x[0]) and np.isfinite(y[1]) and x[0] > y[1])
+
+
+@dataclass(frozen=True)
+class Separations:
+    """What :meth:`RunGroups.separated` finds: ``higher`` (f, g) pairs whose success rates are
+    apart, f's above; ``faster`` (f, g) pairs, f's mean time to a path below g's; ``shorter``,
+    the families whose shortcut shortens the mean path; ``undecided`` of ``pairs`` unordered
+    pairs of success rates the intervals leave open."""
+
+    higher: list
+    faster: list
+    shorter: list
+    undecided: int
+    pairs: int
+
+    def lines(self) -> str:
+        """The four findings, one line each."""
+        return "\n".join([
+            "success rate, intervals apart: " + ("; ".join(f"{f} > {g}" for f, g in self.higher) or "none"),
+            f"success rate, not separated: {self.undecided} of {self.pairs} pairs",
+            "time to a path, intervals apart: " + ("; ".join(f"{f} < {g}" for f, g in self.faster) or "none"),
+            "shortcutting shortens the mean path beyond the noise for: " + (", ".join(self.shorter) or "none"),
+        ])
 
 
 def family_of(planner: str, scenario: dict, astar_cells: dict) -> str:

@@ -95,3 +95,23 @@ def test_the_recorded_results_ship_with_the_package():
     for planner, by_class in results["summary"].items():
         times = [r["time_s"] for r in results["records"] if r["planner"] == planner and r["success"]]
         assert by_class["all"]["time_s"] == pytest.approx(cp.mean_interval(times), nan_ok=True)
+
+
+def test_separated_lists_exactly_the_comparisons_whose_intervals_lie_apart():
+    from rapp.compare import group_runs, recorded_results
+    g = group_runs(recorded_results())
+    s = g.separated()
+    fams = g.families
+
+    def above(x, y):  # the definition, by hand: x's low end strictly above y's high end
+        return np.isfinite(x[0]) and np.isfinite(y[1]) and x[0] > y[1]
+
+    want_higher = [(f, h) for f in fams for h in fams
+                   if f != h and above(g.stats[f, "all"]["interval"], g.stats[h, "all"]["interval"])]
+    want_faster = [(f, h) for f in fams for h in fams
+                   if f != h and above(g.interval(h, "time_s"), g.interval(f, "time_s"))]
+    assert s.higher == want_higher and s.faster == want_faster
+    assert s.pairs == len(fams) * (len(fams) - 1) // 2 == 36
+    assert s.undecided == s.pairs - len(want_higher)
+    assert all(above(g.interval(f, "length_rad"), g.interval(f, "shortcut_length_rad")) for f in s.shorter)
+    assert len(s.lines().splitlines()) == 4
