@@ -292,11 +292,15 @@ def test_the_arm_moves_along_the_path_it_found(phone):
                           tuple(grid.index([-2.9, -1.5])))) - 1
     assert f"path of {want} steps" in root.locator(".rl-status").inner_text()
     assert root.get_attribute("data-rapp-motion") == "-1"
+    caption = root.locator(".rl-cap").first
+    assert "the arm at the start" in caption.inner_text()
     root.get_by_role("button", name="▶ move the arm").click()
     phone.wait_for_function("r => +r.dataset.rappMotion > 5", arg=root.element_handle())
     assert root.locator('[data-rapp-drag="elbow"]').is_hidden()  # the start's handles wait
+    assert "at the start" not in caption.inner_text() and f" of {want})" in caption.inner_text()
     phone.wait_for_function(f"r => +r.dataset.rappMotion === {want}", arg=root.element_handle(), timeout=20_000)
     assert "moved along it to the goal" in root.locator(".rl-status").inner_text()
+    assert "the arm at the goal" in caption.inner_text()
 
 
 def test_the_menu_keeps_each_grids_start_and_goal(phone):
@@ -325,12 +329,33 @@ def test_the_sweep_builds_one_obstacle_column_by_column(phone):
     phone.wait_for_function("r => +r.dataset.rappSweep >= 10", arg=root.element_handle())
     root.get_by_role("button", name="❚❚ pause").click()
     col = int(root.get_attribute("data-rapp-sweep"))
+    slider = root.locator("input[aria-label='θ₁ column']")
     assert f"column {col + 1} of {M}" in root.locator(".rl-status").inner_text()
-    for c in (0, 17, 45):
-        root.locator("input[aria-label='θ₁ column']").fill(str(c))
+    assert slider.input_value() == str(col + 1)  # the slider shows the column the status names
+    for c in (1, 17, 45, M):
+        slider.fill(str(c))
         phone.wait_for_timeout(80)
         text = root.locator(".rl-status").inner_text()
-        assert f"column {c + 1} of {M}" in text and f"at {int(layer[c].sum())} of the {M} values" in text, text
+        shown = slider.evaluate("(s) => s.nextSibling.textContent")
+        assert shown == str(c) and f"column {c} of {M}" in text, (shown, text)
+        assert f"at {int(layer[c - 1].sum())} of the {M} values" in text, text
+
+
+def test_the_cspace_tick_labels_sit_at_their_angles(phone):
+    """The C-space's "0" is centred on the canvas's middle (θ = 0) on both axes, "−π" and "π"
+    at its ends (within the canvas's 1 px border and a rounding)."""
+    root = phone.show(live.cspace_explorer(cells=60))
+    cv = root.locator('canvas[data-rapp-drag="cspace"]').bounding_box()
+    ticks = {ax: {s.inner_text(): s.bounding_box() for s in root.locator(f".{ax} span").all()}
+             for ax in ("rl-xt", "rl-yt")}
+    x0 = ticks["rl-xt"]["0"]
+    assert abs(x0["x"] + x0["width"] / 2 - (cv["x"] + cv["width"] / 2)) <= 2.5
+    y0 = ticks["rl-yt"]["0"]
+    assert abs(y0["y"] + y0["height"] / 2 - (cv["y"] + cv["height"] / 2)) <= 2.5
+    lo, hi = ticks["rl-xt"]["−π"], ticks["rl-xt"]["π"]
+    assert abs(lo["x"] - cv["x"]) <= 2.5 and abs(hi["x"] + hi["width"] - (cv["x"] + cv["width"])) <= 2.5
+    top, bottom = ticks["rl-yt"]["π"], ticks["rl-yt"]["−π"]
+    assert abs(top["y"] - cv["y"]) <= 2.5 and abs(bottom["y"] + bottom["height"] - (cv["y"] + cv["height"])) <= 2.5
 
 
 # ------------------------------------------------------------------ the same explorer in JupyterLab

@@ -219,3 +219,93 @@ process.stdin.on("end", () => {
         assert steps == want  # the last pair is 2 steps apart across both seams
         assert setup == 2  # the start's cell and the goal's
         assert reads <= 2 + 4 * expansions and reached <= 1 + 4 * expansions <= 4 * 1000
+
+
+# The explorer's state part (explorer_state.js) after core.js, in one script, then the checks.
+EXPLORER_DRIVER = r"""
+const vm = require("vm"); let t = ""; process.stdin.on("data", (d) => (t += d));
+process.stdin.on("end", () => {
+  const {src, check, widgets} = JSON.parse(t);
+  vm.runInThisContext(src + "\n;globalThis.__check = (" + check + ");");
+  process.stdout.write(JSON.stringify(globalThis.__check(widgets)));
+});
+"""
+
+
+def _run_state(check: str, widgets: list[dict]):
+    """Run ``check(widgets)`` (a JS function's text) with explorer_state.js loaded; its result."""
+    from rapp.live import _read
+
+    src = _read("core.js") + "\n" + _read("explorer_state.js")
+    done = subprocess.run([NODE, "-e", EXPLORER_DRIVER], input=json.dumps({"src": src, "check": check, "widgets": widgets}),
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
+
+
+def _state(widget) -> dict:
+    keys = ["scenario", "cells", "q", "search", "source", "start", "goal", "weight", "walls", "paint_cells", "sweep"]
+    return {k: getattr(widget, k) for k in keys}
+
+
+def test_the_cspace_axis_labels_sit_at_their_angles():
+    """Each tick label of the C-space's axes sits where the canvas shows its angle (the drag's
+    map G.pxToQ): "0" at the middle of both axes, "−π" and "π" at the ends, θ₁ left to right and
+    θ₂ bottom to top; the axis names sit between their 0 and π."""
+    got = _run_state("""(ws) => {
+      const S = makeState({get: (k) => ws[0][k]}), G = makeGeometry(S);
+      return {x: X_TICKS.map(([t, a]) => [t, a, G.pxToQ(tickAt(a) * W, 0)[0]]),
+              y: Y_TICKS.map(([t, a]) => [t, a, G.pxToQ(0, tickAt(a, true) * W)[1]])};
+    }""", [_state(live.cspace_explorer(cells=60))])
+    value = {"−π": -np.pi, "0": 0.0, "π": np.pi}
+    for axis, name in (("x", "θ₁"), ("y", "θ₂")):
+        labels = [t for t, _, _ in got[axis]]
+        assert {"−π", "0", "π", name} <= set(labels)
+        for text, angle, shown in got[axis]:
+            assert shown == pytest.approx(angle, abs=1e-12)
+            if text in value:
+                assert angle == pytest.approx(value[text])
+            else:  # the axis name, between 0 and π
+                assert 0 < angle < np.pi
+
+
+def test_the_sweep_slider_and_status_name_the_same_column():
+    """Chapter 4's sweep: the column the slider shows is the column the status line names, at
+    every slider position, and the slider shows the column the sweep is at."""
+    M = 40
+    got = _run_state("""(ws) => {
+      const S = makeState({get: (k) => ws[0][k]}), G = makeGeometry(S);
+      S.layers = R.occupancyOf(R.parseScenario(S.scenario), S.M, true);
+      const out = [];
+      for (let v = 1; v <= S.M; v++) {
+        S.sweep = sweepFromSlider(v);
+        out.push([v, sweepSliderValue(S), statusText(S, G, [0, 0])]);
+      }
+      return out;
+    }""", [_state(live.sweep_explorer(obstacle=0, cells=M))])
+    assert len(got) == M
+    for v, shown, status in got:
+        assert shown == v and f"(column {v} of {M})" in status, (v, shown, status)
+
+
+def test_the_astar_caption_says_where_the_arm_is():
+    """Chapter 5: the workspace's caption says the arm is at the start before it moves, where on
+    its path it is while "move the arm" plays, and at the goal once it arrived."""
+    got = _run_state("""(ws) => {
+      const S = makeState({get: (k) => ws[0][k]}), G = makeGeometry(S), M = S.M;
+      S.layers = R.occupancyOf(R.parseScenario(S.scenario), M, true);
+      S.occ = new Uint8Array(M * M);
+      for (const lay of S.layers) for (let i = 0; i < S.occ.length; i++) S.occ[i] |= lay[i];
+      S.run = new R.Search(S.occ, [M, M], S.start, S.goal, {wraps: [true, true]});
+      S.run.step(Infinity);
+      const n = S.run.path.length - 1, out = [[-1, workspaceCaption(S, G)]];
+      for (const k of [0, 1, Math.floor(n / 2), n]) { S.motion = k; out.push([k, workspaceCaption(S, G)]); }
+      return {n, out};
+    }""", [_state(live.astar_explorer("default", cells=60, goal=(-2.9, -1.5)))])
+    n = got["n"]
+    assert n > 3
+    captions = dict(got["out"])
+    assert "at the start" in captions[-1]
+    for k in (0, 1, n // 2):
+        assert f"step {k} of {n}" in captions[k] and "at the start" not in captions[k]
+    assert "at the goal" in captions[n] and "at the start" not in captions[n]

@@ -11,8 +11,10 @@ const CSS = `
 .rapp-live .rl-panel{position:relative;user-select:none;flex:1 1 0;min-width:0;max-width:300px}
 .rapp-live canvas{display:block;border:1px solid #bbb;background:#fff;width:100%;height:auto;touch-action:none}
 .rapp-live .rl-cs{display:grid;grid-template-columns:auto 1fr;column-gap:2px}
-.rapp-live .rl-yt{display:flex;flex-direction:column;justify-content:space-between;font-size:11px;text-align:right}
-.rapp-live .rl-xt{grid-column:2;display:flex;justify-content:space-between;font-size:11px}
+.rapp-live .rl-yt{position:relative;font-size:11px;text-align:right;min-width:1.6em}
+.rapp-live .rl-yt span{position:absolute;right:0;line-height:1}
+.rapp-live .rl-xt{grid-column:2;position:relative;font-size:11px;height:1.4em}
+.rapp-live .rl-xt span{position:absolute;top:0;white-space:nowrap}
 .rapp-live .rl-ctl{display:flex;flex-wrap:wrap;gap:6px 14px;align-items:center;margin:6px 0}
 .rapp-live .rl-ctl button,.rapp-live .rl-ctl select{font:inherit;padding:4px 10px;min-height:32px}
 .rapp-live .rl-ctl input[type=range]{min-height:32px;vertical-align:middle}
@@ -28,8 +30,7 @@ function render({ model, el: host }) {
   const ctl = el("div", { class: "rl-ctl" }, root);
   const row = el("div", { class: "rl-row" }, root);
   const wsPanel = el("div", { class: "rl-panel" }, row);
-  el("div", { class: "rl-cap", text: search ? "workspace: the arm at the start, the goal dashed"
-    : sweeping ? "workspace: link 2 where it hits, red" : "workspace" }, wsPanel);
+  const wsCap = el("div", { class: "rl-cap", text: workspaceCaption(S, G) }, wsPanel);
   const ws = el("canvas", { width: W, height: W, "data-rapp-drag": "workspace", role: "img",
     "aria-label": "the arm and its obstacles" }, wsPanel);
   const csPanel = el("div", { class: "rl-panel" }, row);
@@ -39,8 +40,17 @@ function render({ model, el: host }) {
   const cs = el("canvas", { width: W, height: W, "data-rapp-drag": "cspace", role: "img",
     "aria-label": "the C-space: θ₁ to the right, θ₂ up" }, csBox);
   const xt = el("div", { class: "rl-xt", "aria-hidden": "true" }, csBox);
-  for (const t of ["π", "θ₂", "0", "", "−π"]) el("span", { text: t }, yt);
-  for (const t of ["−π", "0", "θ₁", "π"]) el("span", { text: t }, xt);
+  // Each label centred on its angle (tickAt), not spread evenly: "0" is at the canvas's middle.
+  // The labels at the axis's ends keep inside it (aligned to the end, not centred past it).
+  const shift = (f) => (f <= 0 ? "0" : f >= 1 ? "-100%" : "-50%");
+  for (const [t, a] of Y_TICKS) {
+    const f = tickAt(a, true);
+    el("span", { text: t, style: `top:${(100 * f).toFixed(3)}%;transform:translateY(${shift(f)})` }, yt);
+  }
+  for (const [t, a] of X_TICKS) {
+    const f = tickAt(a);
+    el("span", { text: t, style: `left:${(100 * f).toFixed(3)}%;transform:translateX(${shift(f)})` }, xt);
+  }
   const DPR = Math.min(3, Math.max(1, Math.round(window.devicePixelRatio || 1)));
   for (const cv of [ws, cs]) cv.width = cv.height = W * DPR;
   const status = el("div", { class: "rl-status", role: "status", "aria-live": "polite" }, root);
@@ -128,7 +138,7 @@ function render({ model, el: host }) {
     });
     // It opens half built, at theta1 = 0: the picture shows what the sweep does before it runs.
     S.sweep = Math.floor(S.M / 2);
-    const col = slider("θ₁ column", 0, S.M - 1, 1, S.sweep, (v) => { stopSweep(); S.sweep = Math.min(v, G.gridM() - 1); });
+    const col = slider("θ₁ column", 1, S.M, 1, sweepSliderValue(S), (v) => { stopSweep(); S.sweep = Math.min(sweepFromSlider(v), G.gridM() - 1); });
     S.sweepSlider = col;
   }
 
@@ -212,7 +222,13 @@ function render({ model, el: host }) {
       if (shown) x.place(x.where());
     }
     if (moveBtn) moveBtn.disabled = G.painted();
-    if (S.sweepSlider) S.sweepSlider.max = String(G.gridM() - 1);
+    if (S.sweepSlider) {
+      // The slider shows the column the status line names (also after "cells M" shrank the grid).
+      S.sweepSlider.max = String(G.gridM());
+      S.sweepSlider.value = String(sweepSliderValue(S));
+      S.sweepSlider.nextSibling.textContent = S.sweepSlider.value;
+    }
+    wsCap.textContent = workspaceCaption(S, G);
     root.setAttribute("data-rapp-motion", String(S.motion));
     root.setAttribute("data-rapp-sweep", String(S.sweep));
     const txt = statusText(S, G, crossings);
@@ -260,7 +276,6 @@ function render({ model, el: host }) {
   let sweepTimer = null;
   function sweepStep() {
     sweepTimer = null;
-    if (S.sweepSlider) { S.sweepSlider.value = String(S.sweep); S.sweepSlider.nextSibling.textContent = String(S.sweep); }
     draw();
     if (S.sweep >= G.gridM() - 1) { sweepBtn.textContent = "▶ sweep θ₁"; return; }
     S.sweep += 1;

@@ -128,6 +128,33 @@ function makeGeometry(S) {
   return G;
 }
 
+// The C-space axes' tick labels and where each sits along its axis, as a fraction of the canvas's
+// width (theta1, left to right) or height (theta2, top to bottom): theta -pi .. pi spans the canvas
+// as G.pxToQ maps it, so "0" is at the middle. The axis name sits between 0 and pi, unticked.
+const X_TICKS = [["−π", -Math.PI], ["0", 0], ["θ₁", Math.PI / 2], ["π", Math.PI]];
+const Y_TICKS = [["π", Math.PI], ["θ₂", Math.PI / 2], ["0", 0], ["−π", -Math.PI]];
+/** Where the angle `a` (radians, -pi..pi) sits along an axis: 0 at -pi, 1 at pi (theta1), or,
+ * with `down`, 0 at pi and 1 at -pi (theta2, drawn upwards). */
+const tickAt = (a, down) => (down ? (Math.PI - a) : (a + Math.PI)) / (2 * Math.PI);
+
+// Chapter 4's sweep: the slider and the status line both count theta1's columns from 1 to M
+// (S.sweep is the 0-based column index).
+const sweepSliderValue = (S) => S.sweep + 1;
+const sweepFromSlider = (v) => Math.round(v) - 1;
+
+/** The caption over the workspace: what the picture shows now. */
+function workspaceCaption(S, G) {
+  if (S.sweepObstacle >= 0) return "workspace: link 2 where it hits, red";
+  if (!S.search) return "workspace";
+  const X = S.run, n = X && X.path ? X.path.length - 1 : 0;
+  if (S.motion >= 0 && n > 0) {
+    const k = Math.min(S.motion, n);
+    return k >= n ? "workspace: the arm at the goal, the end of its path"
+      : `workspace: the arm moving along its path (step ${k} of ${n}), the goal dashed`;
+  }
+  return "workspace: the arm at the start, the goal dashed";
+}
+
 /** The free cell nearest to c (rings of growing Chebyshev radius, across the seams), or null. */
 function nearestFree(occ, M, c) {
   if (!occ[c[0] * M + c[1]]) return c;
