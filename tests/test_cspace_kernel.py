@@ -19,7 +19,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, cspace
-from rapp._kernels import occupancy_numba as cspace_kernel
+from rapp.kernels import occupancy_numba as cspace_kernel
 from rapp.cspace import grid_q, occupancy, occupancy_numpy
 
 from tests.scenes import LINKS3, OBSTACLES3, interval_scenes  # noqa: E402  defined once
@@ -194,7 +194,7 @@ def test_without_numba_occupancy_is_the_numpy_version(monkeypatch):
 
 
 def test_importing_the_kernel_or_a_small_grid_does_not_import_numba():
-    code = ("import sys, rapp, rapp._kernels.occupancy_numba\n"
+    code = ("import sys, rapp, rapp.kernels.occupancy_numba\n"
             "arm = rapp.Arm([1.0, 1.0])\n"
             "rapp.occupancy(arm, [rapp.Circle((1.5, 0.0), 0.3)], rapp.JointGrid(arm, 64))\n"
             "print('numba' in sys.modules)\n")

@@ -198,7 +198,7 @@ def test_a_plan_with_thick_links_keeps_them_apart_and_says_so():
 @settings(max_examples=25, deadline=None)
 @given(world=worlds(max_links=4), seed=st.integers(0, 2**32 - 1))
 def test_the_compiled_kernel_honours_the_link_masks_as_numpy_does(world, seed):
-    from rapp._kernels import collision_numba, collision_numpy
+    from rapp.kernels import collision_numba, collision_numpy
     k = collision_numba.kernels()
     if k is None:
         pytest.skip("numba is not installed")
