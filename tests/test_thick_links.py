@@ -66,7 +66,7 @@ def test_grown_pieces_are_the_points_within_the_distance(ob, d, pts):
         assert inside == (dist <= d), (p, dist, d)
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(world=worlds(), seed=st.integers(0, 2**32 - 1))
 def test_collides_and_clearances_are_the_capsule_oracle(world, seed):
     arm, obstacles, margin = world
@@ -82,6 +82,13 @@ def test_collides_and_clearances_are_the_capsule_oracle(world, seed):
     free = gaps > margin
     assert np.allclose(clear[free], gaps[free] - margin, atol=1e-9)
     assert (clear[~free & (np.abs(gaps - margin) > EDGE)] <= 0).all()
+
+
+@pytest.mark.slow
+@settings(max_examples=40, deadline=None)
+@given(world=worlds(), seed=st.integers(0, 2**32 - 1))
+def test_collides_and_clearances_are_the_capsule_oracle_on_many(world, seed):
+    test_collides_and_clearances_are_the_capsule_oracle.hypothesis.inner_test(world=world, seed=seed)
 
 
 def test_a_thick_link_hits_what_a_thin_one_passes():
@@ -135,7 +142,10 @@ def test_certified_segments_keep_the_gap_on_dense_samples(world, seed):
     rng = np.random.default_rng(seed)
     q0 = rng.uniform(-np.pi, np.pi, (8, arm.n))
     q1 = q0 + rng.uniform(-0.6, 0.6, q0.shape)
-    free = segment_collision_free(arm, q0, q1, obstacles, margin=margin)
+    try:
+        free = segment_collision_free(arm, q0, q1, obstacles, margin=margin)
+    except rapp.errors.CertificationLimit:  # a documented refusal (a clearance of ~1e-9 here): nothing certified
+        return
     t = np.linspace(0.0, 1.0, 101)[:, None]
     for a, b in zip(q0[free], q1[free]):
         assert (_gaps(arm, a + t * (b - a), obstacles) > margin).all()
