@@ -45,7 +45,7 @@ import math
 
 import numpy as np
 
-from rapp.checks import finite_number, positive_integer
+from rapp.checks import finite_number
 # Only the contract's limit and the thick-link reduction (checked against capsule_distance in
 # tests/test_thick_links.py): no geometry of the kernels, which this module is the oracle of.
 from rapp.collision import MAX_PENDING_INTERVALS, scene
@@ -251,8 +251,8 @@ def collides(arm, q, obstacles) -> np.ndarray:
     >>> from rapp import Arm, Circle, Polygon
     >>> arm = Arm([1.0, 1.0])
     >>> obs = [Circle((1.75, 0.75), 0.6), Polygon.rectangle((-2, -2), 1, 1)]
-    >>> collides(arm, [[0.4, 0.0], [np.pi / 2, 0.0], [-2.4, 0.0]], obs).tolist()
-    [True, False, True]
+    >>> collides(arm, [[np.pi / 2, 0.0], [0.0, 0.4], [-2.4, 0.3]], obs).tolist()
+    [False, True, True]
     """
     return (link_clearances(arm, q, obstacles) <= 0.0).any(axis=-1)
 
@@ -294,13 +294,10 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     >>> segment_collision_free(arm, [0.0, 0.0], [[0.5, 0.0], [3.0, 0.0], [1.2, 0.3]], obs).tolist()
     [True, False, True]
     """
-    q0, q1 = arm.check_q(q0, "q0"), arm.check_q(q1, "q1")
-    try:
-        q0, q1 = np.broadcast_arrays(q0, q1)
-    except ValueError:
-        raise ValueError(f"q0 and q1 must broadcast together, got shapes {q0.shape} and {q1.shape}") from None
-    min_interval = finite_number(min_interval, "min_interval", above=0.0)
-    cap = positive_integer(max_intervals, "max_intervals", lo=2)
+    q0, q1 = np.broadcast_arrays(arm.check_q(q0, "q0"), arm.check_q(q1, "q1"))
+    if not (float(min_interval) > 0 and int(max_intervals) >= 2):
+        raise ValueError(f"need min_interval > 0 and max_intervals >= 2, got {min_interval}, {max_intervals}")
+    min_interval, cap = float(min_interval), int(max_intervals)
     obstacles = _checked_obstacles(obstacles)
     starts, ends = q0.reshape(-1, arm.n), q1.reshape(-1, arm.n)
     free = [not obstacles or _halving(arm, a, b, obstacles, min_interval, cap)
