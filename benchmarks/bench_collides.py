@@ -91,8 +91,8 @@ def main() -> None:
     theirs = np.array([minimal(lengths, q, discs, poly) for q in qs])
     ours = np.array([rapp.collides(arm, q, obstacles) for q in qs])
     assert (theirs == ours).all() and (ours == rapp.collides(arm, qs, obstacles)).all()
-    kernels = rapp._kernels.collision.kernels()  # noqa: SLF001  the floor rapp's own call could reach
-    packed = rapp._kernels.collision.pack(obstacles)
+    kernels = rapp.kernels.collision.kernels()  # noqa: SLF001  the floor rapp's own call could reach
+    packed = rapp.kernels.collision.pack(obstacles)
     q = np.array([0.3, -0.4, 0.9])
     load_before = os.getloadavg()
     t = cpu_per_call([lambda: rapp.collides(arm, q, obstacles),

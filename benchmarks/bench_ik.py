@@ -49,7 +49,7 @@ from pathlib import Path
 import numpy as np
 
 from rapp import Arm, ik, ik_2link, ik_numeric
-from rapp._kernels import ik as ik_kernel
+from rapp.kernels import ik as ik_kernel
 
 N_TARGETS = 10_000
 TOL = 1e-10

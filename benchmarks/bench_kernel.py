@@ -3,11 +3,11 @@
 In one run, on the 3-link benchmark problem of ``bench_core.py`` (links 1.0, 0.8, 0.5; four
 discs and a rectangle):
 
-* ``rapp.collides`` for one configuration: the compiled kernel (``rapp._kernels.collision_numba``)
+* ``rapp.collides`` for one configuration: the compiled kernel (``rapp.kernels.collision_numba``)
   against the numpy version it replaced (``rapp.reference.collides``), alternately; also a
   batch of 10,000 configurations, and ``segment_collision_free`` for one short edge.
 * ``rrt_connect``, ``prm`` and ``rrt_star`` over 20 seeds: compiled (the collision kernel,
-  the planners' compiled loops of ``rapp._kernels.sampling_numba`` and PRM's compiled Dijkstra) and
+  the planners' compiled loops of ``rapp.kernels.sampling_numba`` and PRM's compiled Dijkstra) and
   with the numpy versions and PRM's Python Dijkstra (switched off as when numba is missing),
   the same seeds growing the same trees (checked node by node); ratio of the summed times.
 * Start-up: ``python -m rapp plan`` (the default scenario) against ``python -c "import
@@ -37,7 +37,7 @@ import numpy as np
 
 import rapp
 from rapp import reference
-from rapp._kernels import collision_numba as collision_kernel
+from rapp.kernels import collision_numba as collision_kernel
 from rapp.collision import segment_collision_free
 from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect

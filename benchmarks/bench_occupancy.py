@@ -8,7 +8,7 @@ of each function, the functions in turn within every round so that the machine's
 them alike):
 
 * ``rapp``: ``rapp.occupancy(arm, obstacles, grid)``, the whole public call (argument checks,
-  the compiled kernel of ``rapp._kernels.occupancy_numba``: every interval computed and painted, the
+  the compiled kernel of ``rapp.kernels.occupancy_numba``: every interval computed and painted, the
   result allocated). What depends only on the grid and the scene (the prefix geometry of the
   levels, the packed obstacles, their tolerances and reaches) is cached after the first
   call, as it is for a planner recomputing a grid; ``rapp, new scene`` times the call given
@@ -57,7 +57,7 @@ import numpy as np
 
 import rapp
 from rapp import cspace
-from rapp._kernels import occupancy_numba as cspace_kernel
+from rapp.kernels import occupancy_numba as cspace_kernel
 from rapp.collision import check_obstacle
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

@@ -73,7 +73,7 @@ from pathlib import Path
 import numpy as np
 
 import rapp
-from rapp._kernels import collision as collision_backend
+from rapp.kernels import collision as collision_backend
 from rapp.paths import path_length, unwrap_path
 from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect

@@ -42,7 +42,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_core import CIRCLES, GOAL3, GOAL_Q, LINKS, LINKS3, OBSTACLES3, START3, START_Q  # noqa: E402
 
 import rapp  # noqa: E402
-from rapp._kernels import search_numba  # noqa: E402
+from rapp.kernels import search_numba  # noqa: E402
 from rapp.errors import NoPathFound  # noqa: E402
 from rapp.search import _as_tuples, astar_search, bfs_distances  # noqa: E402
 

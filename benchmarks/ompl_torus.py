@@ -19,7 +19,7 @@ def kernel_validity(arm, obstacles):
     is called on it directly: no argument checks, no ``rapp.collides`` wrapper, the least
     Python a checker called from OMPL's C++ can cost. The same answers as ``rapp.collides``.
     """
-    from rapp._kernels import collision as collision_backend
+    from rapp.kernels import collision as collision_backend
     from rapp.arm import MAX_ANGLE
 
     kernel = collision_backend.kernels()

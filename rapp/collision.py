@@ -31,9 +31,9 @@ if TYPE_CHECKING:
 from rapp.arm import MAX_ANGLE
 from rapp.checks import finite_number
 from rapp.errors import CertificationLimit
-from rapp._kernels import collision as _backend
-from rapp._kernels.collision_numba import MASK_LINKS
-from rapp._kernels.collision_numpy import (
+from rapp.kernels import collision as _backend
+from rapp.kernels.collision_numba import MASK_LINKS
+from rapp.kernels.collision_numpy import (
     MAX_PENDING_INTERVALS,
     check_obstacle,
     check_segments,
@@ -415,7 +415,7 @@ def collides(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon], *, m
 _ANSWER = (np.False_, np.True_)
 _FLOAT = np.dtype(np.float64)
 #: Scenes of :func:`collides` for one configuration, packed into one array
-#: (:func:`rapp._kernels.collision.pack_scene`), by the identity of the arm and of the
+#: (:func:`rapp.kernels.collision.pack_scene`), by the identity of the arm and of the
 #: obstacles, and the margin. Each entry holds the arm and the obstacles (a tuple as given, a
 #: list as a copy, compared on every use: a list may change), so that no other object takes
 #: their ids while it lives. Bounded: cleared at 64 entries.

@@ -12,7 +12,7 @@ computed on the grid of those joints and broadcast over the others; and on the
 grid of joints ``0..i-1`` the angles of joint ``i`` at which the link touches a
 disc or a convex polygon form one interval in closed form, painted onto the
 joint's axis, so the work per obstacle is per cell of the shorter prefix grid.
-The intervals are computed and painted by compiled loops (:mod:`rapp._kernels.occupancy_numba`,
+The intervals are computed and painted by compiled loops (:mod:`rapp.kernels.occupancy_numba`,
 numba) once numba is loaded or the grid is large, and by numpy otherwise
 (:func:`occupancy_numpy`, also the fallback without numba); both give the same cells.
 """
@@ -30,10 +30,10 @@ from numpy.typing import ArrayLike  # noqa: F401
 if TYPE_CHECKING:
     from rapp.arm import Arm
 
-from rapp._kernels import occupancy as _backend
-from rapp._kernels import occupancy_numpy as _numpy
-from rapp._kernels.occupancy import COMPILE_FROM
-from rapp._kernels.occupancy_numpy import prefix_grid, prefix_step
+from rapp.kernels import occupancy as _backend
+from rapp.kernels import occupancy_numpy as _numpy
+from rapp.kernels.occupancy import COMPILE_FROM
+from rapp.kernels.occupancy_numpy import prefix_grid, prefix_step
 from rapp.arm import Arm, wrap_angle
 from rapp.collision import check_obstacle, motion_bounds, required_distances, scene
 from rapp.obstacles import Circle, applies, grown
@@ -220,17 +220,17 @@ def occupancy(arm: Arm, obstacles: Iterable[Circle | Polygon], grid: JointGrid, 
     Link ``i`` depends on joints ``0..i`` only. On the grid of joints
     ``0..i-1`` (its base point ``P`` and the previous link's absolute angle)
     the directions in which it touches an obstacle form one interval, in
-    closed form (:mod:`rapp._kernels.occupancy_numpy`); shifted
+    closed form (:mod:`rapp.kernels.occupancy_numpy`); shifted
     by the previous angle it is an interval of joint ``i``'s angle, painted
     onto that axis. The work is per prefix cell and obstacle, plus one write of
     the grid.
 
     The intervals are computed and painted by compiled loops
-    (:mod:`rapp._kernels.occupancy_numba`), one prefix cell at a time, skipping the cells
+    (:mod:`rapp.kernels.occupancy_numba`), one prefix cell at a time, skipping the cells
     where an earlier link already collides; without numba (or on a grid of
     fewer than :data:`COMPILE_FROM` cells before numba is loaded) by
     :func:`occupancy_numpy`. The two agree cell for cell (the kernel takes its angles
-    from the same numpy ``arctan2``; :mod:`rapp._kernels.occupancy_numba` names the one step
+    from the same numpy ``arctan2``; :mod:`rapp.kernels.occupancy_numba` names the one step
     that could round differently, at a configuration touching an obstacle).
 
     Parameters
@@ -353,7 +353,7 @@ def occupancy_numpy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
 
     For each link, every prefix cell's interval of every obstacle is computed into
     arrays, painted onto the link's axis by a difference array and a cumulative sum
-    (:mod:`rapp._kernels.occupancy_numpy`) and ORed, broadcast, into the grid. The arguments are those of
+    (:mod:`rapp.kernels.occupancy_numpy`) and ORed, broadcast, into the grid. The arguments are those of
     :func:`occupancy`.
 
     Examples

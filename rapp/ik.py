@@ -8,7 +8,7 @@ The tools, from exact to general:
   arm over a whole batch of targets at once, with damped least squares (DLS)
   near singular configurations, seeded random restarts and joint limits,
   from the exact start of :func:`closed_form_start` where there is one; on
-  large batches compiled per target (:mod:`rapp._kernels.ik_numba`).
+  large batches compiled per target (:mod:`rapp.kernels.ik_numba`).
 * :func:`ik` -- the contract: every distinct solution for ONE target (for
   three or more links a seeded sample of the self-motion manifold, and the
   exact collinear arm on a boundary circle).
@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations
 
 from numpy.typing import ArrayLike  # noqa: F401
 
-from rapp._kernels import ik as ik_backend
+from rapp.kernels import ik as ik_backend
 from rapp.arm import Arm, wrap_angle
 from rapp.collision import clearance, collides
 from rapp.errors import NoIKSolution, NoPathFound
@@ -599,7 +599,7 @@ def _numpy_attempts(arm: Arm, rows, q, tol, budget):
 
 def _compiled_attempts(kernel, arm: Arm, rows, q, tol, budget):
     """The attempts of :func:`ik_numeric`, each target solved start to check by the
-    compiled :mod:`rapp._kernels.ik_numba`; ``q`` (m, n) the caller's starts or None.
+    compiled :mod:`rapp.kernels.ik_numba`; ``q`` (m, n) the caller's starts or None.
 
     The same starts, restarts (the same seeded generator, drawn for the same
     targets as long as the successes agree) and checks as :func:`_numpy_attempts`.
@@ -674,9 +674,9 @@ def ik_numeric(
     Every target is solved at the same time: each iteration is a handful of
     numpy calls over the whole batch (no loop over targets), and only the
     targets not yet converged are carried to the next iteration. With numba,
-    a batch of at least ``rapp._kernels.ik.LOAD_FROM`` targets (any batch once
+    a batch of at least ``rapp.kernels.ik.LOAD_FROM`` targets (any batch once
     numba is imported) is instead solved target by target by compiled loops
-    that do the same (:mod:`rapp._kernels.ik_numba`): the same starts, steps,
+    that do the same (:mod:`rapp.kernels.ik_numba`): the same starts, steps,
     restarts and checks, equal up to the last bits of ``cos`` and ``sin``, so
     the same targets are solved (on a joint limit a restart may decide
     otherwise, never reporting a wrong ``ok``). The iteration runs on the arm

@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     from rapp.obstacles import Circle, Polygon
 
 from rapp import heap, progress
-from rapp._kernels import sampling as sampling_backend
+from rapp.kernels import sampling as sampling_backend
 from rapp.checks import positive_integer
 from rapp.collision import MAX_PENDING_INTERVALS, collides, scene
 from rapp.errors import InvalidSetting, NoPathFound
@@ -660,7 +660,7 @@ def _add_candidate_edges(arm, nodes, k, edges, first_new, budget=None):
         dist[np.arange(len(block)), block] = np.inf
         near = np.argpartition(dist, k - 1, axis=1)[:, :k]
         # Nearest first, equal distances by index: the order of the compiled scan
-        # (rapp._kernels.sampling_numba), so both fill the roadmap alike.
+        # (rapp.kernels.sampling_numba), so both fill the roadmap alike.
         near = np.take_along_axis(near, np.lexsort((near, np.take_along_axis(dist, near, 1))), 1)
         for row, i in enumerate(block):
             for j in near[row]:
@@ -782,7 +782,7 @@ _Lazy = namedtuple("_Lazy", "searches csr")
 @functools.cache
 def _compiled_lazy():
     """:func:`_lazy_searches` compiled (cached on disk), calling the compiled Dijkstra and the
-    compiled loops of :mod:`rapp._kernels.sampling_numba`; None without numba."""
+    compiled loops of :mod:`rapp.kernels.sampling_numba`; None without numba."""
     dijkstra, loops = _compiled_dijkstra(), sampling_backend.kernels()
     if dijkstra is None or loops is None:
         return None

@@ -14,19 +14,20 @@ reference                         the fast function it checks
                                   obstacle on every cell of its prefix grid)
 :func:`certified_free`            :func:`rapp.cspace.certified_free` (link clearances on
                                   every prefix cell)
-:func:`collides`                  :func:`rapp.collision.collides` (numpy over a batch; the
-                                  compiled kernel of :mod:`rapp._kernels.collision_numba`
-                                  replaced it)
-:func:`link_clearances`           :func:`rapp.collision.link_clearances`
-:func:`segment_collision_free`    :func:`rapp.collision.segment_collision_free` (the
-                                  bisection as numpy arrays, level by level)
+:func:`collides`                  :func:`rapp.collision.collides` (one configuration at a
+                                  time, by :func:`capsule_distance`)
+:func:`link_clearances`           :func:`rapp.collision.link_clearances` (likewise)
+:func:`segment_collision_free`    :func:`rapp.collision.segment_collision_free` (one segment
+                                  at a time, plain halving with :func:`motion_bound`)
 :func:`link_gaps`                 :func:`rapp.collision.link_clearances` of thick links
                                   (a capsule's distance from each obstacle, one at a time,
                                   with no grown shapes: :func:`capsule_distance`)
 ================================  ==========================================================
 
-The package never calls them: its numpy backend without numba is :mod:`rapp._kernels`'
-``collision_numpy`` and ``occupancy_numpy``, which the tests compare with these.
+The package never calls them, and they share no code with :mod:`rapp.kernels` (the compiled and
+the numpy backends, which the tests compare with these): the collision oracles are Python loops
+over configurations, links and obstacles with the textbook formulas (a disc by the clipped
+projection, a convex polygon by containment and edge crossings) in :func:`capsule_distance`.
 
 Examples
 --------
@@ -44,24 +45,16 @@ import math
 
 import numpy as np
 
-from rapp.checks import positive_integer
-from rapp.collision import (
-    MAX_PENDING_INTERVALS,
-    check_obstacle,
-    check_segments,
-    motion_bounds,
-    scene,
-    segment_clearances,
-    segment_hits_circle,
-    segment_hits_polygon,
-    segment_point_distance,
-)
+from rapp.checks import finite_number
+# Only the contract's limit and the thick-link reduction (checked against capsule_distance in
+# tests/test_thick_links.py): no geometry of the kernels, which this module is the oracle of.
+from rapp.collision import MAX_PENDING_INTERVALS, scene
+from rapp.cspace import check_grid
 from rapp.errors import CertificationLimit
-from rapp.cspace import check_grid, prefix_grid
-from rapp.obstacles import Circle, applies
+from rapp.obstacles import Circle, Polygon, applies
 
 __all__ = ["occupancy", "certified_free", "circle_hits", "polygon_hits", "collides", "link_clearances",
-           "segment_collision_free", "capsule_distance", "link_gaps"]
+           "segment_collision_free", "motion_bound", "capsule_distance", "link_gaps"]
 
 
 def circle_hits(P, cos_phi, sin_phi, L, center, r):
@@ -118,6 +111,17 @@ def polygon_hits(P, cos_phi, sin_phi, L, poly):
     return ~(sep | above | below)
 
 
+def _prefix(grid, i):
+    """Base point ``P`` (``cells[:i] + (2,)``) and absolute angle of link ``i - 1`` on the grid of
+    joints ``0..i-1``, in the arm's own frame: the forward kinematics, summed link by link."""
+    mesh = np.meshgrid(*grid.axes[:i], indexing="ij")
+    P, phi = np.zeros(grid.shape[:i] + (2,)), np.zeros(grid.shape[:i])
+    for k in range(i):
+        phi = phi + mesh[k]
+        P = P + grid.arm.link_lengths[k] * np.stack((np.cos(phi), np.sin(phi)), axis=-1)
+    return P, phi
+
+
 def occupancy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     """:func:`rapp.cspace.occupancy` the straightforward way: every link against every obstacle on
     every cell of its prefix grid, by closed-form hit tests (:func:`circle_hits`,
@@ -134,14 +138,14 @@ def occupancy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     (True, True)
     """
     check_grid(arm, grid)
-    arm, obstacles = scene(arm, [check_obstacle(ob) for ob in obstacles], margin)
+    arm, obstacles = scene(arm, _checked_obstacles(obstacles), margin)
     shape, n = grid.shape, arm.n
     occ = np.zeros(shape, dtype=bool)
     circles = [ob for ob in obstacles if isinstance(ob, Circle)]
     polys = [ob for ob in obstacles if not isinstance(ob, Circle)]
     axes = grid.axes
     for i in range(n):
-        P, phi_prev = prefix_grid(grid, i)
+        P, phi_prev = _prefix(grid, i)
         L = arm.link_lengths[i]
         hit = np.zeros(shape[: i + 1], dtype=bool)
         # cos/sin of phi_prev + theta by the addition formulas: outer products, no trig on the grid.
@@ -159,10 +163,11 @@ def occupancy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     return occ
 
 
-def certified_free(arm, obstacles, grid, *, chunk: int = 200_000, margin=0.0) -> np.ndarray:
-    """:func:`rapp.cspace.certified_free` the straightforward way: the clearance of each link,
-    computed on every cell of its prefix grid, against half the largest motion of that link in
-    one grid step (chunks of ``chunk`` configurations bound the memory).
+def certified_free(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
+    """:func:`rapp.cspace.certified_free` cell by cell: link ``j`` is certified on a cell when its
+    gap (:func:`capsule_distance`, its radius plus ``margin``) exceeds half the largest motion
+    of that link in one grid step (:func:`motion_bound` of each axis's step). Link ``j`` depends
+    on joints ``0..j`` only: it is tested once per cell of that prefix grid.
 
     Examples
     --------
@@ -170,184 +175,159 @@ def certified_free(arm, obstacles, grid, *, chunk: int = 200_000, margin=0.0) ->
     >>> from rapp.cspace import JointGrid, certified_free as fast
     >>> arm, discs = Arm([1.0, 1.0]), [Circle((1.5, 0.0), 0.3)]
     >>> grid = JointGrid(arm, 24)
-    >>> bool((certified_free(arm, discs, grid, chunk=100) == fast(arm, discs, grid)).all())
+    >>> bool((certified_free(arm, discs, grid) == fast(arm, discs, grid)).all())
     True
     """
     check_grid(arm, grid)
-    arm, obstacles = scene(arm, [check_obstacle(ob) for ob in obstacles], margin)
-    chunk = positive_integer(chunk, "chunk")
-    n = arm.n
-    need = 0.5 * motion_bounds(arm, np.diag(grid.step)).max(axis=0)  # (n,) per link
-    axes = grid.axes
+    obstacles = _checked_obstacles(obstacles)
+    margin = finite_number(margin, "margin", at_least=0.0)
+    n, axes = arm.n, grid.axes
+    steps = [motion_bound(arm, np.eye(n)[k] * grid.step[k]) for k in range(n)]
     out = np.ones(grid.shape, bool)
     for j in range(n):
-        # Link j depends on joints 0..j only: test it on that prefix grid and broadcast.
+        need = 0.5 * max(step[j] for step in steps)
+        radius = float(arm.link_radius[j]) + margin
         prefix = grid.shape[: j + 1]
-        size = math.prod(prefix)
-        ok = np.empty(size, bool)
-        for lo in range(0, size, chunk):  # chunks bound the memory, not a loop over cells
-            idx = np.unravel_index(np.arange(lo, min(lo + chunk, size)), prefix)
-            q = np.zeros((idx[0].size, n))
-            for k in range(j + 1):
-                q[:, k] = axes[k][idx[k]]
+        ok = np.empty(prefix, bool)
+        for cell in np.ndindex(*prefix):
+            q = np.zeros(n)
+            q[: j + 1] = [axes[k][i] for k, i in enumerate(cell)]
             pts = arm.joint_positions(q)
-            d = segment_clearances(pts[:, j, :], pts[:, j + 1, :], obstacles, link=j)
-            ok[lo:lo + chunk] = d > need[j]
+            gaps = [capsule_distance(pts[j], pts[j + 1], radius, ob) for ob in obstacles if applies(ob, j)]
+            ok[cell] = min(gaps, default=math.inf) > need
         out &= ok.reshape(prefix + (1,) * (n - j - 1))
     return out
 
 
-# Segments bisected together, and configurations per clearance evaluation: they
-# bound the temporaries (about n * k * 16 bytes per configuration for a k-gon).
-_GROUP = 256
-_CHUNK = 4096
+def _checked_obstacles(obstacles) -> list:
+    """The obstacles as a list, each a Circle or a Polygon, else the package's one-line error."""
+    obstacles = list(obstacles)
+    for ob in obstacles:
+        if not isinstance(ob, (Circle, Polygon)):
+            raise ValueError(f"obstacles must be rapp.Circle or rapp.Polygon, got {type(ob).__name__}")
+    return obstacles
 
 
-def collides(arm, q, obstacles) -> np.ndarray:
-    """:func:`rapp.collision.collides` in numpy: every link against every obstacle, batched.
+def _clearances_of(arm, q, obstacles) -> list:
+    """One configuration ``q`` ``(n,)``: each link's distance from its nearest obstacle, a list.
 
-    Examples
-    --------
-    >>> from rapp import Arm, Circle, Polygon
-    >>> import rapp.collision
-    >>> arm = Arm([1.0, 1.0])
-    >>> obs = [Circle((1.75, 0.75), 0.6), Polygon.rectangle((-2, -2), 1, 1)]
-    >>> q = [[0.4, 0.0], [np.pi / 2, 0.0], [-2.4, 0.0]]
-    >>> collides(arm, q, obs).tolist() == rapp.collision.collides(arm, q, obs).tolist()
-    True
+    The links are their centre segments (zero width); an obstacle counts for the links its
+    ``links`` name (all when None). No obstacle: ``inf``.
     """
     pts = arm.joint_positions(q)
-    a, b = pts[..., :-1, :], pts[..., 1:, :]
-    circles, polygons = [], []
-    for ob in obstacles:
-        (circles if isinstance(check_obstacle(ob), Circle) and ob.links is None else polygons).append(ob)
-    hit = np.zeros(a.shape[:-1], dtype=bool)
-    if circles:
-        # Every link against every disc in one broadcast (links on axis -2, discs on -1): the
-        # same arithmetic as one disc at a time, with a fixed number of numpy calls, which is
-        # what a sampling planner calling this for one configuration at a time pays for.
-        centers = np.array([c.center for c in circles])
-        radii = np.array([c.radius for c in circles])
-        d = segment_point_distance(a[..., None, :], b[..., None, :], centers)
-        hit |= (d <= radii).any(axis=-1)
-    for ob in polygons:
-        if ob.links is None:
-            hit |= segment_hits_polygon(a, b, ob)
-        else:  # applies to some links only: their own test, the others left alone
-            own = (segment_hits_circle(a, b, ob.center, ob.radius) if isinstance(ob, Circle)
-                   else segment_hits_polygon(a, b, ob))
-            hit |= own & np.isin(np.arange(arm.n), ob.links)
-    return hit.any(axis=-1)
+    out = []
+    for j in range(arm.n):
+        gaps = [capsule_distance(pts[j], pts[j + 1], 0.0, ob) for ob in obstacles if applies(ob, j)]
+        out.append(min(gaps, default=math.inf))
+    return out
 
 
 def link_clearances(arm, q, obstacles) -> np.ndarray:
-    """:func:`rapp.collision.link_clearances` in numpy, ``(..., n)``.
+    """:func:`rapp.collision.link_clearances` one configuration at a time, ``(..., n)``.
+
+    Each link's distance from each obstacle by :func:`capsule_distance` with radius 0 (a disc:
+    the centre's distance from the segment minus the radius; a polygon: 0 when the segment
+    meets it, else the nearest vertex-to-edge distance), the least per link.
 
     Examples
     --------
     >>> from rapp import Arm, Circle
-    >>> link_clearances(Arm([1.0, 1.0]), [0.0, 0.0], [Circle((1.5, 1.0), 0.5)]).tolist()
-    [0.6180339887498949, 0.5]
+    >>> link_clearances(Arm([1.0, 1.0]), [0.0, 0.0], [Circle((1.5, 1.0), 0.5)]).round(12).tolist()
+    [0.618033988750, 0.5]
     """
-    pts = arm.joint_positions(q)
-    return segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
+    q = arm.check_q(q)
+    obstacles = _checked_obstacles(obstacles)
+    rows = q.reshape(-1, arm.n)
+    out = np.array([_clearances_of(arm, row, obstacles) for row in rows], dtype=float)
+    return out.reshape(q.shape)
+
+
+def collides(arm, q, obstacles) -> np.ndarray:
+    """:func:`rapp.collision.collides` one configuration at a time: some link's clearance is
+    not positive (:func:`link_clearances`; touching counts as collision).
+
+    Examples
+    --------
+    >>> from rapp import Arm, Circle, Polygon
+    >>> arm = Arm([1.0, 1.0])
+    >>> obs = [Circle((1.75, 0.75), 0.6), Polygon.rectangle((-2, -2), 1, 1)]
+    >>> collides(arm, [[np.pi / 2, 0.0], [0.0, 0.4], [-2.4, 0.3]], obs).tolist()
+    [False, True, True]
+    """
+    return (link_clearances(arm, q, obstacles) <= 0.0).any(axis=-1)
+
+
+def motion_bound(arm, dq) -> list:
+    """How far any point of link ``j`` can move along the joint step ``dq`` ``(n,)``: a list.
+
+    Turning joint ``i`` moves the points beyond it on circles about joint ``i``, each at most
+    ``L_i + ... + L_j`` from it on link ``j``, so no point of link ``j`` moves more than
+    ``B_j = sum_{i <= j} |dq_i| (L_i + ... + L_j)``.
+
+    Examples
+    --------
+    >>> from rapp import Arm
+    >>> motion_bound(Arm([1.0, 1.0]), [0.1, 0.0])
+    [0.1, 0.2]
+    """
+    lengths = [float(x) for x in arm.lengths]
+    return [sum(abs(float(dq[i])) * sum(lengths[i:j + 1]) for i in range(j + 1))
+            for j in range(arm.n)]
 
 
 def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9,
                            max_intervals: int = MAX_PENDING_INTERVALS) -> np.ndarray:
-    """:func:`rapp.collision.segment_collision_free` in numpy: groups of segments bisected level by level.
+    """:func:`rapp.collision.segment_collision_free` one segment at a time, by plain halving.
+
+    A piece ``[lo, hi]`` of the segment ``q0 + t (q1 - q0)`` is free when, at its middle, every
+    link's clearance exceeds how far the link can move in half the piece
+    (:func:`motion_bound` times ``(hi - lo) / 2``). A piece not shown free is halved; the segment
+    is not free when a middle touches an obstacle (a clearance within the rounding of the arm's
+    own coordinates, ``16 eps`` times its length, counts as touching) or a piece shorter than
+    ``min_interval`` is still not shown free. More than ``max_intervals`` pieces to look at, at
+    once, raise :class:`~rapp.errors.CertificationLimit`.
 
     Examples
     --------
-    The compiled certificate's answers, from the same checked arguments:
-
-    >>> from rapp import Arm, Circle, collision
+    >>> from rapp import Arm, Circle
     >>> arm, obs = Arm([1.0, 1.0]), [Circle((0.0, 1.5), 0.3)]
-    >>> q1 = [[0.5, 0.0], [3.0, 0.0], [1.2, 0.3]]
-    >>> free = segment_collision_free(arm, [0.0, 0.0], q1, obs)
-    >>> free.tolist(), bool((free == collision.segment_collision_free(arm, [0.0, 0.0], q1, obs)).all())
-    ([True, False, True], True)
+    >>> segment_collision_free(arm, [0.0, 0.0], [[0.5, 0.0], [3.0, 0.0], [1.2, 0.3]], obs).tolist()
+    [True, False, True]
     """
-    obstacles = [check_obstacle(ob) for ob in obstacles]
-    q0, q1, dq, bounds, shape, min_interval, cap = check_segments(arm, q0, q1, min_interval,
-                                                                  max_intervals)
-    free = np.ones(q0.shape[0], dtype=bool)
-    if not obstacles:
-        return free.reshape(shape)
-    for g in range(0, q0.shape[0], _GROUP):
-        sl = slice(g, g + _GROUP)
-        try:
-            free[sl] = _bisect(arm, q0[sl], q1[sl], dq[sl], bounds[sl], obstacles, min_interval, cap)
-        except _GroupTooLarge:
-            for i in range(g, min(g + _GROUP, q0.shape[0])):
-                one = slice(i, i + 1)
-                free[i] = _bisect(arm, q0[one], q1[one], dq[one], bounds[one], obstacles,
-                                  min_interval, cap)[0]
-    return free.reshape(shape)
+    q0, q1 = np.broadcast_arrays(arm.check_q(q0, "q0"), arm.check_q(q1, "q1"))
+    if not (float(min_interval) > 0 and int(max_intervals) >= 2):
+        raise ValueError(f"need min_interval > 0 and max_intervals >= 2, got {min_interval}, {max_intervals}")
+    min_interval, cap = float(min_interval), int(max_intervals)
+    obstacles = _checked_obstacles(obstacles)
+    starts, ends = q0.reshape(-1, arm.n), q1.reshape(-1, arm.n)
+    free = [not obstacles or _halving(arm, a, b, obstacles, min_interval, cap)
+            for a, b in zip(starts, ends)]
+    return np.array(free, dtype=bool).reshape(q0.shape[:-1])
 
 
-class _GroupTooLarge(Exception):
-    """Several segments together exceed the pending limit; retry them one by one."""
-
-
-def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
-    """Certification of the segments ``q0 + t dq`` by bisection: bool ``(m,)``.
-
-    Raises :class:`_GroupTooLarge` when more than ``cap`` intervals of several
-    segments are pending, :class:`CertificationLimit` when one segment alone needs more.
-    """
-    m = q0.shape[0]
-    free = np.ones(m, dtype=bool)
-    owner = np.arange(m)
-    lo = np.zeros(m)
-    hi = np.ones(m)
-    worst = np.full(m, np.inf)  # per segment: smallest clearance that failed to certify
+def _halving(arm, q0, q1, obstacles, min_interval, cap) -> bool:
+    """Is the one segment ``q0 -> q1`` free? Its pieces halved, level by level."""
+    dq = q1 - q0
+    bound = motion_bound(arm, dq)
     touch = 16 * np.finfo(float).eps * float(np.sum(arm.lengths))
-    while owner.size:
-        if owner.size > cap:
-            if owner[0] != owner[-1]:  # owners stay sorted: several segments pending
-                raise _GroupTooLarge
-            i = owner[0]
-            raise CertificationLimit(_limit_message(arm, q0[i], q1[i], bounds[i], worst[i], cap))
-        mid = 0.5 * (lo + hi)
-        half = 0.5 * (hi - lo)
-        q = q0[owner] + mid[:, None] * dq[owner]
-        d = np.empty(q.shape)
-        for s in range(0, len(q), _CHUNK):
-            pts = arm.joint_positions(q[s:s + _CHUNK])
-            d[s:s + _CHUNK] = segment_clearances(pts[..., :-1, :], pts[..., 1:, :], obstacles)
-        # Touching counts as collision, and a clearance below the rounding of the arm's own
-        # coordinates cannot be told from touching: without this, a link grazing a vertex
-        # along a whole stretch would be bisected until the interval limit.
-        hit = (d <= touch).any(axis=-1)
-        need = bounds[owner] * half[:, None]
-        certified = (need < d).all(axis=-1)
-        stuck = ~certified & ~hit & (hi - lo < min_interval)
-        free[owner[hit | stuck]] = False
-        keep = ~certified & free[owner]
-        if not keep.any():  # the common case for a short edge: settled at the first level
-            break
-        failed = np.where(need >= d, d, np.inf).min(axis=-1)
-        np.minimum.at(worst, owner[keep], failed[keep])
-        owner, lo, mid, hi = owner[keep], lo[keep], mid[keep], hi[keep]
-        # Children interleaved so that owners stay sorted.
-        owner = np.repeat(owner, 2)
-        lo, hi = np.stack((lo, mid), axis=1).ravel(), np.stack((mid, hi), axis=1).ravel()
-    return free
-
-
-def _limit_message(arm, q0, q1, bounds, clearance, cap):
-    scale = float(np.sum(arm.lengths))
-    sweep = float(bounds.max())
-    return (
-        f"the segment q0={q0.tolist()} -> q1={q1.tolist()} could not be certified "
-        f"collision-free within {cap} sub-intervals (rapp.collision.MAX_PENDING_INTERVALS): "
-        f"the arm is too large relative to its clearance. Its links add up to {scale:.3g} "
-        f"and sweep up to {sweep:.3g} along the segment, but the clearance where "
-        f"certification failed is only {clearance:.3g}, so the pieces would have to be "
-        f"shorter than {2 * clearance / sweep:.3g} of the segment. Use units in which the arm "
-        "and its clearances are of comparable size, or shorter segments"
-    )
+    pieces = [(0.0, 1.0)]
+    while pieces:
+        if len(pieces) > cap:
+            raise CertificationLimit(f"the segment q0={q0.tolist()} -> q1={q1.tolist()} needs more than "
+                                     f"{cap} pieces at once to be certified")
+        halves = []
+        for lo, hi in pieces:
+            mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+            d = _clearances_of(arm, q0 + mid * dq, obstacles)
+            if min(d) <= touch:
+                return False
+            if all(b * half < dj for b, dj in zip(bound, d)):
+                continue
+            if hi - lo < min_interval:
+                return False
+            halves += [(lo, mid), (mid, hi)]
+        pieces = halves
+    return True
 
 
 def capsule_distance(a, b, radius, ob) -> float:

@@ -76,7 +76,7 @@ if TYPE_CHECKING:
     from rapp.arm import Arm
     from rapp.obstacles import Circle, Polygon
 
-from rapp._kernels import collision as collision_backend
+from rapp.kernels import collision as collision_backend
 from rapp import progress
 from rapp.collision import collides, scene, segment_collision_free
 from rapp.errors import InvalidSetting, NoPathFound
@@ -259,7 +259,7 @@ def rrt(
         return mark_sampled(tree_result(arm, None, tree.nodes.copy(), tree.parent.copy(), it,
                                         status), checker)
 
-    if obstacles:  # thousands of checks follow: the compiled kernel (rapp._kernels.collision_numba)
+    if obstacles:  # thousands of checks follow: the compiled kernel (rapp.kernels.collision_numba)
         collision_backend.kernels()
     if collides(arm, start, obstacles):
         return fail("the start configuration collides", 0, NO_PATH)

@@ -8,7 +8,7 @@ connect attempt certifies its whole chain of steps in one vectorized call and ke
 free prefix, the same tree as stepping one edge at a time. An edge whose end clearances prove it
 free (:func:`rapp.sampling.endpoint_certified`) needs no bisection.
 
-With numba the whole iteration runs compiled (:mod:`rapp._kernels.sampling_numba`) on samples drawn by
+With numba the whole iteration runs compiled (:mod:`rapp.kernels.sampling_numba`) on samples drawn by
 the same generator, and grows the same trees bit for bit; the numpy loop is the fallback.
 
 References
@@ -32,10 +32,10 @@ if TYPE_CHECKING:
 from rapp import progress
 from rapp.checks import finite_number
 from rapp.collision import reach_matrix, link_clearances, scene
-from rapp._kernels import sampling as sampling_backend
-from rapp._kernels import collision as collision_backend
+from rapp.kernels import sampling as sampling_backend
+from rapp.kernels import collision as collision_backend
 from rapp.collision import MAX_PENDING_INTERVALS
-from rapp._kernels.collision import pack
+from rapp.kernels.collision import pack
 from rapp.obstacles import Circle
 from rapp.errors import InvalidSetting, NoPathFound
 from rapp.paths import NODE_CAP, PlannerResult, tree_result
@@ -332,7 +332,7 @@ LARGEST_BATCH = 1024
 
 def _grow_compiled(loops, arm, start, goals, obstacles, step, rng, budget, reach, touch,
                    chain_room):
-    """:func:`_grow` in the compiled loops of :mod:`rapp._kernels.sampling_numba`, the same trees;
+    """:func:`_grow` in the compiled loops of :mod:`rapp.kernels.sampling_numba`, the same trees;
     None when an edge needs more bisection intervals than allowed (numpy says so then)."""
     n = arm.n
     cap = MAX_NODES + len(goals) + 2

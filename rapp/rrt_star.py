@@ -8,7 +8,7 @@ cost of the best path to a goal falls toward the optimum as the samples grow (as
 optimality), unlike RRT's. Every node keeps its link clearances, so that most edges are proved
 free by their ends alone (:func:`rapp.sampling.endpoint_certified`); the rest are bisected.
 
-With numba the whole iteration runs compiled (:mod:`rapp._kernels.sampling_numba`: nearest and near
+With numba the whole iteration runs compiled (:mod:`rapp.kernels.sampling_numba`: nearest and near
 nodes through a grid of cells once the tree is large, descendants' costs through child lists)
 on targets drawn by the same generator, and grows the same tree bit for bit; the numpy loop is
 the fallback.
@@ -31,11 +31,11 @@ if TYPE_CHECKING:
     from rapp.arm import Arm
     from rapp.obstacles import Circle, Polygon
 
-from rapp._kernels import sampling as sampling_backend
-from rapp._kernels import collision as collision_backend
+from rapp.kernels import sampling as sampling_backend
+from rapp.kernels import collision as collision_backend
 from rapp.checks import finite_number
 from rapp.collision import MAX_PENDING_INTERVALS, link_clearances, reach_matrix, scene
-from rapp._kernels.collision import pack
+from rapp.kernels.collision import pack
 from rapp.errors import NoPathFound
 from rapp.paths import PlannerResult, tree_result
 from rapp.sampling import warms
@@ -253,7 +253,7 @@ def _grow(arm, goals, obstacles, step, cap, goal_bias, goal_threshold, gamma, rn
 
 class _Targets:
     """:func:`_targets` for the compiled loop: with one goal, parsed from blocks of the
-    generator's doubles by the compiled :mod:`rapp._kernels.sampling_numba` ``draw``, the same
+    generator's doubles by the compiled :mod:`rapp.kernels.sampling_numba` ``draw``, the same
     targets (the stream read further ahead, which no result depends on)."""
 
     def __init__(self, loops, arm, goals, goal_bias, rng):
@@ -297,7 +297,7 @@ BATCH = 64
 
 def _grow_compiled(loops, arm, goals, obstacles, step, radius, goal_bias, goal_threshold, gamma,
                    rng, budget, start):
-    """:func:`_grow` in the compiled loop of :mod:`rapp._kernels.sampling_numba`, the same tree; None
+    """:func:`_grow` in the compiled loop of :mod:`rapp.kernels.sampling_numba`, the same tree; None
     when an edge needs more bisection intervals than allowed (numpy says so then)."""
     n = arm.n
     cap = 2 * BATCH + 2

@@ -19,9 +19,9 @@ import numpy as np
 
 from rapp.arm import Arm
 from rapp.checks import finite_number, positive_integer
-from rapp._kernels import collision as collision_backend
+from rapp.kernels import collision as collision_backend
 from rapp.collision import collides, reach_matrix, segment_collision_free
-from rapp._kernels.collision import pack
+from rapp.kernels.collision import pack
 from rapp.errors import NoPathFound
 from rapp.obstacles import Circle, Polygon
 from rapp.paths import ITERATION_CAP, TIME_BUDGET_SPENT
@@ -34,7 +34,7 @@ def squared_norms(d) -> np.ndarray:
 
     Written out rather than ``d @ d`` or ``einsum``, whose rounding depends on the BLAS and
     the processor (fused multiply-adds, vector lanes): this order is the one the compiled
-    loops of :mod:`rapp._kernels.sampling_numba` use, so both find the same nearest nodes and steps
+    loops of :mod:`rapp.kernels.sampling_numba` use, so both find the same nearest nodes and steps
     to the last bit.
 
     Examples
@@ -282,7 +282,7 @@ def warms(planner, **settings):
 
 def _plan_tiny_problems() -> None:
     """Run each registered sampling planner on a tiny problem (compiled kernels only)."""
-    from rapp._kernels import sampling as sampling_backend
+    from rapp.kernels import sampling as sampling_backend
     if sampling_backend.kernels() is None:
         _PREPARED[0] = len(_WARMERS)   # nothing to compile
     else:
@@ -398,7 +398,7 @@ def check_start_and_goals(arm, start, goal, obstacles, validity=None):
     obstacles = list(obstacles)
     if obstacles:
         # A sampling planner checks thousands of single configurations and edges: load the
-        # compiled collision kernel (rapp._kernels.collision_numba) for them, whatever their size.
+        # compiled collision kernel (rapp.kernels.collision_numba) for them, whatever their size.
         collision_backend.kernels()
     check = bool(obstacles) or arm.self_collision
     if check and collides(arm, start, obstacles):

@@ -20,10 +20,10 @@ Implementation note: :func:`astar_search`, the version the book shows, runs in
 Python over flat cell numbers. The neighbour table (with the wrap of each axis
 built in) and the heuristic of every cell are computed once with numpy; the
 inner loop only reads Python lists and a bytearray, which is several times
-faster than tuples of indices (:mod:`rapp._kernels.search_python`). :func:`astar` runs the
-same search, in the same order, compiled with numba (:mod:`rapp._kernels.search_numba`)
+faster than tuples of indices (:mod:`rapp.kernels.search_python`). :func:`astar` runs the
+same search, in the same order, compiled with numba (:mod:`rapp.kernels.search_numba`)
 when numba can be imported, and falls back to that Python loop when it
-cannot (the choice: :mod:`rapp._kernels.search`). Its open list is a bucket queue of three
+cannot (the choice: :mod:`rapp.kernels.search`). Its open list is a bucket queue of three
 ``f`` levels when ``w = 1`` and the binary heap of :mod:`rapp.heap` otherwise;
 both pop the entries in the order of the heap of :func:`astar_search`. numba
 is imported on the first search of a grid of :data:`COMPILE_FROM` cells or
@@ -41,10 +41,10 @@ from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations
 
 from numpy.typing import ArrayLike  # noqa: F401
 
-from rapp._kernels import search as _backend
-from rapp._kernels import search_python
-from rapp._kernels.search import COMPILE_FROM
-from rapp._kernels.search_python import PaddedGraph, heuristic_grid
+from rapp.kernels import search as _backend
+from rapp.kernels import search_python
+from rapp.kernels.search import COMPILE_FROM
+from rapp.kernels.search_python import PaddedGraph, heuristic_grid
 from rapp.errors import InvalidCell, NoPathFound
 from rapp.checks import sorted_unique, finite_number, positive_integer
 
@@ -399,7 +399,7 @@ def astar(occupied: ArrayLike, start: Sequence[int], goal: Sequence[int], *,
 
     The search of :func:`astar_search` (see there for the heuristic, the
     tie-breaking and the ``cost <= w * optimum`` bound of weighted A*), compiled
-    with numba (:mod:`rapp._kernels.search_numba`): the same cells expanded in the same
+    with numba (:mod:`rapp.kernels.search_numba`): the same cells expanded in the same
     order and the same path, 30-70 times faster than that Python loop on the
     benchmark grids (``benchmarks/bench_search.py``), and faster than the C++ A*
     of pyastar2d (``benchmarks/bench_astar_cpp.py``). If numba cannot be

@@ -31,6 +31,21 @@ def _private(name: str) -> bool:
     return name.startswith("_") and not name.startswith("__")
 
 
+def _private_prefix(module: str) -> str:
+    """The dotted path of ``module`` up to its first private part (``rapp._x`` of ``rapp._x.y``), or ''."""
+    parts = module.split(".")
+    for i, part in enumerate(parts):
+        if _private(part):
+            return ".".join(parts[: i + 1])
+    return ""
+
+
+def _outside(me: str, module: str) -> bool:
+    """True when ``module`` is private (:func:`_private_prefix`) and ``me`` is not inside it."""
+    prefix = _private_prefix(module)
+    return bool(prefix) and not (me == prefix or me.startswith(prefix + "."))
+
+
 def crossings(path: Path, modules: set) -> list:
     """``(importer, owner, name, line)`` for each private name of another rapp module used here."""
     me = module_name(path)
@@ -49,8 +64,14 @@ def crossings(path: Path, modules: set) -> list:
                     aliases[a.asname or a.name] = full
                 elif base.startswith("rapp") and base != me and _private(a.name):
                     found.append((me, base, a.name, node.lineno))
+            # The package rule: a private module or package (rapp._x, rapp.x._y) is its
+            # parent's own business too; what another module imports lives in a public one.
+            if base.startswith("rapp") and _outside(me, base):
+                found.append((me, base, "(private module)", node.lineno))
         elif isinstance(node, ast.Import):
             for a in node.names:
+                if a.name.startswith("rapp") and _outside(me, a.name):
+                    found.append((me, a.name, "(private module)", node.lineno))
                 if a.name.startswith("rapp"):
                     aliases[a.asname or a.name.split(".")[0]] = a.name if a.asname else "rapp"
     for node in ast.walk(tree):
@@ -74,11 +95,12 @@ def test_the_scan_finds_every_form_of_crossing(tmp_path, monkeypatch):
     (pkg / "a.py").write_text("def _x(): pass\n")
     (pkg / "sub" / "b.py").write_text(
         "from rapp.a import _x\nfrom ..a import _x as y\nimport rapp.a as m\nfrom rapp import a\n"
-        "import rapp\nm._x(); a._x(); rapp.a._x(); a.__name__; m.public\n")
+        "import rapp\nm._x(); a._x(); rapp.a._x(); a.__name__; m.public\n"
+        "from rapp._hidden import x\nimport rapp._hidden.y\nfrom rapp import __version__\n")
     monkeypatch.setattr(sys.modules[__name__], "PACKAGE", pkg)
     modules = {module_name(p) for p in pkg.rglob("*.py")}
     lines = sorted(line for *_, line in crossings(pkg / "sub" / "b.py", modules))
-    assert lines == [1, 2, 6, 6, 6]
+    assert lines == [1, 2, 6, 6, 6, 7, 8]
     assert crossings(pkg / "a.py", modules) == []
 
 
@@ -105,7 +127,7 @@ def test_the_new_homes_are_documented(module):
 
 #: The layers of ARCHITECTURE.md. Each module of rapp/ is in exactly one.
 LAYERS = {
-    "core": {"arm", "obstacles", "collision", "_kernels", "motion", "cspace", "search", "ik", "symbolic", "trajectory",
+    "core": {"arm", "obstacles", "collision", "kernels", "motion", "cspace", "search", "ik", "symbolic", "trajectory",
              "heap", "jit", "time_scaling", "paths", "cartesian", "manipulability", "checks", "errors",
              "reference", "validity", "student_t"},
     # and every planner's own module, which the planner table names (planner_modules below)
@@ -329,6 +351,34 @@ def test_every_import_follows_the_layer_order():
 
 def test_nothing_in_the_package_imports_the_reference_implementations():
     assert [m for m, targets in graph().items() if "rapp.reference" in targets] == []
+
+
+#: What the oracle may take from rapp.collision: the contract's limit, and the thick-link
+#: reduction its occupancy paints (itself checked against reference.capsule_distance in
+#: tests/test_thick_links.py). No geometry: the oracle computes its own.
+ORACLE_MAY_IMPORT = {"rapp.collision": {"MAX_PENDING_INTERVALS", "scene"}}
+
+
+def test_the_oracle_shares_no_code_with_the_kernels():
+    tree = ast.parse((PACKAGE / "reference.py").read_text(encoding="utf-8"))
+    bad = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            names = {a.name for a in node.names}
+            if base.startswith("rapp.kernels") or base.startswith("rapp._kernels") \
+                    or base == "rapp" and names & {"kernels", "_kernels", "collision", "cspace", "search"}:
+                bad.append(f"{base}: {sorted(names)}")
+            elif base in ORACLE_MAY_IMPORT and not names <= ORACLE_MAY_IMPORT[base]:
+                bad.append(f"{base}: {sorted(names - ORACLE_MAY_IMPORT[base])}")
+        elif isinstance(node, ast.Import):
+            bad += [a.name for a in node.names if a.name.startswith(("rapp.kernels", "rapp._kernels",
+                                                                     "rapp.collision"))]
+    assert bad == []
+    # and nothing reaches the kernels at run time either: the names it uses are its own
+    import rapp.reference as oracle
+    for name in oracle.__all__:
+        assert getattr(oracle, name).__module__ == "rapp.reference", name
 
 
 def test_no_test_reaches_another_folder_through_sys_path():

@@ -1,4 +1,4 @@
-"""The compiled collision kernel against the numpy implementations it replaced (rapp.reference).
+"""The compiled and the numpy collision kernels against the oracle (rapp.reference, per configuration).
 
 Properties: the compiled ``collides``, ``link_clearances`` and ``segment_collision_free`` give
 the numpy answers on random arms, obstacles and configurations (touching counts as collision
@@ -17,8 +17,9 @@ from hypothesis import strategies as st
 
 import rapp
 from rapp import reference
-from rapp._kernels import collision_numba as collision_kernel
-from rapp._kernels import collision_numpy
+from rapp.kernels import collision_numba as collision_kernel
+from rapp.kernels import collision_numpy
+from rapp.kernels import collision as collision_dispatch
 from rapp.collision import collides, link_clearances, segment_collision_free
 from rapp.prm import prm
 
@@ -50,42 +51,85 @@ def worlds(draw):
     return rapp.Arm(lengths), obstacles, np.random.default_rng(seed)
 
 
-@settings(max_examples=60, deadline=None, derandomize=True)
-@given(worlds())
-def test_collides_is_the_numpy_answer(world):
+def _backends():
+    """The compiled kernel, loaded first (so the dispatcher of rapp.collision runs it), and the numpy one."""
+    assert collision_dispatch.loaded() is collision_kernel.kernels() is not None
+    return {"compiled": (collides, link_clearances, segment_collision_free),
+            "numpy": (collision_numpy.collides, collision_numpy.link_clearances,
+                      collision_numpy.segment_collision_free)}
+
+
+def check_collides(world, m):
     arm, obstacles, rng = world
-    q = rng.uniform(-np.pi, np.pi, (200, arm.n))
-    fast = collides(arm, q, obstacles)
+    q = rng.uniform(-np.pi, np.pi, (m, arm.n))
     slow = reference.collides(arm, q, obstacles)
     # Only a configuration within rounding of touching may differ (cos/sin's last bits).
     near = np.abs(reference.link_clearances(arm, q, obstacles).min(axis=-1)) < 1e-9
-    assert (fast == slow)[~near].all()
-    assert fast.shape == slow.shape == (200,)
+    for name, (fast_collides, _, _) in _backends().items():
+        fast = fast_collides(arm, q, obstacles)
+        assert fast.shape == slow.shape == (m,), name
+        assert (fast == slow)[~near].all(), name
     one = [collides(arm, row, obstacles) for row in q]  # one configuration at a time: the planners' call
     assert all(isinstance(answer, np.bool_) for answer in one)
     assert (np.array(one) == slow)[~near].all()
 
 
+@settings(max_examples=15, deadline=None, derandomize=True)
+@given(worlds())
+def test_collides_is_the_oracles_answer(world):
+    check_collides(world, 30)
+
+
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None, derandomize=True)
 @given(worlds())
-def test_link_clearances_are_the_numpy_values(world):
+def test_collides_is_the_oracles_answer_on_many(world):
+    check_collides(world, 200)
+
+
+def check_clearances(world, m):
     arm, obstacles, rng = world
-    q = rng.uniform(-np.pi, np.pi, (50, 2, arm.n))
-    fast = link_clearances(arm, q, obstacles)
+    q = rng.uniform(-np.pi, np.pi, (m, 2, arm.n))
     slow = reference.link_clearances(arm, q, obstacles)
-    assert fast.shape == slow.shape == (50, 2, arm.n)
-    np.testing.assert_allclose(fast, slow, rtol=0, atol=1e-12)
+    for name, (_, fast_clearances, _) in _backends().items():
+        fast = fast_clearances(arm, q, obstacles)
+        assert fast.shape == slow.shape == (m, 2, arm.n), name
+        np.testing.assert_allclose(fast, slow, rtol=0, atol=1e-12, err_msg=name)
 
 
+@settings(max_examples=15, deadline=None, derandomize=True)
+@given(worlds())
+def test_link_clearances_are_the_oracles_values(world):
+    check_clearances(world, 8)
+
+
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None, derandomize=True)
 @given(worlds())
-def test_edge_certificates_are_the_numpy_ones(world):
+def test_link_clearances_are_the_oracles_values_on_many(world):
+    check_clearances(world, 50)
+
+
+def check_certificates(world, m):
     arm, obstacles, rng = world
-    q0 = rng.uniform(-np.pi, np.pi, (40, arm.n))
-    q1 = q0 + rng.uniform(-0.6, 0.6, (40, arm.n))
-    fast = _answer(segment_collision_free, arm, q0, q1, obstacles)
+    q0 = rng.uniform(-np.pi, np.pi, (m, arm.n))
+    q1 = q0 + rng.uniform(-0.6, 0.6, (m, arm.n))
     slow = _answer(reference.segment_collision_free, arm, q0, q1, obstacles)
-    assert fast == slow
+    for name, (_, _, fast_certificate) in _backends().items():
+        assert _answer(fast_certificate, arm, q0, q1, obstacles) == slow, name
+
+
+@settings(max_examples=12, deadline=None, derandomize=True)
+@given(worlds())
+def test_edge_certificates_are_the_oracles(world):
+    check_certificates(world, 5)
+
+
+@pytest.mark.slow
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(worlds())
+def test_edge_certificates_are_the_oracles_on_many(world):
+    check_certificates(world, 40)
 
 
 def _answer(certify, *args):
@@ -120,14 +164,18 @@ def test_bad_input_is_refused_as_before():
 
 
 def test_the_certification_limit_is_raised_with_the_numpy_message():
-    # Links of 1e6 beside a clearance of 1 need 2**18 pieces.
+    # Links of 1e6 beside a clearance of 1 need 2**18 pieces: every backend refuses, the oracle too.
     arm = rapp.Arm([1e6, 1e6])
     obs = [rapp.Circle((0.0, -2.0), 1.0)]
+    _backends()
     with pytest.raises(rapp.errors.CertificationLimit) as fast:
         segment_collision_free(arm, [0.0, 0.0], [0.5, 0.0], obs)
     with pytest.raises(rapp.errors.CertificationLimit) as slow:
-        reference.segment_collision_free(arm, [0.0, 0.0], [0.5, 0.0], obs)
+        collision_numpy.segment_collision_free(arm, [0.0, 0.0], [0.5, 0.0], obs)
     assert str(fast.value) == str(slow.value)
+    assert "MAX_PENDING_INTERVALS" in str(fast.value)
+    with pytest.raises(rapp.errors.CertificationLimit, match=r"more than 64 pieces"):
+        reference.segment_collision_free(arm, [0.0, 0.0], [0.5, 0.0], obs, max_intervals=64)
 
 
 def _without_numba(monkeypatch):

@@ -140,7 +140,7 @@ def test_invalid_cells_rejected(cells):
         JointGrid(Arm([1.0, 1.0, 1.0]), cells)
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=30, deadline=None)
 @given(grids(), st.integers(0, 2**32 - 1))
 def test_index_and_angles_round_trip_and_nearest(grid, seed):
     rng = np.random.default_rng(seed)
@@ -159,6 +159,13 @@ def test_index_and_angles_round_trip_and_nearest(grid, seed):
     err = x - grid.angles(grid.index(x))
     err = np.where(wr, (err + np.pi) % (2 * np.pi) - np.pi, err)
     assert np.all(np.abs(err) <= grid.step / 2 + 1e-12)
+
+
+@pytest.mark.slow
+@settings(max_examples=100, deadline=None)
+@given(grids(), st.integers(0, 2**32 - 1))
+def test_index_and_angles_round_trip_and_nearest_on_many(grid, seed):
+    test_index_and_angles_round_trip_and_nearest.hypothesis.inner_test(grid=grid, seed=seed)
 
 
 def test_index_clips_bounded_axis_and_angles_rejects_out_of_range():
@@ -182,7 +189,7 @@ def test_grid_for_another_arm_rejected():
 # obstacle to within rounding (|clearance| <= 1e-9) may differ.
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(interval_scenes())
 def test_interval_occupancy_equals_collides_and_previous_grid(scene):
     grid, obstacles = scene
@@ -194,6 +201,13 @@ def test_interval_occupancy_equals_collides_and_previous_grid(scene):
     exact = collides(arm, q, obstacles)
     assert np.array_equal(occ[~touching], exact[~touching])
     assert np.array_equal(occ[~touching], _occupancy_reference(arm, obstacles, grid)[~touching])
+
+
+@pytest.mark.slow
+@settings(max_examples=200, deadline=None)
+@given(interval_scenes())
+def test_interval_occupancy_equals_collides_and_previous_grid_on_many(scene):
+    test_interval_occupancy_equals_collides_and_previous_grid.hypothesis.inner_test(scene=scene)
 
 
 def test_interval_occupancy_on_the_3link_benchmark_scene():

@@ -19,7 +19,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from rapp import Arm, Circle, JointGrid, Polygon, clearance, collides, cspace
-from rapp._kernels import occupancy_numba as cspace_kernel
+from rapp.kernels import occupancy_numba as cspace_kernel
 from rapp.cspace import grid_q, occupancy, occupancy_numpy
 
 from tests.scenes import LINKS3, OBSTACLES3, interval_scenes  # noqa: E402  defined once
@@ -47,7 +47,7 @@ def agree_but_touching(arm, obstacles, grid, a, b):
     return int(diff.sum())
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(interval_scenes())
 def test_compiled_occupancy_equals_numpy_and_collides(scene):
     grid, obstacles = scene
@@ -58,7 +58,14 @@ def test_compiled_occupancy_equals_numpy_and_collides(scene):
     agree_but_touching(arm, obstacles, grid, occ, collides(arm, grid_q(grid), obstacles))
 
 
-@settings(max_examples=100, deadline=None)
+@pytest.mark.slow
+@settings(max_examples=200, deadline=None)
+@given(interval_scenes())
+def test_compiled_occupancy_equals_numpy_and_collides_on_many(scene):
+    test_compiled_occupancy_equals_numpy_and_collides.hypothesis.inner_test(scene=scene)
+
+
+@settings(max_examples=30, deadline=None)
 @given(interval_scenes())
 def test_painting_the_kernels_own_intervals_gives_the_same_grid(scene):
     # The benchmark's floor paints intervals computed beforehand: it must paint the same grid.
@@ -72,6 +79,13 @@ def test_painting_the_kernels_own_intervals_gives_the_same_grid(scene):
         assert np.all(np.bincount(rows, minlength=1) <= len(obstacles))
     assert np.array_equal(cspace_kernel.paint(k, lv, kept), occ)
     assert np.array_equal(cspace_kernel.paint(k, lv, cspace_kernel.one_per_cell(lv, kept)), occ)
+
+
+@pytest.mark.slow
+@settings(max_examples=100, deadline=None)
+@given(interval_scenes())
+def test_painting_the_kernels_own_intervals_gives_the_same_grid_on_many(scene):
+    test_painting_the_kernels_own_intervals_gives_the_same_grid.hypothesis.inner_test(scene=scene)
 
 
 @settings(max_examples=100, deadline=None)
@@ -194,7 +208,7 @@ def test_without_numba_occupancy_is_the_numpy_version(monkeypatch):
 
 
 def test_importing_the_kernel_or_a_small_grid_does_not_import_numba():
-    code = ("import sys, rapp, rapp._kernels.occupancy_numba\n"
+    code = ("import sys, rapp, rapp.kernels.occupancy_numba\n"
             "arm = rapp.Arm([1.0, 1.0])\n"
             "rapp.occupancy(arm, [rapp.Circle((1.5, 0.0), 0.3)], rapp.JointGrid(arm, 64))\n"
             "print('numba' in sys.modules)\n")
@@ -212,7 +226,7 @@ def test_pack_keeps_the_polygons_geometry():
     assert np.allclose(polys.radius, [np.hypot(1.0, 0.5), np.hypot(2 / 3, 1 / 3)])
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=20, deadline=None)
 @given(interval_scenes())
 def test_compiled_certified_free_equals_numpy(scene):
     # certified_free paints each link against the obstacles grown for it: the same kernel.
@@ -233,7 +247,14 @@ def test_compiled_certified_free_equals_numpy(scene):
         assert np.all(np.abs(c).min(axis=-1) <= TOUCHING)
 
 
-@settings(max_examples=300, deadline=None)
+@pytest.mark.slow
+@settings(max_examples=60, deadline=None)
+@given(interval_scenes())
+def test_compiled_certified_free_equals_numpy_on_many(scene):
+    test_compiled_certified_free_equals_numpy.hypothesis.inner_test(scene=scene)
+
+
+@settings(max_examples=60, deadline=None)
 @given(st.floats(-3.0, 3.0), st.floats(-3.0, 3.0), st.floats(0.0, 3.0), st.floats(0.0, 2.0),
        st.floats(-7.0, 7.0), st.sampled_from([None, (-1.0, 2.0), (-5.0, 6.0), (0.3, 0.31)]),
        st.integers(2, 3000), st.floats(-1e-9, 1e-9), st.integers(0, 1))
@@ -271,6 +292,15 @@ def test_the_arc_of_rows_holds_every_row_the_exact_test_accepts(dx, dy, rho, Lp,
         want = accepted.copy()
         want[:j0] = want[j1:] = False
         assert np.all(visited[want] == 1), np.flatnonzero(want & (visited == 0))
+
+
+@pytest.mark.slow
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-3.0, 3.0), st.floats(-3.0, 3.0), st.floats(0.0, 3.0), st.floats(0.0, 2.0),
+       st.floats(-7.0, 7.0), st.sampled_from([None, (-1.0, 2.0), (-5.0, 6.0), (0.3, 0.31)]),
+       st.integers(2, 3000), st.floats(-1e-9, 1e-9), st.integers(0, 1))
+def test_the_arc_of_rows_holds_every_row_the_exact_test_accepts_on_many(dx, dy, rho, Lp, phi, limits, m, nudge, at_the_edge):
+    test_the_arc_of_rows_holds_every_row_the_exact_test_accepts.hypothesis.inner_test(dx=dx, dy=dy, rho=rho, Lp=Lp, phi=phi, limits=limits, m=m, nudge=nudge, at_the_edge=at_the_edge)
 
 
 @pytest.mark.parametrize("lo", [2e9, 1e12, 1e14])

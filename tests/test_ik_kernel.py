@@ -1,4 +1,4 @@
-"""The compiled numerical IK (rapp._kernels.ik_numba) against ik_numeric's numpy path, its oracle.
+"""The compiled numerical IK (rapp.kernels.ik_numba) against ik_numeric's numpy path, its oracle.
 
 Properties: every target reported solved is within tolerance by the caller's own check
 (``ok`` is exactly that check), on random arms of 2-6 links, and every reachable target of
@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rapp import Arm
-from rapp._kernels import ik as ik_kernel
+from rapp.kernels import ik as ik_kernel
 from rapp.ik import closed_form_start, ik_numeric
 
 pytestmark = pytest.mark.skipif(ik_kernel.solver() is None, reason="numba is not installed")

@@ -1,4 +1,4 @@
-"""The compiled loops of RRT-Connect, RRT* and PRM (rapp._kernels.sampling_numba) against the numpy
+"""The compiled loops of RRT-Connect, RRT* and PRM (rapp.kernels.sampling_numba) against the numpy
 loops they replaced.
 
 Properties: from the same seed both grow the same trees (roadmaps), node for node and bit for
@@ -18,7 +18,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 import rapp
 from rapp import reference
-from rapp._kernels import sampling as sampling_kernel
+from rapp.kernels import sampling as sampling_kernel
 from rapp.errors import CertificationLimit, NoPathFound
 from rapp.prm import prm
 from rapp.rrt_connect import rrt_connect

@@ -417,7 +417,7 @@ def test_compiled_astar_is_optimal_against_the_slow_bfs(case, w):
     # small and grows here) against the slow deque BFS of this file, sharing no code with it:
     # the optimal length, every step a unit move between free cells, the teaching search's path.
     pytest.importorskip("numba")
-    from rapp._kernels import search_numba
+    from rapp.kernels import search_numba
 
     assert search_numba.kernel() is not None  # numba imported: astar runs the kernel
     occ, wraps, start, goal = case
@@ -440,13 +440,13 @@ def test_compiled_astar_is_optimal_against_the_slow_bfs(case, w):
 
 def test_astar_is_compiled_when_numba_is_installed():
     pytest.importorskip("numba")
-    from rapp._kernels import search_numba
+    from rapp.kernels import search_numba
 
     assert search_numba.kernel() is not None
 
 
 def test_astar_falls_back_to_the_teaching_version_without_numba(monkeypatch):
-    from rapp._kernels import search_numba
+    from rapp.kernels import search_numba
 
     occ = np.zeros((12, 12), bool)
     occ[:, 6] = True

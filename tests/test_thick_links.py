@@ -67,7 +67,7 @@ def test_grown_pieces_are_the_points_within_the_distance(ob, d, pts):
         assert inside == (dist <= d), (p, dist, d)
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(world=worlds(), seed=st.integers(0, 2**32 - 1))
 def test_collides_and_clearances_are_the_capsule_oracle(world, seed):
     arm, obstacles, margin = world
@@ -83,6 +83,13 @@ def test_collides_and_clearances_are_the_capsule_oracle(world, seed):
     free = gaps > margin
     assert np.allclose(clear[free], gaps[free] - margin, atol=1e-9)
     assert (clear[~free & (np.abs(gaps - margin) > EDGE)] <= 0).all()
+
+
+@pytest.mark.slow
+@settings(max_examples=40, deadline=None)
+@given(world=worlds(), seed=st.integers(0, 2**32 - 1))
+def test_collides_and_clearances_are_the_capsule_oracle_on_many(world, seed):
+    test_collides_and_clearances_are_the_capsule_oracle.hypothesis.inner_test(world=world, seed=seed)
 
 
 def test_a_thick_link_hits_what_a_thin_one_passes():
@@ -208,7 +215,7 @@ def test_a_plan_with_thick_links_keeps_them_apart_and_says_so():
 @settings(max_examples=25, deadline=None)
 @given(world=worlds(max_links=4), seed=st.integers(0, 2**32 - 1))
 def test_the_compiled_kernel_honours_the_link_masks_as_numpy_does(world, seed):
-    from rapp._kernels import collision_numba, collision_numpy
+    from rapp.kernels import collision_numba, collision_numpy
     k = collision_numba.kernels()
     if k is None:
         pytest.skip("numba is not installed")

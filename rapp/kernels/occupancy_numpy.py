@@ -5,8 +5,8 @@ its base point ``P`` and the previous link's absolute angle) the directions in w
 touches a disc or a convex polygon form one interval, in closed form (:func:`_circle_hits`,
 :func:`_polygon_hits`); shifted by the previous angle it is an interval of joint ``i``'s
 angle, painted onto that axis (:func:`_paint`). :func:`hits` ORs the links' grids.
-:mod:`rapp._kernels.occupancy_numba` computes the same intervals by compiled loops, from the
-geometry of :func:`prefix_step`; :mod:`rapp._kernels.occupancy` chooses between them.
+:mod:`rapp.kernels.occupancy_numba` computes the same intervals by compiled loops, from the
+geometry of :func:`prefix_step`; :mod:`rapp.kernels.occupancy` chooses between them.
 
 Examples
 --------

@@ -2,8 +2,8 @@
 
 :func:`hits` is the work of :func:`rapp.cspace.occupancy` and :func:`rapp.cspace.certified_free`
 (which document it): link ``i`` against the obstacles ``per_link[i]`` on the whole grid, by
-:mod:`rapp._kernels.occupancy_numba` when :func:`compiled_for` says so and by
-:mod:`rapp._kernels.occupancy_numpy` otherwise. Both give the same cells.
+:mod:`rapp.kernels.occupancy_numba` when :func:`compiled_for` says so and by
+:mod:`rapp.kernels.occupancy_numpy` otherwise. Both give the same cells.
 
 Examples
 --------
@@ -20,7 +20,7 @@ import sys
 
 import numpy as np
 
-from rapp._kernels import occupancy_numba, occupancy_numpy
+from rapp.kernels import occupancy_numba, occupancy_numpy
 
 __all__ = ["hits", "compiled_for", "COMPILE_FROM"]
 

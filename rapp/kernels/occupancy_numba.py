@@ -15,7 +15,7 @@ grid. Here each level (link) takes four steps, :func:`run`:
   one arc, taken wider by margins far above rounding); for each, the base point and angle
   are computed (by the operations of :func:`rapp.cspace.prefix_grid`), the exact test of
   reach is made (a polygon's by its bounding box as well), and the closed form of
-  ``rapp._kernels.occupancy_numpy``'s ``_circle_hits`` or ``_polygon_hits`` is evaluated, operation by
+  ``rapp.kernels.occupancy_numpy``'s ``_circle_hits`` or ``_polygon_hits`` is evaluated, operation by
   operation, up to its trigonometry (:func:`_circle_args`, :func:`_polygon_args`); the
   arguments of the ``atan2`` and ``atan`` it needs are appended to buffers;
 * numpy: all of them at once, one vectorized ``np.arctan2`` and one ``np.arctan`` (the
@@ -39,8 +39,8 @@ extreme candidates by cross products instead of angles, which decides differentl
 between directions equal to rounding, i.e. at a configuration touching an obstacle.
 
 :func:`kernels` compiles the loops on first use (cached on disk, ``cache=True``) and
-returns None when numba cannot be imported; :mod:`rapp._kernels.occupancy` then runs
-:mod:`rapp._kernels.occupancy_numpy`. Importing this module does not import numba.
+returns None when numba cannot be imported; :mod:`rapp.kernels.occupancy` then runs
+:mod:`rapp.kernels.occupancy_numpy`. Importing this module does not import numba.
 
 Examples
 --------
@@ -59,8 +59,8 @@ from collections import namedtuple
 
 import numpy as np
 
-from rapp._kernels.collision_numba import by_identity
-from rapp._kernels.occupancy_numpy import prefix_step
+from rapp.kernels.collision_numba import by_identity
+from rapp.kernels.occupancy_numpy import prefix_step
 from rapp.jit import jit, numba_available
 from rapp.obstacles import Circle, Polygon
 
@@ -122,7 +122,7 @@ def _polygons(v, offsets):
     ``centre``, ``radius``, ``extent`` and ``box`` (see :data:`Polygons`), polygon ``p`` being
     rows ``offsets[p]:offsets[p + 1]`` of ``v``.
 
-    By the operations of ``rapp._kernels.occupancy_numpy``'s ``_polygon_hits``, one element at a time, so
+    By the operations of ``rapp.kernels.occupancy_numpy``'s ``_polygon_hits``, one element at a time, so
     the numbers are numpy's to the bit: ``e = np.roll(v, -1, axis=0) - v``, ``ee`` its
     ``einsum("ij,ij->i", e, e)`` (``ex * ex + ey * ey``), ``norm = sqrt(ee)``, the centre
     ``v.mean(axis=0)`` (a sum row after row, divided by the count) and the radius
@@ -186,7 +186,7 @@ _PACKED: dict = {}
 #: parent level's prefix cells ``Pp``, ``phip``, ``cp``, ``sp`` times joint ``i - 1``'s cells
 #: ``axp``, ``cap``, ``sap``, ``stepp``, ``periodsp``, link ``Lp``), the link ``L`` and its
 #: obstacles (:func:`pack`; ``slack`` and ``etol`` per polygon edge and ``tol`` per polygon
-#: are ``rapp._kernels.occupancy_numpy``'s ``_polygon_hits`` tolerances: ``tol / |edge|``, ``-tol * |edge|``,
+#: are ``rapp.kernels.occupancy_numpy``'s ``_polygon_hits`` tolerances: ``tol / |edge|``, ``-tol * |edge|``,
 #: ``tol``; ``box``, each polygon's bounding box ``xmin, xmax, ymin, ymax``), each
 #: obstacle's centre ``ox``, ``oy`` and reach ``rho`` (beyond which a base point cannot
 #: touch it), and joint ``i``'s axis ``ax`` (``step``, and the number of ``2 pi`` pieces an
@@ -327,7 +327,7 @@ def _pmax(low, grid, i, geometry) -> float:
 
 
 def _reaches(circles, centre, radius, extent, norm, offsets, Ls, pmaxes):
-    """The obstacle arrays of the levels with links ``Ls``, one row per level: ``rapp._kernels.occupancy_numpy``'s
+    """The obstacle arrays of the levels with links ``Ls``, one row per level: ``rapp.kernels.occupancy_numpy``'s
     ``_polygon_hits`` tolerances, ``tol = 1e-12 * max(1, L, extent, pmax)`` per polygon
     (``pmaxes``: :func:`_pmax`), ``slack = tol / norm`` and ``etol = -tol * norm`` per edge
     (numpy's operations, one element at a time); each obstacle's centre ``ox``, ``oy``
@@ -507,7 +507,7 @@ def _mod(a, b):
 
 
 def _circle_args(px, py, L, cx, cy, r):
-    """``rapp._kernels.occupancy_numpy``'s ``_circle_hits`` for one row, up to its trigonometry:
+    """``rapp.kernels.occupancy_numpy``'s ``_circle_hits`` for one row, up to its trigonometry:
     ``kind, ay, ax, by, bx``, the interval being ``atan2(ay, ax) -+ h`` with
     ``h = atan2(by, bx)`` (TANGENT), ``2 atan(by)`` (TIP) or ``2 pi`` (IN_DISC)."""
     vx = cx - px
@@ -527,7 +527,7 @@ def _circle_args(px, py, L, cx, cy, r):
 
 
 def _polygon_args(px, py, L, v, e, ee, slack, etol, s0, s1, tol):
-    """``rapp._kernels.occupancy_numpy``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``, up to its
+    """``rapp.kernels.occupancy_numpy``'s ``_polygon_hits`` for one row and polygon rows ``s0:s1``, up to its
     trigonometry: ``kind, ay, ax, by, bx, cy, cx``, the interval running from
     ``atan2(ay, ax) + atan2(by, bx)`` to ``atan2(ay, ax) + atan2(cy, cx)``. ``slack`` and
     ``etol`` are numpy's ``tol / sqrt(ee)`` and ``-tol * sqrt(ee)`` per edge.
@@ -808,7 +808,7 @@ def _arc(k, rp, lv, j0, j1, spans, turn):
 def _found(n, meta, phis, A, AZ, starts, widths):
     """The intervals of the ``n`` collected entries (:func:`_collect`), into ``starts``,
     ``widths``, from their angles (``A[c:]``, ``AZ[cz]``, ``c, cz = meta[i, 1:]``) by the
-    formulas of ``rapp._kernels.occupancy_numpy``'s ``_circle_hits`` and ``_polygon_hits``."""
+    formulas of ``rapp.kernels.occupancy_numpy``'s ``_circle_hits`` and ``_polygon_hits``."""
     two_pi = 2 * math.pi
     for i in range(n):
         kind = meta[i, 0]
@@ -828,7 +828,7 @@ def _found(n, meta, phis, A, AZ, starts, widths):
 
 def _cell_range(a, width, step, m):
     """Cells ``first..last`` of an axis of ``m`` cells, ``step`` apart from angle 0, whose angle
-    lies in ``[a, a + width]``; by the index arithmetic of ``rapp._kernels.occupancy_numpy``'s ``_paint``."""
+    lies in ``[a, a + width]``; by the index arithmetic of ``rapp.kernels.occupancy_numpy``'s ``_paint``."""
     first = max(math.ceil(a / step), 0)
     last = min(math.floor((a + width) / step), m - 1)
     return first, last
@@ -836,7 +836,7 @@ def _cell_range(a, width, step, m):
 
 def _paint_one(out, r, s, w, ax, step, periods, m):
     """Set the cells of row ``r`` of ``out`` (one joint axis of ``m`` cells, angles ``ax``) whose
-    angle lies in ``[s, s + w]`` mod ``2 pi``, by the index arithmetic of ``rapp._kernels.occupancy_numpy``'s
+    angle lies in ``[s, s + w]`` mod ``2 pi``, by the index arithmetic of ``rapp.kernels.occupancy_numpy``'s
     ``_paint``."""
     two_pi = 2.0 * math.pi
     if periods > m:

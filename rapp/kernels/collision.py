@@ -2,9 +2,9 @@
 
 :func:`collides`, :func:`link_clearances` and :func:`segment_collision_free` are those of
 :mod:`rapp.collision` (which documents them); each asks :func:`loaded` for the compiled
-kernel of :mod:`rapp._kernels.collision_numba` (loaded once numba is imported or the checks
+kernel of :mod:`rapp.kernels.collision_numba` (loaded once numba is imported or the checks
 of the process reach :data:`LOAD_FROM` configurations) and otherwise runs
-:mod:`rapp._kernels.collision_numpy`. The answers are the same either way.
+:mod:`rapp.kernels.collision_numpy`. The answers are the same either way.
 
 Examples
 --------
@@ -18,9 +18,9 @@ from __future__ import annotations
 import numpy as np
 
 from rapp.arm import MAX_ANGLE
-from rapp._kernels import collision_numba, collision_numpy
-from rapp._kernels.collision_numba import LOAD_FROM, Kernels, by_identity, pack, pack_scene
-from rapp._kernels.collision_numpy import check_segments
+from rapp.kernels import collision_numba, collision_numpy
+from rapp.kernels.collision_numba import LOAD_FROM, Kernels, by_identity, pack, pack_scene
+from rapp.kernels.collision_numpy import check_segments
 
 __all__ = ["collides", "link_clearances", "segment_collision_free", "kernels", "loaded", "pack",
            "by_identity", "Kernels", "LOAD_FROM", "collides_scene", "pack_scene"]
@@ -30,12 +30,12 @@ _ANSWER = (np.False_, np.True_)
 
 
 def kernels():
-    """The compiled :class:`~rapp._kernels.collision_numba.Kernels`, or None without numba."""
+    """The compiled :class:`~rapp.kernels.collision_numba.Kernels`, or None without numba."""
     return collision_numba.kernels()
 
 
 def loaded(work: int = 0):
-    """The compiled kernels once worth loading (:func:`rapp._kernels.collision_numba.loaded`), else None."""
+    """The compiled kernels once worth loading (:func:`rapp.kernels.collision_numba.loaded`), else None."""
     return collision_numba.loaded(work)
 
 

@@ -1,8 +1,8 @@
 """The A* backend, chosen here: compiled (numba) on large grids or once numba is loaded, else Python.
 
 :func:`astar_path` is the work of :func:`rapp.search.astar` (which documents it) on checked
-arguments: :mod:`rapp._kernels.search_numba` when :func:`compiled_for` gives its kernel and the
-grid fits its integer fields, :mod:`rapp._kernels.search_python` otherwise. Both expand the
+arguments: :mod:`rapp.kernels.search_numba` when :func:`compiled_for` gives its kernel and the
+grid fits its integer fields, :mod:`rapp.kernels.search_python` otherwise. Both expand the
 same cells in the same order and return the same path.
 
 Examples
@@ -18,7 +18,7 @@ import sys
 
 import numpy as np
 
-from rapp._kernels import search_numba, search_python
+from rapp.kernels import search_numba, search_python
 
 __all__ = ["astar_path", "compiled_for", "COMPILE_FROM"]
 

@@ -1,7 +1,7 @@
 """The numerical IK's backend, chosen here: the compiled per-target loop, or numpy's batch.
 
 :func:`rapp.ik_numeric` asks :func:`loaded` for the compiled solver of
-:mod:`rapp._kernels.ik_numba` (loaded once numba is imported, or for a batch of at least
+:mod:`rapp.kernels.ik_numba` (loaded once numba is imported, or for a batch of at least
 :data:`LOAD_FROM` targets); None means its own numpy iteration (in :mod:`rapp.ik`), which
 gives the same successes (``tests/test_ik_kernel.py``). The constants both share are
 re-exported here.
@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import sys
 
-from rapp._kernels import ik_numba
-from rapp._kernels.ik_numba import (LAMBDA_MAX, LOAD_FROM, NO_START, NOT_OK, OK, SIGMA_FLOOR,
+from rapp.kernels import ik_numba
+from rapp.kernels.ik_numba import (LAMBDA_MAX, LOAD_FROM, NO_START, NOT_OK, OK, SIGMA_FLOOR,
                                     UNSURE, Kernels)
 
 __all__ = ["loaded", "solver", "Kernels", "LOAD_FROM", "SIGMA_FLOOR", "LAMBDA_MAX", "OK", "NOT_OK",
@@ -25,7 +25,7 @@ __all__ = ["loaded", "solver", "Kernels", "LOAD_FROM", "SIGMA_FLOOR", "LAMBDA_MA
 
 
 def solver():
-    """The compiled :data:`~rapp._kernels.ik_numba.Kernels`, or None without numba."""
+    """The compiled :data:`~rapp.kernels.ik_numba.Kernels`, or None without numba."""
     return ik_numba.solver()
 
 

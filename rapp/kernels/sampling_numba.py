@@ -1,6 +1,6 @@
 """The compiled inner loops of the sampling planners: trees as preallocated arrays.
 
-With the collision kernel compiled (:mod:`rapp._kernels.collision_numba`), one clearance check costs
+With the collision kernel compiled (:mod:`rapp.kernels.collision_numba`), one clearance check costs
 about a microsecond, and what is left of a planner's time is Python: the nearest-node scan,
 the steering arithmetic, a dozen numpy calls on arrays of three numbers per step. Here the
 whole iteration of RRT-Connect (nearest node by a linear scan under the torus metric, one
@@ -20,7 +20,7 @@ certificate to the last bit), a tree could differ, and then only there.
 
 :func:`kernels` compiles on first use (cached on disk, ``cache=True``) and returns None
 without numba; importing this module does not import numba. Numba's disk cache does not see
-changes to the collision kernel's file: after editing :mod:`rapp._kernels.collision_numba`, touch
+changes to the collision kernel's file: after editing :mod:`rapp.kernels.collision_numba`, touch
 this file (or clear ``__pycache__``) so that these loops are compiled again.
 
 Examples
@@ -38,7 +38,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from rapp._kernels import collision as collision_backend
+from rapp.kernels import collision as collision_backend
 from rapp.jit import jit
 
 __all__ = ["kernels", "Loops", "Scene", "Trees", "EXTEND_ROWS", "StarProblem", "StarTree", "Cells", "NearSet",
@@ -48,7 +48,7 @@ __all__ = ["kernels", "Loops", "Scene", "Trees", "EXTEND_ROWS", "StarProblem", "
 Loops = namedtuple("Loops", "wrap extend connect nearest_k star draw bisect")
 #: What certifying a move needs: the arm (``lengths``, ``limited``, ``reach``: the
 #: :func:`rapp.collision.reach_matrix`), the packed obstacles (``circles pv pn pr offsets``:
-#: :func:`rapp._kernels.collision.pack`) and the certificate's ``touch``, ``min_interval`` and
+#: :func:`rapp.kernels.collision.pack`) and the certificate's ``touch``, ``min_interval`` and
 #: ``cap`` (most pending intervals).
 Scene = namedtuple("Scene", "lengths limited reach circles pv pn pr offsets touch min_interval cap")
 #: RRT-Connect's two trees, tree ``t`` in row ``t``: ``nodes``, ``parent``, ``cost``, the
@@ -816,7 +816,7 @@ def _compile():
 
 def kernels():
     """The compiled :class:`Loops`, or None without numba (or when the collision
-    kernel is switched off: :func:`rapp._kernels.collision.kernels` returns None)."""
+    kernel is switched off: :func:`rapp.kernels.collision.kernels` returns None)."""
     if collision_backend.kernels() is None:
         return None
     return _compile()

@@ -1,4 +1,4 @@
-"""rapp's kernels: for each algorithm a numpy and a numba implementation side by side, one dispatcher.
+"""The backend seam: for each algorithm a numpy and a numba implementation side by side, one dispatcher.
 
 =================  ==================================  =====================================
 dispatcher         numpy                               numba
@@ -15,11 +15,16 @@ sampling planners, :mod:`rapp.ik`) call the dispatcher; the
 dispatcher is the one place that chooses the backend (numba once it is loaded, or once the
 work is large enough to pay for loading it; numpy without numba). Both backends give the same
 answers, which the tests check against the slow oracles of :mod:`rapp.reference` (imported only
-by tests and benchmarks). Private: the rest of rapp reaches these modules, nothing else should.
+by tests and benchmarks). A public package: the rest of rapp, the tests and the benchmarks reach a
+backend through its dispatcher (or name one implementation to compare it), never through a
+private name; a reader of the book meets the algorithms in the modules above instead.
 
 Examples
 --------
->>> from rapp._kernels import collision
+>>> from rapp.kernels import collision
 >>> collision.collides.__module__
-'rapp._kernels.collision'
+'rapp.kernels.collision'
 """
+
+#: The dispatchers, one per algorithm: the seam the rest of rapp calls.
+__all__ = ["collision", "occupancy", "search", "sampling", "ik"]

@@ -1,8 +1,8 @@
 """The collision tests in numpy: the backend without numba, and the geometry both backends share.
 
-:mod:`rapp._kernels.collision` runs these where the compiled kernel
-(:mod:`rapp._kernels.collision_numba`) is not loaded: without numba, and for the first checks of a
-process (see :data:`rapp._kernels.collision_numba.LOAD_FROM`). Both start from the same checked
+:mod:`rapp.kernels.collision` runs these where the compiled kernel
+(:mod:`rapp.kernels.collision_numba`) is not loaded: without numba, and for the first checks of a
+process (see :data:`rapp.kernels.collision_numba.LOAD_FROM`). Both start from the same checked
 arguments (:func:`check_segments`, :func:`check_obstacle`) and give the same answers; the public
 names here are re-exported by :mod:`rapp.collision`, where the book meets them.
 
@@ -20,7 +20,7 @@ import numpy as np
 from rapp.checks import finite_number, positive_integer
 from rapp.errors import CertificationLimit
 from rapp.obstacles import Circle, Polygon
-from rapp._kernels.collision_numba import unpack_scene
+from rapp.kernels.collision_numba import unpack_scene
 
 __all__ = ["closest_point_on_segment", "segment_point_distance", "segment_hits_polygon",
            "segment_polygon_distance", "check_obstacle", "segment_clearances", "reach_matrix",
@@ -352,15 +352,15 @@ def collides(arm, q, obstacles) -> np.ndarray:
 
 
 def collides_scene(scene, q) -> int:
-    """The compiled ``collides_scene`` of :mod:`rapp._kernels.collision_numba` in numpy: one
-    configuration ``q`` ``(n,)`` against a :func:`~rapp._kernels.collision_numba.pack_scene`
+    """The compiled ``collides_scene`` of :mod:`rapp.kernels.collision_numba` in numpy: one
+    configuration ``q`` ``(n,)`` against a :func:`~rapp.kernels.collision_numba.pack_scene`
     array; 1 collides, 0 free, -1 an angle not finite or beyond the scene's bound, -2 not
     one angle per link.
 
     Examples
     --------
     >>> from rapp import Circle
-    >>> from rapp._kernels.collision_numba import pack_scene
+    >>> from rapp.kernels.collision_numba import pack_scene
     >>> scene = pack_scene([1.0, 1.0], [Circle((1.5, 0.0), 0.2)], 1e100)
     >>> collides_scene(scene, np.array([0.0, 0.0])), collides_scene(scene, np.array([1.5, 0.0]))
     (1, 0)

@@ -13,7 +13,7 @@ Obstacles are packed once into arrays (:func:`pack`, cached per obstacle list): 
 rows ``(cx, cy, r)``, polygons as their vertices, edge normals and projections with
 offsets. :func:`kernels` compiles the loops on first use (cached on disk,
 ``cache=True``) and returns None when numba cannot be imported; the dispatcher
-(:mod:`rapp._kernels.collision`) then runs :mod:`rapp._kernels.collision_numpy`. Importing this
+(:mod:`rapp.kernels.collision`) then runs :mod:`rapp.kernels.collision_numpy`. Importing this
 module does not import numba.
 
 Examples
@@ -470,7 +470,7 @@ def loaded(work: int = 0):
     """:func:`kernels` once numba is imported or the checks so far reach ``LOAD_FROM``, else None.
 
     ``work`` is the number of configurations (or edges) of the call, added to the count.
-    The answers are the same either way (:mod:`rapp._kernels.collision_numpy` before);
+    The answers are the same either way (:mod:`rapp.kernels.collision_numpy` before);
     only the time differs. The sampling planners call :func:`kernels` themselves.
 
     Examples
