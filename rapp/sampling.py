@@ -22,7 +22,7 @@ from rapp.checks import finite_number, positive_integer
 from rapp.kernels import collision as collision_backend
 from rapp.collision import collides, reach_matrix, segment_collision_free
 from rapp.kernels.collision import pack
-from rapp.errors import CertificationLimit, NoPathFound
+from rapp.errors import NoPathFound
 from rapp.obstacles import Circle, Polygon
 from rapp.paths import ITERATION_CAP, TIME_BUDGET_SPENT
 
@@ -94,10 +94,8 @@ class EdgeCertifier:
     and obstacles, and its configurations are its own finite arithmetic: the obstacles'
     arrays, the reach matrix and the touching distance are made once here, the angles are
     not checked again, and the compiled bisection first runs with a small interval allowance
-    (an edge needing more goes through ``segment_collision_free``). Without the compiled kernel
-    it is ``segment_collision_free``. One difference: an edge that ``segment_collision_free``
-    cannot certify within its interval limit (it grazes an obstacle) is not free here, where
-    that function raises :class:`rapp.errors.CertificationLimit`.
+    (an edge needing more goes through ``segment_collision_free``, which also raises its
+    message). Without the compiled kernel it is ``segment_collision_free``.
 
     Examples
     --------
@@ -144,14 +142,14 @@ class EdgeCertifier:
         """:meth:`__call__` for rapp's obstacles alone (the user's checker left out)."""
         if self.kernel is None:
             if c0 is None or self.arm.self_collision:
-                return self._bisected(q0, q1)
+                return segment_collision_free(self.arm, q0, q1, self.obstacles)
             # An end within touching distance: not free, without a bisection that could not end.
             q0, q1 = np.atleast_2d(q0), np.atleast_2d(q1)
             hit = ((np.atleast_2d(c0) <= self.touch) | (np.atleast_2d(c1) <= self.touch)).any(axis=-1)
             free = np.zeros(hit.shape[0], dtype=bool)
             rest = np.flatnonzero(~hit)
             if rest.size:
-                free[rest] = self._bisected(q0[rest], q1[rest])
+                free[rest] = segment_collision_free(self.arm, q0[rest], q1[rest], self.obstacles)
             return free
         q0 = np.ascontiguousarray(q0, dtype=float)
         dq = np.ascontiguousarray(q1 - q0)  # as segment_collision_free forms it
@@ -166,26 +164,8 @@ class EdgeCertifier:
         code = self.kernel.certify(self.arm.lengths, q0, dq, bounds, *self.packed, 1e-9,
                                    self.FIRST_CAP, self.touch)
         if (code < 0).any():
-            return self._bisected(q0, q1)
-        return code > 0
-
-    def _bisected(self, q0, q1) -> np.ndarray:
-        """:func:`rapp.collision.segment_collision_free`, except that an edge it cannot certify
-        within its interval limit (one that grazes an obstacle, its clearance below what the
-        bisection resolves) is not free: a planner keeps only certified edges, so it is blocked,
-        where ``segment_collision_free`` itself raises :class:`rapp.errors.CertificationLimit`."""
-        try:
             return segment_collision_free(self.arm, q0, q1, self.obstacles)
-        except CertificationLimit:
-            q0, q1 = np.atleast_2d(q0), np.atleast_2d(q1)
-            free = np.zeros(q0.shape[0], dtype=bool)
-            # Rare (a grazing edge in the batch): each edge alone, to tell which one it was.
-            for i in range(q0.shape[0]):
-                try:
-                    free[i] = segment_collision_free(self.arm, q0[i:i + 1], q1[i:i + 1], self.obstacles)[0]
-                except CertificationLimit:
-                    free[i] = False
-            return free
+        return code > 0
 
 
 class Tree:
