@@ -2005,3 +2005,47 @@ def plot_torus(occupancy, grid, ax=None, *, path=None, start=None, goal=None, ma
 
 
 __all__.append("plot_torus")
+
+
+def plot_tip_paths(arm, obstacles, keep_out, runs, ax=None, *, resolution=0.01):
+    """The end effector's trace along each planner result, among the obstacles and a keep-out disc.
+
+    Chapter 12's "Bring your own checker": ``keep_out`` (a :class:`rapp.Circle`) is the region a
+    user's ``validity=`` checker kept the tip out of, drawn beside rapp's own obstacles.
+
+    Parameters
+    ----------
+    arm : rapp.Arm
+    obstacles : sequence of Circle or Polygon
+    keep_out : rapp.Circle
+    runs : mapping of label -> PlannerResult
+        Each result's path is sampled every ``resolution`` rad (the short way round) and its
+        tip drawn as a line, in the order given (grey, then orange, then the palette).
+    ax : matplotlib Axes, optional
+
+    Examples
+    --------
+    >>> import rapp
+    >>> arm = rapp.Arm([1.0, 1.0])
+    >>> r = rapp.rrt_connect(arm, [0.0, 0.0], [2.0, 0.5], seed=0)
+    >>> ax = plot_tip_paths(arm, [], rapp.Circle((1.2, -0.3), 0.3), {"tip": r})
+    >>> ax.lines[-1].get_label(), ax.get_legend() is not None
+    ('tip', True)
+    >>> plt.close(ax.figure)
+    """
+    from rapp.validity import motion_samples
+
+    ax = ax if ax is not None else plt.subplots(figsize=(6.4, 5.4), layout="constrained")[1]
+    plot_workspace(arm, ax)
+    plot_obstacles(obstacles, ax)
+    plot_obstacles([keep_out], ax, color=COLORS["purple"], label="keep-out disc (tip)")
+    colors = ["grey", "orange"] + [c for c in COLORS if c not in ("grey", "orange")]
+    for (label, r), color in zip(runs.items(), colors):
+        tips = arm.end_effector(motion_samples(r.path[:-1], r.path[1:], resolution)[0])
+        ax.plot(*tips.T, color=COLORS[color], lw=1.5, label=label)
+    ax.legend(loc="lower left", fontsize="small")
+    style_axes(ax)
+    return ax
+
+
+__all__.append("plot_tip_paths")

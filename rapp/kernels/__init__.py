@@ -1,14 +1,14 @@
 """The backend seam: for each algorithm a numpy and a numba implementation side by side, one dispatcher.
 
-=================  ==================================  =====================================
-dispatcher         numpy                               numba
-=================  ==================================  =====================================
-``collision``      ``collision_numpy``                 ``collision_numba``
-``occupancy``      ``occupancy_numpy``                 ``occupancy_numba``
-``search`` (A*)    ``search_python`` (heapq, no numpy)  ``search_numba``
-``sampling``       the planners' own ``_grow``          ``sampling_numba``
-``ik``             :func:`rapp.ik_numeric`'s iteration  ``ik_numba``
-=================  ==================================  =====================================
+=================  =====================================  =====================
+dispatcher         numpy                                  numba
+=================  =====================================  =====================
+``collision``      ``collision_numpy``                    ``collision_numba``
+``occupancy``      ``occupancy_numpy``                    ``occupancy_numba``
+``search`` (A*)    ``search_python`` (heapq, no numpy)    ``search_numba``
+``sampling``       the planners' own ``_grow``            ``sampling_numba``
+``ik``             :func:`rapp.ik_numeric`'s iteration    ``ik_numba``
+=================  =====================================  =====================
 
 The public modules (:mod:`rapp.collision`, :mod:`rapp.cspace`, :mod:`rapp.search`, the
 sampling planners, :mod:`rapp.ik`) call the dispatcher; the
