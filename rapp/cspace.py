@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike  # noqa: F401
 if TYPE_CHECKING:
     from rapp.arm import Arm
 
-from rapp.kernels import occupancy as _backend
+from rapp.kernels import occupancy as occupancy_backend
 from rapp.kernels import occupancy_numpy as _numpy
 from rapp.kernels.occupancy import COMPILE_FROM
 from rapp.kernels.occupancy_numpy import prefix_grid, prefix_step
@@ -262,7 +262,7 @@ def occupancy(arm: Arm, obstacles: Iterable[Circle | Polygon], grid: JointGrid, 
     """
     check_grid(arm, grid)
     obstacles = [check_obstacle(ob) for ob in obstacles]
-    return _backend.hits(*_per_link(arm, obstacles, margin), grid)
+    return occupancy_backend.hits(*_per_link(arm, obstacles, margin), grid)
 
 
 #: The painted intervals of :func:`occupancy` hold for obstacles whose coordinates lie within
@@ -431,7 +431,7 @@ def certified_free(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
         return np.ones(grid.shape, bool)
     pieces = [[piece for ob in obstacles if applies(ob, j) for piece in grown(ob, float(need[j]))]
               for j in range(n)]
-    hit = _backend.hits(arm, pieces, grid)  # link j against the obstacles grown for it
+    hit = occupancy_backend.hits(arm, pieces, grid)  # link j against the obstacles grown for it
     return np.logical_not(hit, out=hit)
 
 
