@@ -490,9 +490,11 @@ def segment_collision_free(arm: Arm, q0: ArrayLike, q1: ArrayLike, obstacles: It
     than the points move, so the interval is free when ``B_j h / 2 < d_j`` for
     every link. This is a proof, not a sampling resolution. Intervals not
     certified are bisected; a sample that collides makes the segment not free;
-    an interval shorter than ``min_interval`` still uncertified (the arm
-    grazes an obstacle, clearance about 0) also counts as not free, which is
-    conservative and agrees with "touching counts".
+    an interval shorter than ``min_interval`` still uncertified, or a sample
+    whose clearance only intervals shorter than ``min_interval`` could cover
+    (``d_j < B_j min_interval / 2``: the arm grazes an obstacle, clearance
+    about 0), also counts as not free, which is conservative and agrees with
+    "touching counts".
 
     Segments are processed together as arrays, in groups of up to 256 with
     all their pending intervals; the loop runs over bisection levels. At most

@@ -283,8 +283,9 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
     link's clearance exceeds how far the link can move in half the piece
     (:func:`motion_bound` times ``(hi - lo) / 2``). A piece not shown free is halved; the segment
     is not free when a middle touches an obstacle (a clearance within the rounding of the arm's
-    own coordinates, ``16 eps`` times its length, counts as touching) or a piece shorter than
-    ``min_interval`` is still not shown free. More than ``max_intervals`` pieces to look at, at
+    own coordinates, ``16 eps`` times its length, counts as touching), when a middle's clearance
+    is one only pieces shorter than ``min_interval`` could show free (a graze), or when a piece
+    shorter than ``min_interval`` is still not shown free. More than ``max_intervals`` pieces to look at, at
     once, raise :class:`~rapp.errors.CertificationLimit`.
 
     Examples
@@ -319,7 +320,7 @@ def _halving(arm, q0, q1, obstacles, min_interval, cap) -> bool:
         for lo, hi in pieces:
             mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
             d = _clearances_of(arm, q0 + mid * dq, obstacles)
-            if min(d) <= touch:
+            if min(d) <= touch or any(dj < b * 0.5 * min_interval for b, dj in zip(bound, d)):
                 return False
             if all(b * half < dj for b, dj in zip(bound, d)):
                 continue

@@ -57,7 +57,9 @@ ISSUE_SCENE = {
     "start": [-1.85762255, 1.67564385, 2.77337292, 0.610048083, 2.73830493, 0.364232536],
     "goal": {"joints": [-0.0772319636, -1.71555431, -1.12885086, -0.882635753, -1.58512105,
                         0.713450967]},
-    "planner": {"algorithm": "prm", "seed": 377},
+    # The issue's run: a first batch of 500 samples, PRM's default then (it is 10 now, and
+    # seed 377 then finds a path whose spline stays clear).
+    "planner": {"algorithm": "prm", "seed": 377, "samples": 500},
     "trajectory": {"duration": 5.0, "profile": "spline", "samples": 50},
 }
 

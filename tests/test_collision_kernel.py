@@ -278,3 +278,24 @@ def test_the_cached_scene_follows_its_arguments():
         assert str(fast.value) == str(slow.value)
     # Any other 1-D array (not contiguous, read-only) takes the general path, with the same answer.
     assert collides(arm, np.zeros(4)[::2], obstacles) == collides(arm, np.zeros((1, 2)), obstacles)[0]
+
+
+def test_a_graze_is_not_free_in_every_backend_and_raises_nothing():
+    # three_link's square has a corner at (0.6, -0.8), exactly one first link from the base: any
+    # segment crossing theta_1 = -0.9273 puts the elbow on that corner. Along this one (a PRM
+    # edge from the CI run of 2026-12-05) the clearance grows quadratically past the touch, so
+    # plain halving doubled its pending pieces every two levels and raised CertificationLimit.
+    s = rapp.load_scenario("three_link")
+    q0 = np.zeros(3)
+    q1 = np.array([-1.0698271771715926, 1.8122509915502087, -1.0304694641430887])
+    t = np.linspace(0.8667, 0.8668, 20001)
+    assert link_clearances(s.arm, q0 + t[:, None] * (q1 - q0), s.obstacles).min() < 1e-10
+    _backends()
+    for free in (segment_collision_free, collision_numpy.segment_collision_free,
+                 reference.segment_collision_free):
+        assert not free(s.arm, q0, q1, s.obstacles)
+    # The same segment stopped just short of the corner is certified free by each of them.
+    short = q0 + 0.85 * (q1 - q0)
+    for free in (segment_collision_free, collision_numpy.segment_collision_free,
+                 reference.segment_collision_free):
+        assert free(s.arm, q0, short, s.obstacles)

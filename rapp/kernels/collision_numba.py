@@ -428,7 +428,9 @@ def _certify(lengths, q0, dq, bounds, circles, pv, pn, pr, offsets, min_interval
                 certified = True
                 for j in range(n):
                     d = _link_clearance(pts, j, circles, pv, pn, pr, offsets)
-                    if d <= touch:
+                    # Touching, or a clearance only pieces under min_interval could cover (a
+                    # graze): not free, as an uncertified piece under min_interval would be.
+                    if d <= touch or d < bounds[i, j] * 0.5 * min_interval:
                         out[i] = 0
                         break
                     if not bounds[i, j] * half < d:

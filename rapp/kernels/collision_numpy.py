@@ -464,7 +464,10 @@ def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
         # Touching counts as collision, and a clearance below the rounding of the arm's own
         # coordinates cannot be told from touching: without this, a link grazing a vertex
         # along a whole stretch would be bisected until the interval limit.
-        hit = (d <= touch).any(axis=-1)
+        # Likewise a clearance only pieces shorter than min_interval could cover: a link
+        # grazing a vertex whose clearance grows quadratically would otherwise double its
+        # pending pieces every two levels and reach the interval limit first.
+        hit = ((d <= touch) | (d < bounds[owner] * (0.5 * min_interval))).any(axis=-1)
         need = bounds[owner] * half[:, None]
         certified = (need < d).all(axis=-1)
         stuck = ~certified & ~hit & (hi - lo < min_interval)
