@@ -47,7 +47,8 @@ from rapp.trajectory import (PiecewisePolynomial, checked_duration, duration_sha
                              overflow_checked, step_lengths, via_points)
 
 __all__ = ["time_path", "trapezoidal", "trapezoidal_moves", "TrapezoidMoves", "trapezoidal_path",
-           "minimum_duration", "peak_rates", "PROFILES", "clock_after", "clean_waypoints"]
+           "minimum_duration", "peak_rates", "PROFILES", "clock_after", "clean_waypoints",
+           "drop_repeats", "REPEAT_SHARE"]
 
 #: The profiles :func:`minimum_duration` knows: the three of
 #: :func:`time_path` and the trapezoid of :func:`trapezoidal_path`.
@@ -81,8 +82,42 @@ def clean_waypoints(waypoints, wraps) -> np.ndarray:
             raise ValueError(f"wraps must have one bool per joint ({w.shape[1]}), "
                              f"got {wraps.tolist()}")
         w = np.where(wraps, np.unwrap(w, axis=0), w)
-    # A repeated waypoint is a move of length 0: no time, no piece.
-    return w[np.concatenate([[True], step_lengths(w) > 0])]
+    return drop_repeats(w)
+
+
+#: A step shorter than this share of the whole path counts as a repeat (:func:`drop_repeats`).
+REPEAT_SHARE = 1e-12
+
+
+def drop_repeats(w) -> np.ndarray:
+    """The waypoints ``w`` ``(k, n)`` without repeats: steps of at most ``REPEAT_SHARE`` of the path.
+
+    A repeated waypoint is a move of length 0: no time, no piece. A step of 1e-16 rad beside a
+    path of 2 rad is one too: its share of the duration rounds away beside the others' (the
+    times of a path cannot resolve it), and timed under limits its tiny piece would set the
+    pace of the whole motion. Each waypoint dropped lies within that share of one kept, and
+    the first and last waypoints are kept exactly.
+
+    Examples
+    --------
+    >>> drop_repeats(np.array([[0.0, 0.0], [0.0, 0.0], [0.0, 1e-17], [1.0, 2.0]])).tolist()
+    [[0.0, 0.0], [1.0, 2.0]]
+    """
+    steps = step_lengths(w)
+    tol = REPEAT_SHARE * steps.sum()
+    if np.all(steps > tol):
+        return w
+    keep = [0]
+    for i in range(1, w.shape[0]):
+        if np.linalg.norm(w[i] - w[keep[-1]]) > tol:
+            keep.append(i)
+    last = w.shape[0] - 1
+    if keep[-1] != last:
+        if len(keep) > 1:  # the end is within the share of the last one kept: it replaces it
+            keep[-1] = last
+        elif np.any(w[last] != w[0]):
+            keep.append(last)
+    return w[keep]
 
 
 # --------------------------------------------------------------------------- the trapezoid
@@ -653,7 +688,8 @@ def time_path(waypoints: ArrayLike, duration: float | None = None, profile: str 
 
     The time of each waypoint is proportional to the joint-space (Euclidean)
     distance travelled so far, so the arm keeps a roughly even speed along a
-    grid path; repeated waypoints are dropped. Give the ``duration``, or joint
+    grid path; repeated waypoints, and steps of at most ``REPEAT_SHARE`` (1e-12) of
+    the path, are dropped (:func:`drop_repeats`). Give the ``duration``, or joint
     limits ``vmax`` and/or ``amax``: without a duration the motion is the
     shortest one of that profile within the limits
     (:func:`minimum_duration`); with both, a duration too
@@ -709,7 +745,7 @@ def time_path(waypoints: ArrayLike, duration: float | None = None, profile: str 
         if wraps.ndim > 1 or wraps.size not in (1, w.shape[1]):
             raise ValueError(f"wraps must have one bool per joint ({w.shape[1]}), got {wraps.tolist()}")
         w = np.where(wraps, np.unwrap(w, axis=0), w)
-    w = w[np.concatenate([[True], step_lengths(w) > 0])]
+    w = drop_repeats(w)
     with np.errstate(over="ignore"):
         end = np.float64(t0) + T
         s = np.concatenate([[0.0], np.cumsum(step_lengths(w))])
@@ -717,8 +753,8 @@ def time_path(waypoints: ArrayLike, duration: float | None = None, profile: str 
     overflow_checked(times, f"t0 + duration overflows float64, got t0={t0:g}, duration={T:g}")
     if np.any(np.diff(times) <= 0):
         raise ValueError(
-            f"duration {T:g} is too short beside t0 = {t0:g} (or a waypoint step too short "
-            "beside the whole path): waypoint times round together in float64"
+            f"duration {T:g} is too short beside t0 = {t0:g}: waypoint times round together "
+            "in float64"
         )
     if w.shape[0] == 1:
         # Nowhere to go: rest at the single configuration.

@@ -120,20 +120,35 @@ def test_time_path_under_limits_is_the_shortest_within_them(w, profile, v, a):
     w = np.array(w)
     if np.all(np.abs(np.diff(w, axis=0)) < 1e-3):
         return
-    steps = np.linalg.norm(np.diff(w, axis=0), axis=1)
-    try:
-        pp = rapp.time_path(w, profile=profile, vmax=v, amax=a)
-    except ValueError as e:
-        # Only where a step is one float64 may not time beside the whole path (found by
-        # hypothesis: 1e-89 rad after a 1 rad move), and refused in one line, as documented.
-        assert np.any((steps > 0) & (steps < 1e-12 * steps.sum())) and "too short" in str(e)
-        return
+    check_shortest_within(w, profile, v, a)
+
+
+def check_shortest_within(w, profile, v, a):
+    pp = rapp.time_path(w, profile=profile, vmax=v, amax=a)
     vp, ap = peak_rates(pp)
     assert np.all(vp <= v * (1 + 1e-9)) and np.all(ap <= a * (1 + 1e-9))
     # Shortest: some joint reaches one of its limits (the oracle: minimum_duration).
     assert pp.duration == pytest.approx(minimum_duration(w, profile, v, a), rel=1e-9)
     assert max(np.max(vp / v), np.max(ap / a)) == pytest.approx(1.0, rel=1e-6)
     assert np.allclose(pp.evaluate([pp.t0, pp.tf]), w[[0, -1]])
+
+
+@pytest.mark.parametrize("w,kept", [
+    # Found by hypothesis: a step of one float64 (or 1e-89 rad) beside a path of radians. Its
+    # piece timed the whole motion (an acceleration 1.5x the limit, or a motion 5x too slow);
+    # such a step is now a repeat (rapp.time_scaling.drop_repeats).
+    ([[2.0, 1.625], [0.0, 0.0], [0.0, 2.220446049250313e-16]], [[2.0, 1.625], [0.0, 2.220446049250313e-16]]),
+    ([[0.0, 2.0], [0.0, 2.220446049250313e-16], [0.0, 0.0]], [[0.0, 2.0], [0.0, 0.0]]),
+    ([[0.0, 0.0], [1.0, 0.0], [1.0, 1e-89], [1.0, 1.0]], [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]),
+    ([[0.0, 0.0], [1e-46, 0.0], [1.0, 0.5]], [[0.0, 0.0], [1.0, 0.5]])])
+@pytest.mark.parametrize("profile", ["cubic", "quintic", "spline"])
+def test_a_step_of_one_float64_is_a_repeat_under_limits(w, kept, profile):
+    check_shortest_within(np.array(w), profile, 1.0, 1.0)
+    # The motion is the one without that step, from and to the same ends.
+    got = rapp.time_path(w, profile=profile, vmax=1.0, amax=1.0)
+    want = rapp.time_path(kept, profile=profile, vmax=1.0, amax=1.0)
+    assert got.breakpoints.tolist() == want.breakpoints.tolist()
+    assert np.allclose(got.evaluate([got.t0, got.tf]), [w[0], w[-1]], rtol=0, atol=1e-12)
 
 
 def test_time_path_under_limits_one_limit_a_duration_and_the_trapezoid():
