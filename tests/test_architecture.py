@@ -11,12 +11,23 @@ m._y`` and ``from rapp import x; x._y`` alike.
 from __future__ import annotations
 
 import ast
+import functools
 import sys
 from pathlib import Path
 
 import pytest
 
 PACKAGE = Path(__file__).resolve().parent.parent / "rapp"
+
+def parse(path: Path) -> ast.Module:
+    """The syntax tree of ``path``, parsed once per text (every scan here walks the same files)."""
+    return _parse(path.read_text(encoding="utf-8"))
+
+
+@functools.lru_cache(maxsize=None)
+def _parse(text: str) -> ast.Module:
+    return ast.parse(text)
+
 
 #: Private names one module may still import from another, each with the reason (none today).
 ALLOWED: set = set()
@@ -50,7 +61,7 @@ def crossings(path: Path, modules: set) -> list:
     """``(importer, owner, name, line)`` for each private name of another rapp module used here."""
     me = module_name(path)
     package = me if path.name == "__init__.py" else me.rpartition(".")[0]
-    tree = ast.parse(path.read_text(encoding="utf-8"))
+    tree = parse(path)
     aliases, found = {}, []
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom):
@@ -155,7 +166,7 @@ LAYERS["planners"] |= planner_modules()
 def imports_of(path: Path) -> set:
     """Top-level names imported anywhere in ``path``: ``rapp.x`` as ``x``, others by package."""
     out = set()
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+    for node in ast.walk(parse(path)):
         if isinstance(node, ast.ImportFrom) and node.module and not node.level:
             if node.module == "rapp":
                 out |= {a.name for a in node.names}
@@ -238,7 +249,7 @@ def import_edges(path: Path, modules: dict) -> set:
     me = module_name(path)
     package = me if path.name == "__init__.py" else me.rpartition(".")[0]
     out = set()
-    tree = ast.parse(path.read_text(encoding="utf-8"))
+    tree = parse(path)
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom):
             base = node.module or ""
@@ -360,7 +371,7 @@ ORACLE_MAY_IMPORT = {"rapp.collision": {"MAX_PENDING_INTERVALS", "scene"}}
 
 
 def test_the_oracle_shares_no_code_with_the_kernels():
-    tree = ast.parse((PACKAGE / "reference.py").read_text(encoding="utf-8"))
+    tree = parse(PACKAGE / "reference.py")
     bad = []
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom):
@@ -386,7 +397,7 @@ def test_no_test_reaches_another_folder_through_sys_path():
     # tests.scenes, tests.helpers); scripts are loaded from their file (helpers.load_script).
     found = []
     for path in sorted((PACKAGE.parent / "tests").rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(parse(path)):
             f = node.func if isinstance(node, ast.Call) else None
             if isinstance(f, ast.Attribute) and f.attr in ("insert", "append", "extend") \
                     and isinstance(f.value, ast.Attribute) and f.value.attr == "path" \
@@ -406,7 +417,7 @@ def internal_functions():
     function of rapp (``_name``, or any function of a private module)."""
     for path in sorted(PACKAGE.rglob("*.py")):
         module = module_name(path)
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(parse(path)):
             if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 continue
             if not (_private(node.name) or "._" in module):

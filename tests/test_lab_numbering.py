@@ -50,10 +50,13 @@ IDS = [p.stem for _, p in PAGES]
 
 
 @functools.cache
+@functools.lru_cache(maxsize=None)
 def load(path: Path):
-    return nbformat.read(path, as_version=4)  # validated here, once per notebook
+    # Read and validated once per notebook and process (no test changes a notebook).
+    return nbformat.read(path, as_version=4)
 
 
+@functools.lru_cache(maxsize=None)
 def body(path: Path) -> str:
     """The page's own Markdown: every Markdown cell but the script's first one."""
     return "\n\n".join(c.source for c in load(path).cells[1:] if c.cell_type == "markdown")
@@ -63,6 +66,7 @@ _BOX = r"^(?:`{3,}|:{3,})\{%s\}[^\n]*\n((?:[ \t]*:[\w-]+:[^\n]*\n)*)"
 _EQ = r"\$\$.+?\$\$[ \t]*\(([\w.:-]+)\)"
 
 
+@functools.lru_cache(maxsize=None)
 def counted(path: Path) -> dict[str, list[str]]:
     """kind -> labels ("" when none) of the page's numbered items, in reading order, counted by
     hand: code cells' captioned figures, exercise and pseudocode boxes, labelled equations."""
