@@ -488,7 +488,11 @@ def segment_collision_free(arm: Arm, q0: ArrayLike, q1: ArrayLike, obstacles: It
     ``j`` stays within ``B_j h / 2`` of where it is at ``t_m``
     (:func:`motion_bounds`), and the distance to an obstacle changes by no more
     than the points move, so the interval is free when ``B_j h / 2 < d_j`` for
-    every link. This is a proof, not a sampling resolution. Intervals not
+    every link. This is a proof, not a sampling resolution. It is asked with
+    room for touching, ``B_j h / 2 + touch < d_j``, where ``touch`` (16 eps
+    times the arm's length) is the clearance within which a link counts as
+    touching: no point of a certified segment comes within it, so none leaves
+    a configuration that touches. Intervals not
     certified are bisected; a sample that collides makes the segment not free;
     an interval shorter than ``min_interval`` still uncertified, or a sample
     whose clearance only intervals shorter than ``min_interval`` could cover

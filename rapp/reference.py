@@ -281,7 +281,7 @@ def segment_collision_free(arm, q0, q1, obstacles, *, min_interval: float = 1e-9
 
     A piece ``[lo, hi]`` of the segment ``q0 + t (q1 - q0)`` is free when, at its middle, every
     link's clearance exceeds how far the link can move in half the piece
-    (:func:`motion_bound` times ``(hi - lo) / 2``). A piece not shown free is halved; the segment
+    (:func:`motion_bound` times ``(hi - lo) / 2``) by more than the touching distance below. A piece not shown free is halved; the segment
     is not free when a middle touches an obstacle (a clearance within the rounding of the arm's
     own coordinates, ``16 eps`` times its length, counts as touching), when a middle's clearance
     is one only pieces shorter than ``min_interval`` could show free (a graze), or when a piece
@@ -322,7 +322,7 @@ def _halving(arm, q0, q1, obstacles, min_interval, cap) -> bool:
             d = _clearances_of(arm, q0 + mid * dq, obstacles)
             if min(d) <= touch or any(dj < b * 0.5 * min_interval for b, dj in zip(bound, d)):
                 return False
-            if all(b * half < dj for b, dj in zip(bound, d)):
+            if all(b * half + touch < dj for b, dj in zip(bound, d)):
                 continue
             if hi - lo < min_interval:
                 return False

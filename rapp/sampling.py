@@ -68,15 +68,17 @@ def motion_bounds_of(dq, reach) -> np.ndarray:
 
 
 def endpoint_certified(c0, c1, bounds, touch):
-    """Edges certified free by their end clearances alone: ``c0 + c1 > B`` on every link.
+    """Edges certified free by their end clearances alone: ``c0 + c1 > B + 2 touch`` on every link.
 
     Along a straight joint-space edge every point of link ``j`` moves at most ``B_j t`` from
     where it is at the start (parameter ``t``) and ``B_j (1 - t)`` from where it is at the end
     (:func:`rapp.collision.motion_bounds`), and a clearance changes no faster than the points
     move. So link ``j`` is free at ``t`` when ``c0_j > B_j t`` or ``c1_j > B_j (1 - t)``, and
-    both intervals of ``t`` together cover ``[0, 1]`` exactly when ``c0_j + c1_j > B_j``. The
-    same lemma as the bisection of :func:`rapp.collision.segment_collision_free`, applied at the
-    ends, where the clearances are already known: most short edges need nothing more.
+    both intervals of ``t`` together cover ``[0, 1]`` exactly when ``c0_j + c1_j > B_j``; with
+    ``2 touch`` more, every point keeps a clearance over the touching distance ``touch``, as the
+    bisection of :func:`rapp.collision.segment_collision_free` requires of its pieces. The
+    same lemma, applied at the ends, where the clearances are already known: most short edges
+    need nothing more.
 
     Examples
     --------
@@ -84,7 +86,7 @@ def endpoint_certified(c0, c1, bounds, touch):
     ...                    np.array([[0.5, 0.5]]), 1e-14).tolist()
     [False]
     """
-    return ((c0 + c1 > bounds) & (c0 > touch) & (c1 > touch)).all(axis=-1)
+    return ((c0 + c1 > bounds + 2 * touch) & (c0 > touch) & (c1 > touch)).all(axis=-1)
 
 
 class EdgeCertifier:

@@ -10,10 +10,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import rapp
-from rapp import cli
+from rapp import cli, reference
 from rapp.collision import collides
 from rapp.errors import InvalidValue, NoPathFound
 from rapp.prm import prm
+from rapp.rrt import rrt
 from rapp.rrt_connect import rrt_connect
 from rapp.rrt_star import rrt_star
 
@@ -175,3 +176,22 @@ def test_a_start_touching_an_obstacle_fails_honestly_instead_of_raising(name):
     res = PLANNERS[name](arm, start, goal, [box], 29, max_iterations=300)
     assert not res.success and res.path.shape == (0, 2)
 
+
+
+def test_no_edge_leaves_a_start_within_touching_distance_even_straight_away():
+    # Found by hypothesis (seed 0): the straight arm's tip 7e-237 below a box's corner, and
+    # RRT's first edge turning the tip straight down, away from it. The bisection proved that
+    # edge free (a clearance of 7e-237 + B h/2 against B h/2), so RRT returned a path from a
+    # start that `path_collision_free` counts as touching. A piece is now certified only with
+    # room for the touching distance, so no edge leaves such a start, in any planner.
+    arm = rapp.Arm([1.0, 1.0])
+    box = rapp.Polygon(((2.0, 7.279029182742752e-237), (2.25, 8.188907830585596e-237),
+                        (2.25, 0.25), (2.0, 0.25)))
+    start, goal = np.zeros(2), np.array([0.0, 1.0])
+    away = np.array([-0.04852986, -0.14193256])
+    assert not rapp.collides(arm, start, [box])
+    assert not rapp.segment_collision_free(arm, start, away, [box])
+    assert not reference.segment_collision_free(arm, start, away, [box])
+    for planner in (rrt, rrt_connect, prm):
+        res = planner(arm, start, goal, [box], seed=0, max_iterations=300, raise_on_failure=False)
+        assert not res.success, planner.__name__

@@ -433,7 +433,7 @@ def _certify(lengths, q0, dq, bounds, circles, pv, pn, pr, offsets, min_interval
                     if d <= touch or d < bounds[i, j] * 0.5 * min_interval:
                         out[i] = 0
                         break
-                    if not bounds[i, j] * half < d:
+                    if not bounds[i, j] * half + touch < d:
                         certified = False
                 if out[i] == 0:
                     break

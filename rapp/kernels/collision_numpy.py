@@ -468,7 +468,9 @@ def _bisect(arm, q0, q1, dq, bounds, obstacles, min_interval, cap):
         # grazing a vertex whose clearance grows quadratically would otherwise double its
         # pending pieces every two levels and reach the interval limit first.
         hit = ((d <= touch) | (d < bounds[owner] * (0.5 * min_interval))).any(axis=-1)
-        need = bounds[owner] * half[:, None]
+        # Certified with room for touching: every point of the piece keeps a clearance over
+        # ``touch``, so no piece next to an end within touching distance is ever certified.
+        need = bounds[owner] * half[:, None] + touch
         certified = (need < d).all(axis=-1)
         stuck = ~certified & ~hit & (hi - lo < min_interval)
         free[owner[hit | stuck]] = False

@@ -12,7 +12,7 @@ path's, sample for sample.
 The arithmetic is that of the numpy path (:func:`rapp.rrt_connect.rrt_connect` without
 numba), operation by operation: the wrapped difference ``(d + pi) % 2pi - pi``, the steps
 ``base + (j step / dist) d``, the exact link clearances, the end-point certificate
-``c0 + c1 > B`` and the bisection of :func:`rapp.collision.segment_collision_free`. The trees
+``c0 + c1 > B + 2 touch`` and the bisection of :func:`rapp.collision.segment_collision_free`. The trees
 are the same node for node (``tests/test_sampling_kernel.py`` checks it over many seeds);
 where a sum of three products is rounded differently by numpy's vectorized loops than by a
 plain loop (it would have to decide a tie in the nearest-node scan, or an end-point
@@ -207,9 +207,11 @@ def _extend(t, target, chain, room, step, scene, trees, scratch):
         for j in range(n):
             p[j] = base[j] + frac * d[j]
         _clearances_one(lengths, p, pts, c, circles, pv, pn, pr, offsets)
+        # An end within touching distance, this one or the node it leaves: not free
+        # (rapp.sampling.EdgeCertifier), though a bisection could certify an edge leaving it.
         hit = False
         for j in range(n):
-            if c[j] <= touch:
+            if c[j] <= touch or c_prev[j] <= touch:
                 hit = True
         if hit:
             break
@@ -222,7 +224,7 @@ def _extend(t, target, chain, room, step, scene, trees, scratch):
             for j in range(n):
                 b += abs(dq[0, j]) * reach[j, l]
             bnd[0, l] = b
-            if not (c_prev[l] + c[l] > b and c_prev[l] > touch and c[l] > touch):
+            if not (c_prev[l] + c[l] > b + 2 * touch and c_prev[l] > touch and c[l] > touch):
                 ok = False
         if not ok:
             for j in range(n):
@@ -361,7 +363,7 @@ def _edge_free(q0, d, c0, c1, scene, scratch):
     for l in range(n):
         if c0[l] <= touch or c1[l] <= touch:
             return 0
-        if not c0[l] + c1[l] > bnd[0, l]:
+        if not c0[l] + c1[l] > bnd[0, l] + 2 * touch:
             ends = False
     if ends:
         return 1
