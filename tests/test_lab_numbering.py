@@ -51,6 +51,12 @@ IDS = [p.stem for _, p in PAGES]
 
 @functools.cache
 @functools.lru_cache(maxsize=None)
+def book_targets():
+    """The script's table of the book's numbered targets, built once per process."""
+    return number_notebooks.book_targets()
+
+
+@functools.lru_cache(maxsize=None)
 def load(path: Path):
     # Read and validated once per notebook and process (no test changes a notebook).
     return nbformat.read(path, as_version=4)
@@ -144,7 +150,7 @@ def test_lab_counts_to_the_books_numbers(number, path):
     # Lab counts the page's own exercises, algorithms and equations from the front matter's
     # start (figures come from code cells, numbered in the index); the book counts over the
     # chapter. Each labelled one must get the same number from both.
-    targets = number_notebooks.book_targets()
+    targets = book_targets()
     start = earlier(number, path)
     for kind in ("equation", "exercise", "proof:algorithm"):
         for k, label in enumerate(counted(path)[kind], start.get(kind, 0) + 1):
@@ -170,7 +176,7 @@ def test_figure_numbers_follow_the_notebook_order():
     nb = load(ROOT / "notebooks" / "05_astar.ipynb")
     names = [c.metadata["mystnb"]["figure"]["name"] for c in nb.cells
              if c.cell_type == "code" and "figure" in c.metadata.get("mystnb", {})]
-    targets = number_notebooks.book_targets()
+    targets = book_targets()
     assert [targets[n].number for n in names] == [f"5.{k}" for k in range(1, len(names) + 1)]
     index = nb.cells[0].source
     for k, name in enumerate(names, 1):
