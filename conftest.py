@@ -30,6 +30,15 @@ SLOW_DOCTESTS = {
     "rapp.widgets.rrt_explorer",           # grows and draws every step of an RRT
     "rapp.cases.rrt_report.compare_with_astar",
     "rapp.widgets.arm_explorer",           # renders every view of the explorer
+    # Each builds and renders a whole explorer (0.3-0.5 s): tests/test_widgets.py drives the
+    # same explorers in the fast tier, so their docstrings' examples wait for `make test`.
+    "rapp.widgets.collision_explorer",
+    "rapp.widgets.sliders_of",
+    "rapp.widgets.astar_explorer",
+    "rapp.widgets.line_ride_explorer",
+    "rapp.widgets.trajectory_explorer",
+    "rapp.widgets.planner_playground",
+    "rapp.plotting.animation_html",        # encodes an animation's frames
 }
 
 
@@ -49,15 +58,23 @@ def pytest_collection_modifyitems(config, items):
     pytest-xdist (``--dist loadfile --no-loadscope-reorder``) hands out whole files in this
     order. The files of ``LONG_FILES`` (from a minute or two down to twenty seconds each: the
     JupyterLab tests, a class of 30 graded, the compiled planners against the numpy loops, ...)
-    and the notebooks (a kernel each) go first; a long file dealt out last would keep one worker
-    busy while the other idles. Within a file the order is untouched: a notebook's cells must
+    and the notebooks (a kernel each) go first, then the other files, largest first; a long
+    file dealt out last would keep one worker busy while the other idles. Within a file the order is untouched: a notebook's cells must
     run in order.
     """
+    sizes: dict = {}
+
     def weight(item):
-        name = Path(str(item.fspath)).name
-        if name in LONG_FILES:
-            return LONG_FILES.index(name)
-        return len(LONG_FILES) + (0 if name.endswith(".ipynb") else 1)
+        path = Path(str(item.fspath))
+        if path.name in LONG_FILES:
+            return LONG_FILES.index(path.name), 0
+        if path.name.endswith(".ipynb"):
+            return len(LONG_FILES), 0
+        # The other files, larger first (a file's size stands for its tests' time): the
+        # small ones dealt out last even out the two workers' ends.
+        if path not in sizes:
+            sizes[path] = path.stat().st_size if path.exists() else 0
+        return len(LONG_FILES) + 1, -sizes[path]
 
     slow = pytest.mark.slow
     for item in items:

@@ -47,7 +47,7 @@ def known(roadmap):
     return roadmap.edges.state()
 
 
-@settings(max_examples=4, deadline=None, derandomize=True,
+@settings(max_examples=2, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow])
 @given(problem=problems(), seed=st.integers(0, 2**16))
 def test_every_query_path_is_certified_and_what_it_learns_is_true(problem, seed):
