@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 from rapp.arm import MAX_ANGLE
 from rapp.checks import finite_number
 from rapp.errors import CertificationLimit
-from rapp.kernels import collision as _backend
+from rapp.kernels import collision as collision_backend
 from rapp.kernels.collision_numba import MASK_LINKS
 from rapp.kernels.collision_numpy import (
     MAX_PENDING_INTERVALS,
@@ -362,7 +362,7 @@ def link_clearances(arm, q, obstacles, *, margin=0.0) -> np.ndarray:
     [0.418033988750, 0.3]
     """
     arm, obstacles = scene(arm, obstacles, margin)
-    return _backend.link_clearances(arm, q, obstacles)
+    return collision_backend.link_clearances(arm, q, obstacles)
 
 
 def collides(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon], *, margin: float = 0.0) -> np.ndarray:
@@ -403,7 +403,7 @@ def collides(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon], *, m
     except (TypeError, ValueError):  # an unhashable margin, q not a 1-D float array, ...:
         pass                         # the general path checks everything and says what is wrong
     thin, pieces = scene(arm, obstacles, margin)
-    hit = _backend.collides(thin, q, pieces)
+    hit = collision_backend.collides(thin, q, pieces)
     if arm.self_collision and arm.n >= 3:
         hit = hit | (self_clearance(arm, q, margin=margin) <= 0)
     elif type(q) is np.ndarray and q.ndim == 1 and q.dtype is _FLOAT:
@@ -424,14 +424,14 @@ _ONE: dict = {}
 
 def _remember(arm, obstacles, margin, thin, pieces) -> None:
     """Keep the packed scene of a one-configuration call, once the compiled kernel is loaded."""
-    k = _backend.loaded()
+    k = collision_backend.loaded()
     if k is None or type(obstacles) not in (tuple, list):
         return
     if len(_ONE) >= 64:
         _ONE.clear()
     held = obstacles if type(obstacles) is tuple else list(obstacles)
-    _ONE[(id(arm), id(obstacles), margin)] = (k.collides_scene,
-                                              _backend.pack_scene(thin.lengths, pieces, MAX_ANGLE), held, arm)
+    packed = collision_backend.pack_scene(thin.lengths, pieces, MAX_ANGLE)
+    _ONE[(id(arm), id(obstacles), margin)] = (k.collides_scene, packed, held, arm)
 
 
 def clearance(arm: Arm, q: ArrayLike, obstacles: Iterable[Circle | Polygon], *, margin: float = 0.0) -> np.ndarray:
@@ -550,8 +550,8 @@ def segment_collision_free(arm: Arm, q0: ArrayLike, q1: ArrayLike, obstacles: It
     [True, False]
     """
     thin, pieces = scene(arm, obstacles, margin)
-    ok = _backend.segment_collision_free(thin, q0, q1, pieces, min_interval=min_interval,
-                                         max_intervals=max_intervals)
+    ok = collision_backend.segment_collision_free(thin, q0, q1, pieces, min_interval=min_interval,
+                                                  max_intervals=max_intervals)
     if arm.self_collision and arm.n >= 3 and np.any(ok):
         # Self-collision in numpy after the compiled obstacle test, on the segments it left free.
         a, b = np.broadcast_arrays(arm.check_q(q0, "q0"), arm.check_q(q1, "q1"))

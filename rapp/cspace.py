@@ -31,9 +31,8 @@ if TYPE_CHECKING:
     from rapp.arm import Arm
 
 from rapp.kernels import occupancy as occupancy_backend
-from rapp.kernels import occupancy_numpy as _numpy
 from rapp.kernels.occupancy import COMPILE_FROM
-from rapp.kernels.occupancy_numpy import prefix_grid, prefix_step
+from rapp.kernels.occupancy_numpy import hits as numpy_hits, prefix_grid, prefix_step
 from rapp.arm import Arm, wrap_angle
 from rapp.collision import check_obstacle, motion_bounds, required_distances, scene
 from rapp.obstacles import Circle, applies, grown
@@ -367,8 +366,8 @@ def occupancy_numpy(arm, obstacles, grid, *, margin=0.0) -> np.ndarray:
     check_grid(arm, grid)
     # The prefix geometry is looked up here at call time: one call per link with an obstacle,
     # which chapter 10 counts by watching rapp.cspace.prefix_grid.
-    return _numpy.hits(*_per_link(arm, obstacles, margin), grid,
-                       prefix=lambda g, i: prefix_grid(g, i))
+    return numpy_hits(*_per_link(arm, obstacles, margin), grid,
+                      prefix=lambda g, i: prefix_grid(g, i))
 
 
 def grid_q(grid) -> np.ndarray:

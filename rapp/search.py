@@ -41,7 +41,7 @@ from typing import TYPE_CHECKING, Iterable, Sequence  # noqa: F401  (annotations
 
 from numpy.typing import ArrayLike  # noqa: F401
 
-from rapp.kernels import search as _backend
+from rapp.kernels import search as search_backend
 from rapp.kernels import search_python
 from rapp.kernels.search import COMPILE_FROM
 from rapp.kernels.search_python import PaddedGraph, heuristic_grid
@@ -447,7 +447,7 @@ def astar(occupied: ArrayLike, start: Sequence[int], goal: Sequence[int], *,
     occ, w_ax, sidx, _, gidx, _ = _prepare(occupied, start, goal, wraps)
     w = finite_number(heuristic_weight, "heuristic_weight", at_least=1.0)
     limit = _expansion_limit(max_expansions)
-    status, cells = _backend.astar_path(occ, w_ax, sidx, gidx, w, limit)
+    status, cells = search_backend.astar_path(occ, w_ax, sidx, gidx, w, limit)
     _raise_for(status, limit, sidx, gidx)
     return cells
 
