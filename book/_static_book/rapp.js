@@ -170,6 +170,39 @@ document.addEventListener("click", (event) => {
     window.addEventListener("resize", update);
     window.addEventListener("load", update);
   }
+  // Math is typeset lazily as it comes into view (MathJax's ui/lazy, _config.yml), so that a
+  // page's explorers answer sooner. A few seconds after the page has loaded (its widgets are
+  // drawn by then), the rest is typeset a few formulas at a time while the main thread is idle
+  // (a reader's key press or drag goes first), so that screen readers and find in page see
+  // every formula; printing typesets all at once (MathJax does).
+  const TYPESET_BATCH = 20;
+  function typesetTheRest() {
+    const mj = window.MathJax;
+    if (!mj || !mj.startup || !mj.startup.promise) return;
+    mj.startup.promise.then(() => {
+      const doc = mj.startup.document;
+      if (!doc || typeof doc.lazyTypesetAll !== "function") return;
+      const idle = window.requestIdleCallback || ((f) => setTimeout(f, 50));
+      // MathJax 3.2's lazy document: lazySet holds the ids to typeset next, lazyHandleSet
+      // typesets them after lazyPromise; without them (another version), all at once.
+      if (!(doc.lazySet instanceof Set) || typeof doc.lazyHandleSet !== "function" || !doc.lazyPromise) {
+        idle(() => doc.lazyTypesetAll());
+        return;
+      }
+      const step = () => {
+        const ids = [...document.querySelectorAll("mjx-lazy[data-mjx-lazy]")]
+          .slice(0, TYPESET_BATCH).map((el) => el.getAttribute("data-mjx-lazy"));
+        if (!ids.length) return;
+        ids.forEach((id) => doc.lazySet.add(id));
+        doc.lazyHandleSet();
+        doc.lazyPromise.then(() => idle(step, { timeout: 100 }));
+      };
+      idle(step, { timeout: 100 });
+    });
+  }
+  const TYPESET_REST_AFTER_MS = 3000;
+  window.addEventListener("load", () => setTimeout(typesetTheRest, TYPESET_REST_AFTER_MS));
+
   if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", start);
   else start();
 })();
