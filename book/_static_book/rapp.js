@@ -176,32 +176,84 @@ document.addEventListener("click", (event) => {
   // (a reader's key press or drag goes first), so that screen readers and find in page see
   // every formula; printing typesets all at once (MathJax does).
   const TYPESET_BATCH = 20;
-  function typesetTheRest() {
+  const TYPESET_REST_AFTER_MS = 3000;
+
+  function lazyDocument() {  // MathJax's lazy document once MathJax has started, or null
     const mj = window.MathJax;
-    if (!mj || !mj.startup || !mj.startup.promise) return;
-    mj.startup.promise.then(() => {
+    if (!mj || !mj.startup || !mj.startup.promise) return Promise.resolve(null);
+    return mj.startup.promise.then(() => {
       const doc = mj.startup.document;
-      if (!doc || typeof doc.lazyTypesetAll !== "function") return;
+      return doc && typeof doc.lazyTypesetAll === "function" ? doc : null;
+    });
+  }
+
+  // A formula typeset above the reader grows the page above what they read. Browsers with CSS
+  // scroll anchoring keep the text in place; without it (Safari before 26) the text would jump,
+  // so its element is put back where it was.
+  function anchoredByTheBrowser() {
+    return getComputedStyle(document.scrollingElement || document.documentElement).overflowAnchor === "auto";
+  }
+  function readingAnchor() {
+    if (window.scrollY < 1 || anchoredByTheBrowser()) return null;
+    // The first element of the article below the theme's sticky bars.
+    const bars = [...document.querySelectorAll(".bd-header, .bd-header-article")]
+      .map((bar) => bar.getBoundingClientRect().bottom);
+    const y = Math.max(0, ...bars) + 8;
+    const hit = document.elementsFromPoint(window.innerWidth / 2, y).find((el) => el.closest(".bd-article"));
+    if (!hit) return null;
+    const el = hit.closest("p, li, pre, table, h1, h2, h3, h4, h5, h6, dt, dd, figure, div.math, .cell") || hit;
+    return { el, y: el.getBoundingClientRect().top + window.scrollY };
+  }
+  function putBack(anchor) {
+    if (!anchor || !anchor.el.isConnected) return;
+    const drift = anchor.el.getBoundingClientRect().top + window.scrollY - anchor.y;
+    if (Math.abs(drift) > 1) window.scrollBy(0, drift);
+  }
+
+  function typesetTheRest() {
+    lazyDocument().then((doc) => {
+      if (!doc) return;
       const idle = window.requestIdleCallback || ((f) => setTimeout(f, 50));
       // MathJax 3.2's lazy document: lazySet holds the ids to typeset next, lazyHandleSet
       // typesets them after lazyPromise; without them (another version), all at once.
       if (!(doc.lazySet instanceof Set) || typeof doc.lazyHandleSet !== "function" || !doc.lazyPromise) {
-        idle(() => doc.lazyTypesetAll());
+        idle(() => { const anchor = readingAnchor(); doc.lazyTypesetAll().then(() => putBack(anchor)); });
         return;
       }
       const step = () => {
         const ids = [...document.querySelectorAll("mjx-lazy[data-mjx-lazy]")]
           .slice(0, TYPESET_BATCH).map((el) => el.getAttribute("data-mjx-lazy"));
         if (!ids.length) return;
+        const anchor = readingAnchor();
         ids.forEach((id) => doc.lazySet.add(id));
         doc.lazyHandleSet();
-        doc.lazyPromise.then(() => idle(step, { timeout: 100 }));
+        doc.lazyPromise.then(() => { putBack(anchor); idle(step, { timeout: 100 }); });
       };
       idle(step, { timeout: 100 });
     });
   }
-  const TYPESET_REST_AFTER_MS = 3000;
-  window.addEventListener("load", () => setTimeout(typesetTheRest, TYPESET_REST_AFTER_MS));
+
+  // A jump to a #fragment (an equation's or a section's link) lands before the formulas around
+  // it are typeset: everything is typeset at once, then the page jumps again to the target,
+  // unless the reader has moved on meanwhile.
+  let readerMoved = false;
+  ["wheel", "touchmove", "keydown"].forEach((type) =>
+    window.addEventListener(type, () => { readerMoved = true; }, { passive: true, capture: true }));
+  function settleJump() {
+    const id = decodeURIComponent(window.location.hash.slice(1));
+    const target = id && document.getElementById(id);
+    if (!target) return false;
+    readerMoved = false;
+    lazyDocument()
+      .then((doc) => doc && doc.lazyTypesetAll())
+      .then(() => { if (!readerMoved && target.isConnected) target.scrollIntoView(); });
+    return true;
+  }
+  window.addEventListener("hashchange", settleJump);
+  window.addEventListener("load", () => {
+    settleJump();
+    setTimeout(typesetTheRest, TYPESET_REST_AFTER_MS);
+  });
 
   if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", start);
   else start();
