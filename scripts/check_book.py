@@ -33,6 +33,8 @@ recorded ``rapp:text-px`` times its displayed over its natural width). The page 
 - a chapter page is taller than 22,000 px at 1280 px, or weighs over 2.5 MB of HTML;
 - the main thread used over 4 CPU seconds before the page's first slider responded;
 - a formula is still waiting to be typeset 30 s after the page opened (MathJax typesets it lazily);
+- on the pages of PLACE_PAGES, typesetting the math after a jump to an equation, or above a reader
+  in the middle of the page, moves what they read (with CSS scroll anchoring and without it);
 - any page weighs over 8 MB; the book fails over 80 MB, and when fewer than 90 % of the figures
   that carry a text size show it at 9 CSS px or more, at 1280 px or at 390 px (a phone).
 
@@ -537,6 +539,100 @@ def _controls_redraw(page, root, canvas: str) -> list[str]:
     return problems
 
 
+# Math is typeset as it comes into view and the rest later (rapp.js): what a reader reads must not
+# move meanwhile. On these pages an equation link far from its target is followed 1 s after the
+# page opened, with CSS scroll anchoring and without it (Safari before 26, emulated with
+# overflow-anchor: none), and a reader who jumped to the middle of the page stays where they are.
+PLACE_PAGES = ("notebooks/06_inverse_kinematics.html", "notebooks/15_motion.html")
+PLACE_TOLERANCE_PX = 16  # what rapp.js fixed moved 26 to 1,709 px; it now moves under 6
+_NO_ANCHORING = """document.addEventListener('DOMContentLoaded', () => {
+  const s = document.createElement('style');
+  s.textContent = '* { overflow-anchor: none !important; }';
+  document.head.appendChild(s);
+});"""
+# The first equation link whose target is more than two screens away, marked for the click.
+_FAR_LINK = """() => {
+  const y = (el) => el.getBoundingClientRect().top + scrollY;
+  for (const a of document.querySelectorAll('.bd-article a.reference.internal[href^="#equation-"]')) {
+    if (a.closest('.eqno') || !a.getClientRects().length) continue;
+    const t = document.getElementById(decodeURIComponent(a.getAttribute('href').slice(1)));
+    if (t && Math.abs(y(t) - y(a)) > 2 * innerHeight) { a.dataset.rappCheck = '1'; return t.id; }
+  }
+  return null;
+}"""
+# The block of the article at 40 % of the screen's height, marked: what the reader is reading.
+_READING = """() => {
+  const hit = document.elementsFromPoint(innerWidth / 2, innerHeight * 0.4).find((el) => el.closest('.bd-article'));
+  const el = hit && (hit.closest('p, li, pre, table, h1, h2, h3, h4, h5, h6, dd, figure, div.math') || hit);
+  if (!el) return false;
+  el.dataset.rappReading = '1';
+  return true;
+}"""
+_TOP = "(sel) => document.querySelector(sel).getBoundingClientRect().top"
+_ALL_TYPESET = "() => !document.querySelector('mjx-lazy')"
+
+
+def check_place_kept(base_url: str, pages: tuple[str, ...] = PLACE_PAGES) -> dict[str, tuple[list[str], dict]]:
+    """Follow an equation link, and jump to the middle of the page, before the math is typeset.
+
+    At 390 x 844 px, with and without CSS scroll anchoring: the link's target (and, without
+    anchoring, the block being read after a jump to the middle) must stay within
+    ``PLACE_TOLERANCE_PX`` of where it was once every formula is typeset. Returns, per page, the
+    problems and the largest movement measured.
+    """
+    from playwright.sync_api import sync_playwright
+
+    host = urlparse(base_url).netloc
+    results: dict[str, tuple[list[str], dict]] = {}
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
+                                     args=["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"])
+        for rel in pages:
+            problems: list[str] = []
+            moved: list[float] = []
+            for anchoring, action in ((True, "jump"), (False, "jump"), (False, "middle")):
+                context = browser.new_context(viewport={"width": NARROW, "height": 844}, is_mobile=True,
+                                              has_touch=True, device_scale_factor=3)
+                context.route("**/*", lambda route: route.continue_() if urlparse(route.request.url).netloc
+                              == host or route.request.url.startswith(("data:", "blob:")) else route.abort())
+                if not anchoring:
+                    context.add_init_script(_NO_ANCHORING)
+                page = context.new_page()
+                page.goto(base_url + rel, wait_until="domcontentloaded")
+                page.wait_for_timeout(1000)
+                if action == "jump":
+                    target = page.evaluate(_FAR_LINK)
+                    if not target:
+                        problems.append("no equation link two screens from its target to follow")
+                        context.close()
+                        continue
+                    page.locator("[data-rapp-check]").first.click()
+                    sel, what = f"[id='{target}']", f"the jump to #{target}"
+                else:
+                    page.evaluate("window.scrollTo(0, document.documentElement.scrollHeight * 0.45)")
+                    sel, what = "[data-rapp-reading]", "the text read in the middle of the page"
+                page.wait_for_timeout(300)
+                if action == "middle" and not page.evaluate(_READING):
+                    problems.append("nothing of the article in the middle of the screen")
+                    context.close()
+                    continue
+                before = page.evaluate(_TOP, sel)
+                try:
+                    page.wait_for_function(_ALL_TYPESET, timeout=30_000)
+                except Exception:
+                    problems.append("math still waiting to be typeset 30 s after the page opened")
+                page.wait_for_timeout(1000)
+                shift = page.evaluate(_TOP, sel) - before
+                moved.append(abs(shift))
+                if abs(shift) > PLACE_TOLERANCE_PX:
+                    problems.append(f"{what} moved {shift:+.0f} px while the math was typeset "
+                                    f"({'with' if anchoring else 'without'} CSS scroll anchoring)")
+                context.close()
+            results[rel] = (problems, {"moved_px": max(moved, default=0.0)})
+        browser.close()
+    return results
+
+
 def check_live(base_url: str, pages: list[str], shots: Path | None = None) -> dict[str, tuple[list[str], dict]]:
     """Drag every live explorer (``data-rapp-live``) and check that it redraws.
 
@@ -654,6 +750,7 @@ def main(argv: list[str] | None = None) -> int:
             args.shots.mkdir(parents=True, exist_ok=True)
         live = check_live(base_url, [p.relative_to(root).as_posix() for p in pages
                                      if "rapp.live.Explorer" in p.read_text(encoding="utf-8")], args.shots)
+        place = check_place_kept(base_url, tuple(rel for rel in PLACE_PAGES if (root / rel).is_file()))
     finally:
         server.shutdown()
     book_mb = sum(f.stat().st_size for f in root.rglob("*") if f.is_file()) / 1e6
@@ -669,7 +766,7 @@ def main(argv: list[str] | None = None) -> int:
         html = page.read_text(encoding="utf-8")
         problems += [f"not served: {path}" for path in missing if Path(path).name in html]
         browser_problems, measured = browsed.get(rel, ([], {"slider": 0}))
-        problems += browser_problems + live.get(rel, ([], {}))[0]
+        problems += browser_problems + live.get(rel, ([], {}))[0] + place.get(rel, ([], {}))[0]
         stats = dict(stats, slider=measured.get("slider", 0))
         mb = page.stat().st_size / 1e6
         if mb > PAGE_BUDGET_MB:
@@ -712,6 +809,8 @@ def main(argv: list[str] | None = None) -> int:
             summary += f", {live[rel][1]['live']} live explorers dragged"
         if "ready_s" in measured:
             summary += f", interactive in {measured['ready_s']:.1f} s"
+        if rel in place:
+            summary += f", read text moved {place[rel][1]['moved_px']:.0f} px at most while math was typeset"
         if problems:
             failed += 1
             print(f"FAIL {rel} ({summary})")
