@@ -364,6 +364,22 @@ def _press_changes(page, handle) -> bool:
     return False
 
 
+def _launch(pw):
+    """Headless Chromium from Debian's package, as every browser check here starts it."""
+    return pw.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
+                              args=["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"])
+
+
+def _local_only(host: str):
+    """A route handler that serves the book's own server (and data:/blob: URLs) and aborts the rest."""
+    return lambda route: (route.continue_() if urlparse(route.request.url).netloc == host
+                          or route.request.url.startswith(("data:", "blob:")) else route.abort())
+
+
+# True once no formula waits in MathJax's lazy placeholder (rapp.js typesets the rest when idle).
+_ALL_TYPESET = "() => !document.querySelector('mjx-lazy')"
+
+
 def main_thread_busy(cdp) -> tuple[float | None, float | None]:
     """Seconds the page's main thread has spent running tasks (Chrome's ``TaskDuration``: wall
     time, which a loaded machine stretches) and the CPU seconds it used (``ThreadTime``: the work
@@ -393,12 +409,10 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]],
     host = urlparse(base_url).netloc
     results: dict[str, tuple[list[str], dict]] = {}
     with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
-                                     args=["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"])
+        browser = _launch(pw)
         for rel, views in pages:
             page = browser.new_page(viewport={"width": WIDE, "height": 900})
-            page.route("**/*", lambda route: route.continue_() if urlparse(route.request.url).netloc
-                       == host or route.request.url.startswith(("data:", "blob:")) else route.abort())
+            page.route("**/*", _local_only(host))
             problems: list[str] = []
             measured: dict = {}
             errors: list[str] = []
@@ -465,7 +479,7 @@ def check_in_browser(base_url: str, pages: list[tuple[str, int]],
             # Math comes into view typeset, and rapp.js typesets the rest once the page is idle:
             # every formula is measured below, at both widths, as a reader would see it.
             try:
-                page.wait_for_function("() => !document.querySelector('mjx-lazy')", timeout=30_000)
+                page.wait_for_function(_ALL_TYPESET, timeout=30_000)
             except Exception:
                 problems.append("math still waiting to be typeset 30 s after the page opened")
             try:
@@ -569,7 +583,32 @@ _READING = """() => {
   return true;
 }"""
 _TOP = "(sel) => document.querySelector(sel).getBoundingClientRect().top"
-_ALL_TYPESET = "() => !document.querySelector('mjx-lazy')"
+
+def _follow(page, url: str, action: str) -> tuple[float | None, str]:
+    """Open ``url``, jump (``"jump"``: an equation link; ``"middle"``: the middle of the page) 1 s
+    later, and return how far what the reader then sees moved once every formula was typeset
+    (None: the math never finished), with what was watched. LookupError: nothing to watch."""
+    page.goto(url, wait_until="domcontentloaded")
+    page.wait_for_timeout(1000)
+    if action == "jump":
+        target = page.evaluate(_FAR_LINK)
+        if not target:
+            raise LookupError("no equation link two screens from its target to follow")
+        page.locator("[data-rapp-check]").first.click()
+        sel, what = f"[id='{target}']", f"the jump to #{target}"
+    else:
+        page.evaluate("window.scrollTo(0, document.documentElement.scrollHeight * 0.45)")
+        sel, what = "[data-rapp-reading]", "the text read in the middle of the page"
+    page.wait_for_timeout(300)
+    if action == "middle" and not page.evaluate(_READING):
+        raise LookupError("nothing of the article in the middle of the screen")
+    before = page.evaluate(_TOP, sel)
+    try:
+        page.wait_for_function(_ALL_TYPESET, timeout=30_000)
+    except Exception:
+        return None, what
+    page.wait_for_timeout(1000)
+    return page.evaluate(_TOP, sel) - before, what
 
 
 def check_place_kept(base_url: str, pages: tuple[str, ...] = PLACE_PAGES) -> dict[str, tuple[list[str], dict]]:
@@ -585,49 +624,30 @@ def check_place_kept(base_url: str, pages: tuple[str, ...] = PLACE_PAGES) -> dic
     host = urlparse(base_url).netloc
     results: dict[str, tuple[list[str], dict]] = {}
     with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
-                                     args=["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"])
+        browser = _launch(pw)
         for rel in pages:
             problems: list[str] = []
             moved: list[float] = []
             for anchoring, action in ((True, "jump"), (False, "jump"), (False, "middle")):
                 context = browser.new_context(viewport={"width": NARROW, "height": 844}, is_mobile=True,
                                               has_touch=True, device_scale_factor=3)
-                context.route("**/*", lambda route: route.continue_() if urlparse(route.request.url).netloc
-                              == host or route.request.url.startswith(("data:", "blob:")) else route.abort())
+                context.route("**/*", _local_only(host))
                 if not anchoring:
                     context.add_init_script(_NO_ANCHORING)
-                page = context.new_page()
-                page.goto(base_url + rel, wait_until="domcontentloaded")
-                page.wait_for_timeout(1000)
-                if action == "jump":
-                    target = page.evaluate(_FAR_LINK)
-                    if not target:
-                        problems.append("no equation link two screens from its target to follow")
-                        context.close()
-                        continue
-                    page.locator("[data-rapp-check]").first.click()
-                    sel, what = f"[id='{target}']", f"the jump to #{target}"
-                else:
-                    page.evaluate("window.scrollTo(0, document.documentElement.scrollHeight * 0.45)")
-                    sel, what = "[data-rapp-reading]", "the text read in the middle of the page"
-                page.wait_for_timeout(300)
-                if action == "middle" and not page.evaluate(_READING):
-                    problems.append("nothing of the article in the middle of the screen")
-                    context.close()
-                    continue
-                before = page.evaluate(_TOP, sel)
                 try:
-                    page.wait_for_function(_ALL_TYPESET, timeout=30_000)
-                except Exception:
+                    shift, what = _follow(context.new_page(), base_url + rel, action)
+                except LookupError as missing:
+                    problems.append(str(missing))
+                    continue
+                finally:
+                    context.close()
+                if shift is None:
                     problems.append("math still waiting to be typeset 30 s after the page opened")
-                page.wait_for_timeout(1000)
-                shift = page.evaluate(_TOP, sel) - before
+                    continue
                 moved.append(abs(shift))
                 if abs(shift) > PLACE_TOLERANCE_PX:
                     problems.append(f"{what} moved {shift:+.0f} px while the math was typeset "
                                     f"({'with' if anchoring else 'without'} CSS scroll anchoring)")
-                context.close()
             results[rel] = (problems, {"moved_px": max(moved, default=0.0)})
         browser.close()
     return results
@@ -648,8 +668,7 @@ def check_live(base_url: str, pages: list[str], shots: Path | None = None) -> di
     results: dict[str, tuple[list[str], dict]] = {}
     canvas = "(root) => root.querySelector('canvas[data-rapp-drag=cspace]').toDataURL()"
     with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
-                                     args=["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"])
+        browser = _launch(pw)
         for rel in pages:
             page = browser.new_page(viewport={"width": 1280, "height": 900})
             page.route("**/*", lambda route: route.continue_() if urlparse(route.request.url).netloc

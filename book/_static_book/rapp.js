@@ -242,12 +242,11 @@ document.addEventListener("click", (event) => {
   function settleJump() {
     const id = decodeURIComponent(window.location.hash.slice(1));
     const target = id && document.getElementById(id);
-    if (!target) return false;
+    if (!target) return;
     readerMoved = false;
     lazyDocument()
       .then((doc) => doc && doc.lazyTypesetAll())
       .then(() => { if (!readerMoved && target.isConnected) target.scrollIntoView(); });
-    return true;
   }
   window.addEventListener("hashchange", settleJump);
   window.addEventListener("load", () => {
